@@ -1,0 +1,290 @@
+//! The block solve for accelerations and multipliers.
+//!
+//! The Chetaev equations in Newton form, `d/dt(∂L/∂q̇) − ∂L/∂q = Jᵀμ`, together with the
+//! differentiated constraints `df/dt = 0`, give at every instant the linear system (size `N + K`)
+//!
+//! ```text
+//! [ W   −Jᵀ ] [ q̈ ]   [ ∂L/∂q − g ]        W = ∂²L/∂q̇²            (N × N)
+//! [ J    0  ] [ μ ] = [    −c     ]        J = ∂f/∂q̇              (K × N)
+//!                                          g = (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t
+//!                                          c = (∂f/∂q) q̇ + ∂f/∂t
+//! ```
+//!
+//! It is regular exactly when `J` has full row rank and `W` is regular on the null space of `J`;
+//! `W` itself may be singular. Each constraint row is first scaled so that `J` and `W` have
+//! comparable magnitudes (which rescales `μ` and is undone afterwards), then the system is solved
+//! by Gaussian elimination with complete pivoting. The ratio of the smallest to the largest pivot is
+//! returned as a cheap conditioning estimate; below [`SINGULAR_PIVOT_RATIO`] the system is reported
+//! as singular instead of producing a meaningless answer.
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::model::Real;
+
+/// Pivot ratio (smallest over largest pivot magnitude) below which the block system is singular.
+pub const SINGULAR_PIVOT_RATIO: f64 = 64.0 * f64::EPSILON;
+
+/// Why the block system could not be solved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SaddleFailure {
+    /// A block held a NaN or an infinity.
+    NonFinite,
+    /// Constraint row `row` of `J` is zero: that constraint does not restrict the velocity here.
+    ZeroConstraintRow {
+        /// The constraint index `a`.
+        row: usize,
+    },
+    /// The system is singular to working precision.
+    Singular {
+        /// Smallest over largest pivot magnitude.
+        pivot_ratio: f64,
+    },
+}
+
+/// Scratch storage for the elimination, reused across calls so the hot path never allocates.
+#[derive(Clone, Debug)]
+pub struct SaddleWorkspace<T> {
+    a: Vec<T>,
+    b: Vec<T>,
+    x: Vec<T>,
+    col: Vec<usize>,
+}
+
+impl<T> Default for SaddleWorkspace<T> {
+    fn default() -> Self {
+        Self {
+            a: Vec::new(),
+            b: Vec::new(),
+            x: Vec::new(),
+            col: Vec::new(),
+        }
+    }
+}
+
+/// The solution of the block system.
+#[derive(Clone, Copy, Debug)]
+pub struct SaddleSolution<T, const N: usize, const K: usize> {
+    /// `q̈`, shape `N`.
+    pub qdd: SVector<T, N>,
+    /// `μ`, shape `K`.
+    pub mu: SVector<T, K>,
+    /// Smallest over largest pivot magnitude (1 is perfect; near [`SINGULAR_PIVOT_RATIO`] is bad).
+    pub pivot_ratio: f64,
+}
+
+/// Solves `[W −Jᵀ; J 0] [q̈; μ] = [r; s]` for `q̈` and `μ`.
+///
+/// Shapes: `w` is `N × N`, `j` is `K × N`, `r` is `N`, `s` is `K`. With `K = 0` this is `W q̈ = r`.
+pub fn solve<T: Real, const N: usize, const K: usize>(
+    ws: &mut SaddleWorkspace<T>,
+    w: &SMatrix<T, N, N>,
+    j: &SMatrix<T, K, N>,
+    r: &SVector<T, N>,
+    s: &SVector<T, K>,
+) -> Result<SaddleSolution<T, N, K>, SaddleFailure> {
+    let m = N + K;
+    let finite = |x: &T| x.re().is_finite();
+    if !(w.iter().all(finite) && j.iter().all(finite) && r.iter().all(finite) && s.iter().all(finite))
+    {
+        return Err(SaddleFailure::NonFinite);
+    }
+
+    // Scale each constraint row to the magnitude of W: J̃ = D J, μ̃ = D⁻¹ μ.
+    let w_scale = w.iter().fold(0.0f64, |acc, x| acc.max(x.re().abs()));
+    let w_scale = if w_scale > 0.0 { w_scale } else { 1.0 };
+    let mut row_scale = [1.0f64; 64];
+    let mut scales: Vec<f64>;
+    let row_scale: &mut [f64] = if K <= 64 {
+        &mut row_scale[..K]
+    } else {
+        scales = vec![1.0; K];
+        &mut scales
+    };
+    for (a, d) in row_scale.iter_mut().enumerate() {
+        let jmax = (0..N).fold(0.0f64, |acc, i| acc.max(j[(a, i)].re().abs()));
+        if jmax == 0.0 {
+            return Err(SaddleFailure::ZeroConstraintRow { row: a });
+        }
+        *d = w_scale / jmax;
+    }
+
+    // Assemble the row-major (N+K)² matrix and the right-hand side.
+    ws.a.clear();
+    ws.a.resize(m * m, T::zero());
+    ws.b.clear();
+    ws.b.resize(m, T::zero());
+    ws.x.clear();
+    ws.x.resize(m, T::zero());
+    ws.col.clear();
+    ws.col.extend(0..m);
+    let a = &mut ws.a;
+    for i in 0..N {
+        for k in 0..N {
+            a[i * m + k] = w[(i, k)];
+        }
+        for c in 0..K {
+            a[i * m + N + c] = -(j[(c, i)] * row_scale[c]);
+            a[(N + c) * m + i] = j[(c, i)] * row_scale[c];
+        }
+        ws.b[i] = r[i];
+    }
+    for c in 0..K {
+        ws.b[N + c] = s[c] * row_scale[c];
+    }
+
+    let (pivot_ratio, singular) = eliminate(a, &mut ws.b, &mut ws.col, m);
+    if singular {
+        return Err(SaddleFailure::Singular { pivot_ratio });
+    }
+    back_substitute(a, &ws.b, &ws.col, &mut ws.x, m);
+
+    let qdd = SVector::<T, N>::from_fn(|i, _| ws.x[i]);
+    let mu = SVector::<T, K>::from_fn(|c, _| ws.x[N + c] * row_scale[c]);
+    Ok(SaddleSolution {
+        qdd,
+        mu,
+        pivot_ratio,
+    })
+}
+
+/// In-place Gaussian elimination with complete pivoting on the row-major `m × m` matrix `a` and
+/// right-hand side `b`; `col` records the column permutation. Pivots are chosen by the magnitude of
+/// the real part. Returns the pivot ratio and whether the matrix is singular to working precision.
+fn eliminate<T: Real>(a: &mut [T], b: &mut [T], col: &mut [usize], m: usize) -> (f64, bool) {
+    let mut max_pivot = 0.0f64;
+    let mut min_pivot = f64::INFINITY;
+    for k in 0..m {
+        let (mut pr, mut pc, mut best) = (k, k, -1.0f64);
+        for i in k..m {
+            for c in k..m {
+                let v = a[i * m + c].re().abs();
+                if v > best {
+                    (pr, pc, best) = (i, c, v);
+                }
+            }
+        }
+        max_pivot = max_pivot.max(best);
+        min_pivot = min_pivot.min(best);
+        if best == 0.0 || best <= SINGULAR_PIVOT_RATIO * max_pivot {
+            return (best / max_pivot.max(f64::MIN_POSITIVE), true);
+        }
+        if pr != k {
+            for c in 0..m {
+                a.swap(k * m + c, pr * m + c);
+            }
+            b.swap(k, pr);
+        }
+        if pc != k {
+            for i in 0..m {
+                a.swap(i * m + k, i * m + pc);
+            }
+            col.swap(k, pc);
+        }
+        let pivot = a[k * m + k];
+        for i in k + 1..m {
+            let l = a[i * m + k] / pivot;
+            if l.re() == 0.0 && l == T::zero() {
+                continue;
+            }
+            for c in k + 1..m {
+                let u = a[k * m + c];
+                a[i * m + c] -= l * u;
+            }
+            a[i * m + k] = T::zero();
+            let bk = b[k];
+            b[i] -= l * bk;
+        }
+    }
+    (min_pivot / max_pivot, false)
+}
+
+/// Solves the upper-triangular system left by [`eliminate`] and undoes the column permutation.
+fn back_substitute<T: Real>(a: &[T], b: &[T], col: &[usize], x: &mut [T], m: usize) {
+    for k in (0..m).rev() {
+        let mut acc = b[k];
+        for c in k + 1..m {
+            acc -= a[k * m + c] * x[col[c]];
+        }
+        x[col[k]] = acc / a[k * m + k];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+    use nalgebra::{Matrix3, Vector3};
+
+    #[test]
+    fn solves_a_saddle_system_with_singular_w() {
+        // W singular (no kinetic term in the second coordinate), but regular on ker J.
+        let w = SMatrix::<f64, 2, 2>::new(2.0, 0.0, 0.0, 0.0);
+        let j = SMatrix::<f64, 1, 2>::new(1.0, 3.0);
+        let r = SVector::<f64, 2>::new(1.0, -2.0);
+        let s = SVector::<f64, 1>::new(0.5);
+        let sol = solve(&mut SaddleWorkspace::default(), &w, &j, &r, &s).expect("regular");
+        let full = Matrix3::new(2.0, 0.0, -1.0, 0.0, 0.0, -3.0, 1.0, 3.0, 0.0);
+        let x = full
+            .full_piv_lu()
+            .solve(&Vector3::new(1.0, -2.0, 0.5))
+            .expect("regular");
+        assert_relative_eq!(sol.qdd[0], x[0], max_relative = 1e-14);
+        assert_relative_eq!(sol.qdd[1], x[1], max_relative = 1e-14);
+        assert_relative_eq!(sol.mu[0], x[2], max_relative = 1e-14);
+    }
+
+    #[test]
+    fn duplicated_constraint_is_singular() {
+        let w = SMatrix::<f64, 2, 2>::identity();
+        let j = SMatrix::<f64, 2, 2>::new(1.0, 2.0, 1.0, 2.0);
+        let z = SVector::<f64, 2>::zeros();
+        let err = solve(&mut SaddleWorkspace::default(), &w, &j, &z, &z).unwrap_err();
+        assert!(matches!(err, SaddleFailure::Singular { .. }), "{err:?}");
+    }
+
+    #[test]
+    fn zero_constraint_row_is_named() {
+        let w = SMatrix::<f64, 2, 2>::identity();
+        let j = SMatrix::<f64, 1, 2>::zeros();
+        let err = solve(
+            &mut SaddleWorkspace::default(),
+            &w,
+            &j,
+            &SVector::zeros(),
+            &SVector::zeros(),
+        )
+        .unwrap_err();
+        assert_eq!(err, SaddleFailure::ZeroConstraintRow { row: 0 });
+    }
+
+    #[test]
+    fn singular_w_on_the_tangent_space_is_singular() {
+        // W = 0 in the direction (1, 0), and J = (0, 1) leaves exactly that direction free.
+        let w = SMatrix::<f64, 2, 2>::new(0.0, 0.0, 0.0, 1.0);
+        let j = SMatrix::<f64, 1, 2>::new(0.0, 1.0);
+        let err = solve(
+            &mut SaddleWorkspace::default(),
+            &w,
+            &j,
+            &SVector::zeros(),
+            &SVector::zeros(),
+        )
+        .unwrap_err();
+        assert!(matches!(err, SaddleFailure::Singular { .. }), "{err:?}");
+    }
+
+    #[test]
+    fn non_finite_input_is_reported() {
+        let w = SMatrix::<f64, 1, 1>::new(f64::NAN);
+        let j = SMatrix::<f64, 0, 1>::zeros();
+        let err = solve(
+            &mut SaddleWorkspace::default(),
+            &w,
+            &j,
+            &SVector::zeros(),
+            &SVector::zeros(),
+        )
+        .unwrap_err();
+        assert_eq!(err, SaddleFailure::NonFinite);
+    }
+}

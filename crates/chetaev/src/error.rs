@@ -1,0 +1,153 @@
+//! The one error type of the crate.
+//!
+//! Setup problems (bad input) are returned as `Err` by the constructors and by
+//! [`solve`](crate::solve); failures during an integration are stored as the status of the
+//! returned [`Solution`](crate::Solution), together with everything computed up to that point.
+
+/// Everything that can go wrong, with the numbers that explain it and what to try next.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// An input number is NaN or infinite.
+    #[error("{what} is not finite ({value}); every parameter, time and initial value must be a finite number")]
+    NonFiniteInput {
+        /// Which input.
+        what: String,
+        /// Its value.
+        value: f64,
+    },
+
+    /// A solver option is out of range.
+    #[error("invalid option {name} = {value}: {hint}")]
+    InvalidOption {
+        /// The option.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// The allowed range, and what to use instead.
+        hint: &'static str,
+    },
+
+    /// The initial velocity does not satisfy the constraints.
+    #[error(
+        "the initial state violates constraint {index}: f = {residual:e} at t = {t} (allowed {tolerance:e}); \
+         give a consistent initial velocity, or opt in to Problem::with_projected_velocity to project it onto f = 0"
+    )]
+    InconsistentInitialState {
+        /// Initial time.
+        t: f64,
+        /// The constraint index `a`.
+        index: usize,
+        /// `f_a(t0, q0, q̇0)`.
+        residual: f64,
+        /// The largest residual accepted.
+        tolerance: f64,
+    },
+
+    /// The block system for `q̈` and `μ` is singular.
+    #[error(
+        "the Chetaev block system is singular at t = {t} (pivot ratio {pivot_ratio:e}) with q = {q:?}, q̇ = {qd:?}: \
+         the constraint Jacobian ∂f/∂q̇ has lost rank (a repeated constraint, or a zero velocity under a constraint \
+         on its magnitude) or ∂²L/∂q̇² is singular on the constraints' tangent space (a coordinate without kinetic energy)"
+    )]
+    Singular {
+        /// Time.
+        t: f64,
+        /// Smallest over largest pivot magnitude.
+        pivot_ratio: f64,
+        /// Position.
+        q: Vec<f64>,
+        /// Velocity.
+        qd: Vec<f64>,
+    },
+
+    /// A constraint's gradient `∂f_a/∂q̇` vanishes.
+    #[error(
+        "constraint {index} has ∂f/∂q̇ = 0 at t = {t} with q = {q:?}, q̇ = {qd:?}: it does not restrict the \
+         velocity there (for |q̇|² = v0², the speed v0 must not be zero)"
+    )]
+    DegenerateConstraint {
+        /// Time.
+        t: f64,
+        /// The constraint index `a`.
+        index: usize,
+        /// Position.
+        q: Vec<f64>,
+        /// Velocity.
+        qd: Vec<f64>,
+    },
+
+    /// The Lagrangian, the constraints or their derivatives gave NaN or infinity.
+    #[error(
+        "the model evaluated to a non-finite number at t = {t} with q = {q:?}, q̇ = {qd:?} (a square root or \
+         logarithm of a negative number, a division by zero, or an overflow); check the model's domain"
+    )]
+    NonFiniteEvaluation {
+        /// Time.
+        t: f64,
+        /// Position.
+        q: Vec<f64>,
+        /// Velocity.
+        qd: Vec<f64>,
+    },
+
+    /// The step size fell below what floating point can resolve.
+    #[error(
+        "step size {h:e} too small at t = {t}: the solution changes faster than the tolerance allows \
+         (a singularity, or a stiff problem: try an implicit method such as Rodas4)"
+    )]
+    StepSizeTooSmall {
+        /// Time.
+        t: f64,
+        /// The step size.
+        h: f64,
+    },
+
+    /// The step limit was reached.
+    #[error("step limit of {max_steps} reached at t = {t}; raise Options::max_steps or loosen the tolerances")]
+    MaxSteps {
+        /// Time.
+        t: f64,
+        /// The limit.
+        max_steps: usize,
+    },
+
+    /// The explicit method detected stiffness.
+    #[error(
+        "the problem became stiff at t = {t} (h·|λ| ≈ {h_lambda:.2} at the stability boundary for many steps); \
+         use the implicit method {suggestion}"
+    )]
+    Stiff {
+        /// Time.
+        t: f64,
+        /// Estimated `h·|λ|` of the dominant eigenvalue.
+        h_lambda: f64,
+        /// The method to use instead.
+        suggestion: &'static str,
+    },
+
+    /// The projection onto `f = 0` did not converge.
+    #[error(
+        "projection onto the constraints did not converge at t = {t}: residual {residual:e} after {iterations} \
+         iterations; tighten the tolerances so that steps stay close to the constraint manifold"
+    )]
+    ProjectionFailed {
+        /// Time.
+        t: f64,
+        /// Residual `max_a |f_a|` after the last iteration.
+        residual: f64,
+        /// Iterations done.
+        iterations: usize,
+    },
+
+    /// An event function returned NaN or infinity.
+    #[error("event function {index} returned {value} at t = {t}")]
+    NonFiniteEvent {
+        /// The event index.
+        index: usize,
+        /// Time.
+        t: f64,
+        /// Its value.
+        value: f64,
+    },
+}

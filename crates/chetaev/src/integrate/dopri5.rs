@@ -1,0 +1,193 @@
+//! Dormand–Prince 5(4) with its fourth-order continuous extension and Hairer's stiffness test.
+//!
+//! Tableau: J. R. Dormand, P. J. Prince, "A family of embedded Runge-Kutta formulae",
+//! J. Comput. Appl. Math. 6 (1980) 19–26. Dense output and stiffness detection: E. Hairer,
+//! S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I*, 2nd ed., Springer 1993,
+//! Sections II.5, II.6 and IV.2 (the code DOPRI5).
+
+use super::{combine, system::OdeSystem, ErrorNorm, Method, Stepper};
+use crate::error::Error;
+
+const C2: f64 = 1.0 / 5.0;
+const C3: f64 = 3.0 / 10.0;
+const C4: f64 = 4.0 / 5.0;
+const C5: f64 = 8.0 / 9.0;
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+const A71: f64 = 35.0 / 384.0;
+const A73: f64 = 500.0 / 1113.0;
+const A74: f64 = 125.0 / 192.0;
+const A75: f64 = -2187.0 / 6784.0;
+const A76: f64 = 11.0 / 84.0;
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+const D1: f64 = -12715105075.0 / 11282082432.0;
+const D3: f64 = 87487479700.0 / 32700410799.0;
+const D4: f64 = -10690763975.0 / 1880347072.0;
+const D5: f64 = 701980252875.0 / 199316789632.0;
+const D6: f64 = -1453857185.0 / 822651844.0;
+const D7: f64 = 69997945.0 / 29380423.0;
+
+/// Dormand–Prince 5(4): explicit, adaptive, fifth order, with fourth-order dense output.
+///
+/// The default choice for non-stiff problems at moderate tolerances (down to about `1e-10`).
+#[derive(Clone, Copy, Debug)]
+pub struct Dopri5 {
+    /// Stop with [`Error::Stiff`] when the stiffness test fires on 15 accepted steps (default on).
+    pub stiffness_detection: bool,
+}
+
+impl Default for Dopri5 {
+    fn default() -> Self {
+        Self {
+            stiffness_detection: true,
+        }
+    }
+}
+
+impl Method for Dopri5 {
+    type Stepper = Dopri5Stepper;
+    fn name(&self) -> &'static str {
+        "Dopri5"
+    }
+    fn stepper(&self, dim: usize) -> Dopri5Stepper {
+        Dopri5Stepper {
+            k: std::array::from_fn(|_| vec![0.0; dim]),
+            ytmp: vec![0.0; dim],
+            ysti: vec![0.0; dim],
+            err: vec![0.0; dim],
+            rcont: std::array::from_fn(|_| vec![0.0; dim]),
+            detect: self.stiffness_detection,
+            stiff_steps: 0,
+            nonstiff_steps: 0,
+            h_lambda: 0.0,
+        }
+    }
+}
+
+/// The working state of [`Dopri5`].
+#[derive(Clone, Debug)]
+pub struct Dopri5Stepper {
+    k: [Vec<f64>; 7],
+    ytmp: Vec<f64>,
+    ysti: Vec<f64>,
+    err: Vec<f64>,
+    rcont: [Vec<f64>; 5],
+    detect: bool,
+    stiff_steps: u32,
+    nonstiff_steps: u32,
+    h_lambda: f64,
+}
+
+impl Stepper for Dopri5Stepper {
+    fn control_order(&self) -> Option<u32> {
+        Some(5)
+    }
+
+    fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
+        sys.rhs(t, y, &mut self.k[0])
+    }
+
+    fn try_step<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h: f64,
+        y: &[f64],
+        y_new: &mut [f64],
+        norm: &ErrorNorm,
+    ) -> Result<f64, Error> {
+        let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
+        let yt = &mut self.ytmp;
+        combine(yt, y, h, &[(A21, k1)]);
+        sys.rhs(t + C2 * h, yt, k2)?;
+        combine(yt, y, h, &[(A31, k1), (A32, k2)]);
+        sys.rhs(t + C3 * h, yt, k3)?;
+        combine(yt, y, h, &[(A41, k1), (A42, k2), (A43, k3)]);
+        sys.rhs(t + C4 * h, yt, k4)?;
+        combine(yt, y, h, &[(A51, k1), (A52, k2), (A53, k3), (A54, k4)]);
+        sys.rhs(t + C5 * h, yt, k5)?;
+        combine(&mut self.ysti, y, h, &[(A61, k1), (A62, k2), (A63, k3), (A64, k4), (A65, k5)]);
+        sys.rhs(t + h, &self.ysti, k6)?;
+        combine(y_new, y, h, &[(A71, k1), (A73, k3), (A74, k4), (A75, k5), (A76, k6)]);
+        sys.rhs(t + h, y_new, k7)?;
+        for i in 0..y.len() {
+            self.err[i] = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+        }
+        Ok(norm.norm(&self.err, y, y_new))
+    }
+
+    fn accept<S: OdeSystem>(
+        &mut self,
+        _sys: &mut S,
+        _t: f64,
+        h: f64,
+        y: &[f64],
+        y_new: &[f64],
+    ) -> Result<(), Error> {
+        let [k1, _, k3, k4, k5, k6, k7] = &self.k;
+        if self.detect {
+            // h·|λ| estimated from the last two stages, which share the node t + h.
+            let (mut num, mut den) = (0.0, 0.0);
+            for i in 0..y.len() {
+                num += (k7[i] - k6[i]).powi(2);
+                den += (y_new[i] - self.ysti[i]).powi(2);
+            }
+            if den > 0.0 {
+                self.h_lambda = h.abs() * (num / den).sqrt();
+                if self.h_lambda > 3.25 {
+                    self.nonstiff_steps = 0;
+                    self.stiff_steps += 1;
+                } else {
+                    self.nonstiff_steps += 1;
+                    if self.nonstiff_steps == 6 {
+                        self.stiff_steps = 0;
+                    }
+                }
+            }
+        }
+        let [r1, r2, r3, r4, r5] = &mut self.rcont;
+        for i in 0..y.len() {
+            let dy = y_new[i] - y[i];
+            let bspl = h * k1[i] - dy;
+            r1[i] = y[i];
+            r2[i] = dy;
+            r3[i] = bspl;
+            r4[i] = dy - h * k7[i] - bspl;
+            r5[i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+        }
+        // First same as last: the derivative at the new point starts the next step.
+        let (head, tail) = self.k.split_at_mut(6);
+        head[0].copy_from_slice(&tail[0]);
+        Ok(())
+    }
+
+    fn interpolate(&self, theta: f64, out: &mut [f64]) {
+        let [r1, r2, r3, r4, r5] = &self.rcont;
+        let th1 = 1.0 - theta;
+        for i in 0..out.len() {
+            out[i] = r1[i] + theta * (r2[i] + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
+        }
+    }
+
+    fn stiffness(&self) -> Option<f64> {
+        (self.stiff_steps >= 15).then_some(self.h_lambda)
+    }
+}

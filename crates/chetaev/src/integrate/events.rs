@@ -1,0 +1,166 @@
+//! Event location: roots of user functions `g(t, q, q̇)` found on the dense output.
+
+use std::sync::Arc;
+
+use nalgebra::SVector;
+
+use super::options::EventFn;
+
+/// Which sign changes of `g` count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// Both.
+    Either,
+    /// `g` going from negative to positive (in the direction of integration).
+    Rising,
+    /// `g` going from positive to negative (in the direction of integration).
+    Falling,
+}
+
+/// An event: a function `g(t, q, q̇)` whose zeros are located, a direction, and whether it stops
+/// the integration.
+#[derive(Clone)]
+pub struct Event<const N: usize> {
+    /// A name for reports.
+    pub name: String,
+    /// The event function.
+    pub g: EventFn<N>,
+    /// Which crossings count.
+    pub direction: Direction,
+    /// Whether the integration stops at the first crossing.
+    pub terminal: bool,
+}
+
+impl<const N: usize> Event<N> {
+    /// An event with function `g`, counting crossings in both directions, not terminal.
+    pub fn new(
+        name: impl Into<String>,
+        g: impl Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> f64 + Send + Sync + 'static,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            g: Arc::new(g),
+            direction: Direction::Either,
+            terminal: false,
+        }
+    }
+
+    /// Counts only crossings from positive to negative.
+    pub fn falling(mut self) -> Self {
+        self.direction = Direction::Falling;
+        self
+    }
+
+    /// Counts only crossings from negative to positive.
+    pub fn rising(mut self) -> Self {
+        self.direction = Direction::Rising;
+        self
+    }
+
+    /// Stops the integration at the first crossing.
+    pub fn terminal(mut self) -> Self {
+        self.terminal = true;
+        self
+    }
+
+    /// Whether going from `g0` to `g1` (in the direction of integration) is a crossing that counts.
+    pub(crate) fn crosses(&self, g0: f64, g1: f64) -> bool {
+        if g0 == 0.0 {
+            return false;
+        }
+        let rising = g0 < 0.0 && g1 >= 0.0;
+        let falling = g0 > 0.0 && g1 <= 0.0;
+        match self.direction {
+            Direction::Either => rising || falling,
+            Direction::Rising => rising,
+            Direction::Falling => falling,
+        }
+    }
+}
+
+/// A located event.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EventHit<const N: usize> {
+    /// Index of the event in the options.
+    pub index: usize,
+    /// The time of the zero of `g`.
+    pub t: f64,
+    /// Position at that time.
+    pub q: SVector<f64, N>,
+    /// Velocity at that time.
+    pub qd: SVector<f64, N>,
+}
+
+/// Finds a root of `g` in `[a, b]` (either order) given `g(a) = ga`, `g(b) = gb` of opposite signs
+/// (or `gb = 0`), by the Illinois variant of regula falsi, to within a few ulps of `t`.
+/// Returns the root and the number of evaluations.
+pub(crate) fn locate_root(
+    mut g: impl FnMut(f64) -> f64,
+    mut a: f64,
+    mut ga: f64,
+    mut b: f64,
+    mut gb: f64,
+) -> (f64, usize) {
+    let mut evals = 0;
+    if gb == 0.0 {
+        return (b, evals);
+    }
+    let mut side = 0i8;
+    for _ in 0..200 {
+        let tol = 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
+        if (b - a).abs() <= tol {
+            break;
+        }
+        let mut c = (a * gb - b * ga) / (gb - ga);
+        // Keep c strictly inside; fall back to bisection if the secant leaves the bracket.
+        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+        if !(c > lo && c < hi) {
+            c = 0.5 * (a + b);
+        }
+        let gc = g(c);
+        evals += 1;
+        if gc == 0.0 || !gc.is_finite() {
+            return (c, evals);
+        }
+        if (gc > 0.0) == (gb > 0.0) {
+            b = c;
+            gb = gc;
+            if side == -1 {
+                ga *= 0.5;
+            }
+            side = -1;
+        } else {
+            a = c;
+            ga = gc;
+            if side == 1 {
+                gb *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    // The endpoint on the far side of the crossing, so the event lies inside the interval stepped.
+    (b, evals)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_a_root_to_a_few_ulps() {
+        let f = |x: f64| x.cos() - x;
+        let (r, n) = locate_root(f, 0.0, f(0.0), 1.0, f(1.0));
+        assert!((r - 0.739_085_133_215_160_6).abs() <= 4.0 * f64::EPSILON, "{r}");
+        assert!(n < 20, "{n}");
+    }
+
+    #[test]
+    fn direction_filters_crossings() {
+        let e = Event::<1>::new("x", |_, q, _| q[0]).falling();
+        assert!(e.crosses(1.0, -1.0));
+        assert!(!e.crosses(-1.0, 1.0));
+        assert!(!e.crosses(0.0, -1.0));
+        let e = Event::<1>::new("x", |_, q, _| q[0]).rising();
+        assert!(e.crosses(-1.0, 0.0));
+    }
+}

@@ -1,0 +1,133 @@
+//! Integration: the methods, and the driver that owns step control, output, events and projection.
+//!
+//! A method ([`Dopri5`], [`Dop853`], [`Rk4`], ...) is a small value holding only its own options.
+//! It produces a [`Stepper`] that knows how to take one trial step on an [`OdeSystem`], estimate its
+//! error, and interpolate inside the last accepted step. It never sees the physics; the driver
+//! ([`solve`](crate::solve)) never sees a tableau.
+
+pub mod dopri5;
+pub mod driver;
+pub mod events;
+pub mod options;
+pub mod projection;
+pub mod rk4;
+pub mod system;
+
+pub use dopri5::Dopri5;
+pub use rk4::Rk4;
+
+use crate::error::Error;
+use system::OdeSystem;
+
+/// A named integration method from the literature, with its options.
+pub trait Method {
+    /// The stepper it runs.
+    type Stepper: Stepper;
+    /// The method's name, as in the literature.
+    fn name(&self) -> &'static str;
+    /// A stepper for a system of dimension `dim`, with its work vectors allocated once.
+    fn stepper(&self, dim: usize) -> Self::Stepper;
+    /// Checks the method's own options.
+    fn validate(&self) -> Result<(), Error> {
+        Ok(())
+    }
+}
+
+/// One integration method's step, error estimate and dense output.
+pub trait Stepper {
+    /// The order `p` of the step-size exponent `1/p` (the lower order of an embedded pair plus one);
+    /// `None` for a fixed-step method.
+    fn control_order(&self) -> Option<u32>;
+    /// The step size of a fixed-step method.
+    fn fixed_step(&self) -> Option<f64> {
+        None
+    }
+    /// Prepares stepping from `(t, y)` (evaluates `F(t, y)` where the method reuses it). Called
+    /// before the first step and whenever the state was changed from outside (projection).
+    fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error>;
+    /// Attempts a step of size `h` from `(t, y)`, writes the result to `y_new` and returns the
+    /// error estimate measured with `norm` (`≤ 1` means acceptable; `0` for fixed-step methods).
+    fn try_step<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h: f64,
+        y: &[f64],
+        y_new: &mut [f64],
+        norm: &ErrorNorm,
+    ) -> Result<f64, Error>;
+    /// The trial step was accepted: prepare dense output on `[t, t + h]` and the next step.
+    fn accept<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h: f64,
+        y: &[f64],
+        y_new: &[f64],
+    ) -> Result<(), Error>;
+    /// The dense output `y(t + θh)`, `θ ∈ [0, 1]`, of the last accepted step.
+    fn interpolate(&self, theta: f64, out: &mut [f64]);
+    /// `Some(h·|λ|)` when the method has detected stiffness on the last steps.
+    fn stiffness(&self) -> Option<f64> {
+        None
+    }
+    /// The implicit method to suggest when this one detects stiffness.
+    fn stiff_alternative(&self) -> &'static str {
+        "Rodas4"
+    }
+}
+
+/// The weighted RMS norm of error control: `sqrt(mean_i (e_i / (atol_i + rtol·max(|y_i|, |ŷ_i|)))²)`
+/// over the controlled components.
+#[derive(Clone, Debug)]
+pub struct ErrorNorm {
+    rtol: f64,
+    atol: Vec<f64>,
+}
+
+impl ErrorNorm {
+    /// A norm with one relative tolerance and one absolute tolerance per controlled component.
+    pub fn new(rtol: f64, atol: Vec<f64>) -> Self {
+        Self { rtol, atol }
+    }
+
+    /// `Σ_i (e_i / sc_i)²` over the controlled components.
+    #[inline]
+    pub fn sum_sq(&self, e: &[f64], y: &[f64], y_new: &[f64]) -> f64 {
+        let mut s = 0.0;
+        for (i, atol) in self.atol.iter().enumerate() {
+            let sc = atol + self.rtol * y[i].abs().max(y_new[i].abs());
+            let r = e[i] / sc;
+            s += r * r;
+        }
+        s
+    }
+
+    /// The weighted RMS norm of `e`.
+    #[inline]
+    pub fn norm(&self, e: &[f64], y: &[f64], y_new: &[f64]) -> f64 {
+        (self.sum_sq(e, y, y_new) / self.atol.len() as f64).sqrt()
+    }
+
+    /// Number of controlled components.
+    pub fn len(&self) -> usize {
+        self.atol.len()
+    }
+
+    /// Whether no component is controlled.
+    pub fn is_empty(&self) -> bool {
+        self.atol.is_empty()
+    }
+}
+
+/// `out = y + h Σ_s a_s k_s` over the stages with non-zero coefficients.
+#[inline(always)]
+pub(crate) fn combine(out: &mut [f64], y: &[f64], h: f64, terms: &[(f64, &[f64])]) {
+    for i in 0..out.len() {
+        let mut acc = 0.0;
+        for (a, k) in terms {
+            acc += a * k[i];
+        }
+        out[i] = y[i] + h * acc;
+    }
+}
