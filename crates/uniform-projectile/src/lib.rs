@@ -2,3 +2,4 @@
 //! uniform (isotachytonic) motion, and the verification of `chetaev` against them.
 
 pub mod closed_form;
+pub mod model;

@@ -1,0 +1,11 @@
+//! Shared helpers of the verification tests and example programs.
+
+/// Relative difference `|a − b| / max(|b|, tiny)`.
+pub fn rel_err(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
+}
+
+/// Observed order of convergence from errors at step sizes `h` and `h/ratio`.
+pub fn observed_order(err_coarse: f64, err_fine: f64, ratio: f64) -> f64 {
+    (err_coarse / err_fine).ln() / ratio.ln()
+}
