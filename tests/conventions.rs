@@ -10,7 +10,12 @@ use uniform_projectile::model::uniform_problem;
 
 #[test]
 fn multiplier_is_newton_form_as_in_42_40() {
-    let p = Params { v0: 3.0, g: 9.81, h0: 2.0, m: 1.7 };
+    let p = Params {
+        v0: 3.0,
+        g: 9.81,
+        h0: 2.0,
+        m: 1.7,
+    };
     let problem = uniform_problem(&p).expect("valid");
     let mut ws = SaddleWorkspace::default();
     for &t in &[0.05, 0.3, 1.0, 2.5] {
@@ -25,7 +30,11 @@ fn multiplier_is_newton_form_as_in_42_40() {
         assert_relative_eq!(d.phi[1], 2.0 * mu * qd[1], max_relative = 1e-13);
         // (42.26): m q̈ = 2μ q̇ + (0, −m g)
         assert_relative_eq!(p.m * d.qdd[0], 2.0 * mu * qd[0], max_relative = 1e-13);
-        assert_relative_eq!(p.m * d.qdd[1], 2.0 * mu * qd[1] - p.m * p.g, max_relative = 1e-13);
+        assert_relative_eq!(
+            p.m * d.qdd[1],
+            2.0 * mu * qd[1] - p.m * p.g,
+            max_relative = 1e-13
+        );
         // (42.28)/(42.32): ÿ = −(g/v0²)(v0² − ẏ²) = −g/cosh²(gt/v0). From the state (ẋ, ẏ), ÿ carries
         // the cancellation of v0² − ẏ², condition number 2 sinh²(gt/v0).
         let cond = 1.0 + 2.0 * (p.g * t / p.v0).sinh().powi(2);
@@ -40,11 +49,18 @@ fn power_of_the_chetaev_force_balances_the_potential() {
     // work of Φ equals the change of potential energy.
     let p = Params::PAPER;
     let problem = uniform_problem(&p).expect("valid");
-    let sol = solve(&problem, Dopri5::default(), &Options::until(0.9).tolerances(1e-11, 1e-12))
-        .expect("valid options");
+    let sol = solve(
+        &problem,
+        Dopri5::default(),
+        &Options::until(0.9).tolerances(1e-11, 1e-12),
+    )
+    .expect("valid options");
     assert!(sol.is_success());
     let last = sol.len() - 1;
     let dv = p.m * p.g * (sol.q[last][1] - p.h0);
     assert_relative_eq!(sol.work[last], dv, max_relative = 1e-9);
-    assert!(sol.energy_balance().iter().all(|b| b.abs() < 1e-8 * p.m * p.v0 * p.v0));
+    assert!(sol
+        .energy_balance()
+        .iter()
+        .all(|b| b.abs() < 1e-8 * p.m * p.v0 * p.v0));
 }

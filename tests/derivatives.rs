@@ -60,8 +60,8 @@ fn lagrangian_blocks_match_hand_derivation() {
         assert_relative_eq!(d.p[i], p[i], max_relative = 1e-14);
         assert_relative_eq!(d.dl_dq[i], dl_dq[i], max_relative = 1e-14);
         assert_relative_eq!(d.g[i], g[i], max_relative = 1e-14);
-        for k in 0..2 {
-            assert_relative_eq!(d.w[(i, k)], w[i][k], max_relative = 1e-14);
+        for (k, wik) in w[i].iter().enumerate() {
+            assert_relative_eq!(d.w[(i, k)], *wik, max_relative = 1e-14);
         }
     }
     assert_relative_eq!(d.dl_dt, dl_dt, max_relative = 1e-13);
@@ -72,9 +72,18 @@ fn lagrangian_blocks_match_hand_derivation() {
 #[test]
 fn constraint_blocks_match_hand_derivation() {
     let (t, [x, y], [xd, yd]) = (T, Q, QD);
-    let d = constraint_derivatives::<_, f64, 2, 1>(&Everything, t, &SVector::from(Q), &SVector::from(QD));
+    let d = constraint_derivatives::<_, f64, 2, 1>(
+        &Everything,
+        t,
+        &SVector::from(Q),
+        &SVector::from(QD),
+    );
     let e = t.exp();
-    assert_relative_eq!(d.f[0], xd * xd + e * x * yd - t * y.sin(), max_relative = 1e-15);
+    assert_relative_eq!(
+        d.f[0],
+        xd * xd + e * x * yd - t * y.sin(),
+        max_relative = 1e-15
+    );
     assert_relative_eq!(d.j[(0, 0)], 2.0 * xd, max_relative = 1e-15);
     assert_relative_eq!(d.j[(0, 1)], e * x, max_relative = 1e-15);
     // (∂f/∂q) q̇ + ∂f/∂t

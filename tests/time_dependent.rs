@@ -50,7 +50,8 @@ fn check_all<Me: Method + Copy>(method: Me, tol: f64) {
         Options::until(t_end).tolerances(tol, tol)
     }
 
-    let p = Problem::unconstrained(Driven, 0.0, SVector::from([0.0]), SVector::from([0.0])).expect("valid");
+    let p = Problem::unconstrained(Driven, 0.0, SVector::from([0.0]), SVector::from([0.0]))
+        .expect("valid");
     let sol = solve(&p, method, &opts(3.0, tol)).expect("valid");
     assert!(sol.is_success(), "{:?}", sol.status);
     let (t, q, qd) = sol.last().expect("points");
@@ -59,12 +60,22 @@ fn check_all<Me: Method + Copy>(method: Me, tol: f64) {
     assert_relative_eq!(qd[0], 1.0 - 3f64.cos(), max_relative = 100.0 * tol);
 
     let (omega, c) = (0.7, 1.3);
-    let p = Problem::new(Tilting { omega }, 0.0, SVector::zeros(), SVector::from([c, 0.0])).expect("valid");
+    let p = Problem::new(
+        Tilting { omega },
+        0.0,
+        SVector::zeros(),
+        SVector::from([c, 0.0]),
+    )
+    .expect("valid");
     let sol = solve(&p, method, &opts(2.0, tol)).expect("valid");
     assert!(sol.is_success(), "{:?}", sol.status);
     let (t, q, qd) = sol.last().expect("points");
     let s = (1.0 + (omega * t).powi(2)).sqrt();
-    assert_relative_eq!(q[0], c / omega * (omega * t).asinh(), max_relative = 100.0 * tol);
+    assert_relative_eq!(
+        q[0],
+        c / omega * (omega * t).asinh(),
+        max_relative = 100.0 * tol
+    );
     assert_relative_eq!(q[1], c / omega * (s - 1.0), max_relative = 100.0 * tol);
     assert_relative_eq!(qd[0], c / s, max_relative = 100.0 * tol);
     // A linear homogeneous constraint does no work: E stays ½C².

@@ -6,8 +6,8 @@ use crate::equations::{dynamics, saddle::SaddleWorkspace};
 use crate::error::Error;
 use crate::model::Model;
 
-/// Relative tolerance on the initial constraint residual: `|f_a| ≤ tol · (1 + |J_a|·|q̇|)` with
-/// `J_a = ∂f_a/∂q̇` is accepted as consistent.
+/// Relative tolerance on the initial constraint residual: `|f_a| ≤ tol · |J_a|·|q̇|` with
+/// `J_a = ∂f_a/∂q̇` (or `≤ tol` where `|J_a|·|q̇|` vanishes) is accepted as consistent.
 pub const INITIAL_RESIDUAL_TOLERANCE: f64 = 1e-10;
 
 /// A model, an initial time and a consistent initial state `(q0, q̇0)`.
@@ -23,7 +23,12 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Problem<M, N, K> {
     /// Builds a problem after checking that `t0`, `q0`, `q̇0` are finite, that `q̇0` satisfies the
     /// constraints (see [`INITIAL_RESIDUAL_TOLERANCE`]) and that the Chetaev block system is regular
     /// at the start.
-    pub fn new(model: M, t0: f64, q0: SVector<f64, N>, qd0: SVector<f64, N>) -> Result<Self, Error> {
+    pub fn new(
+        model: M,
+        t0: f64,
+        q0: SVector<f64, N>,
+        qd0: SVector<f64, N>,
+    ) -> Result<Self, Error> {
         check_finite("t0", std::slice::from_ref(&t0))?;
         check_finite("q0", q0.as_slice())?;
         check_finite("q̇0", qd0.as_slice())?;
@@ -36,9 +41,10 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Problem<M, N, K> {
             &qd0,
         );
         for a in 0..K {
-            let scale = 1.0 + cd.j.row(a).norm() * qd0.norm();
+            let scale =
+                crate::integrate::projection::constraint_scale(cd.j.row(a).norm(), qd0.norm());
             let tolerance = INITIAL_RESIDUAL_TOLERANCE * scale;
-            if !(d.f[a].abs() <= tolerance) {
+            if d.f[a].is_nan() || d.f[a].abs() > tolerance {
                 return Err(Error::InconsistentInitialState {
                     t: t0,
                     index: a,
@@ -64,8 +70,9 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Problem<M, N, K> {
         check_finite("q0", q0.as_slice())?;
         check_finite("q̇0", qd0.as_slice())?;
         let mut ws = SaddleWorkspace::default();
-        let projected =
-            crate::integrate::projection::project_velocity(&model, &mut ws, t0, &q0, &qd0, 1e-14, 20)?;
+        let projected = crate::integrate::projection::project_velocity(
+            &model, &mut ws, t0, &q0, &qd0, 1e-14, 20,
+        )?;
         Self::new(model, t0, q0, projected.qd)
     }
 

@@ -169,7 +169,7 @@ where
     }
     let fd = model.constraints(td, &qdual, &qdd);
     let f = fd.map(|fa| fa.re);
-    let j = SMatrix::<T, K, N>::from_fn(|a, i| fd[a].eps.clone().unwrap_generic(n, U1)[i]);
+    let j = SMatrix::<T, K, N>::from_fn(|a, i| fd[a].eps.unwrap_generic(n, U1)[i]);
 
     // (∂f/∂q) q̇ + ∂f/∂t from one directional derivative along (δq, δt) = (q̇, 1).
     let te = Dual::<T, f64>::new(t, T::one());

@@ -84,7 +84,10 @@ pub fn solve<T: Real, const N: usize, const K: usize>(
 ) -> Result<SaddleSolution<T, N, K>, SaddleFailure> {
     let m = N + K;
     let finite = |x: &T| x.re().is_finite();
-    if !(w.iter().all(finite) && j.iter().all(finite) && r.iter().all(finite) && s.iter().all(finite))
+    if !(w.iter().all(finite)
+        && j.iter().all(finite)
+        && r.iter().all(finite)
+        && s.iter().all(finite))
     {
         return Err(SaddleFailure::NonFinite);
     }

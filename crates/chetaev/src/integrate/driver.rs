@@ -1,7 +1,5 @@
 //! The driver: step-size control, output, events and projection, the same for every method.
 
-use nalgebra::SVector;
-
 use super::events::{locate_root, EventHit};
 use super::options::{Atol, Options, Output, Record};
 use super::projection::project_velocity;
@@ -91,14 +89,19 @@ fn validate<const N: usize>(o: &Options<N>) -> Result<(), Error> {
         if v.is_finite() && v > 0.0 {
             Ok(())
         } else {
-            Err(Error::InvalidOption { name, value: v, hint })
+            Err(Error::InvalidOption {
+                name,
+                value: v,
+                hint,
+            })
         }
     };
     if !(o.rtol.is_finite() && o.rtol >= 0.0) {
         return Err(Error::InvalidOption {
             name: "rtol",
             value: o.rtol,
-            hint: "the relative tolerance must be finite and non-negative; 1e-6 to 1e-13 are typical",
+            hint:
+                "the relative tolerance must be finite and non-negative; 1e-6 to 1e-13 are typical",
         });
     }
     let atols: Vec<f64> = match &o.atol {
@@ -147,7 +150,11 @@ fn validate<const N: usize>(o: &Options<N>) -> Result<(), Error> {
         check_finite("output time", ts)?;
     }
     if let Some(p) = &o.projection {
-        positive("projection tol", p.tol, "a small positive relative residual such as 1e-14")?;
+        positive(
+            "projection tol",
+            p.tol,
+            "a small positive relative residual such as 1e-14",
+        )?;
     }
     Ok(())
 }
@@ -195,7 +202,11 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
             self.sys.stats.event_evaluations += 1;
             let v = (e.g)(t, &q, &qd);
             if !v.is_finite() {
-                return Err(Error::NonFiniteEvent { index: i, t, value: v });
+                return Err(Error::NonFiniteEvent {
+                    index: i,
+                    t,
+                    value: v,
+                });
             }
             out[i] = v;
         }
@@ -210,7 +221,15 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
             return Ok(false);
         }
         let (q, qd) = split::<N>(y);
-        let r = project_velocity(self.sys.model, &mut self.sys.ws, t, &q, &qd, p.tol, p.max_iterations)?;
+        let r = project_velocity(
+            self.sys.model,
+            &mut self.sys.ws,
+            t,
+            &q,
+            &qd,
+            p.tol,
+            p.max_iterations,
+        )?;
         self.sys.stats.projections += 1;
         self.sys.stats.projection_iterations += r.iterations;
         y[N..2 * N].copy_from_slice(r.qd.as_slice());
@@ -252,7 +271,10 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
             _ => Vec::new(),
         };
         pending_times.reverse(); // pop from the back in time order
-        let h_max = options.max_step.unwrap_or(f64::INFINITY).min((t_end - t0).abs());
+        let h_max = options
+            .max_step
+            .unwrap_or(f64::INFINITY)
+            .min((t_end - t0).abs());
 
         let mut h = match stepper.fixed_step() {
             Some(h) => h,
@@ -363,20 +385,26 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
                     } else {
                         stepper.interpolate((ts - t) / h, &mut buf);
                         let (q, qd) = split::<N>(&buf);
-                        self.sol.events.push(EventHit { index: i, t: ts, q, qd });
+                        self.sol.events.push(EventHit {
+                            index: i,
+                            t: ts,
+                            q,
+                            qd,
+                        });
                     }
                 }
             }
             let t_stop = terminal.map_or(t_new, |(_, ts)| ts);
 
-            // Dense output at requested times before the stop.
+            // Dense output at requested times up to the stop (an event point and the final point are
+            // recorded from the method's own step below).
             while let Some(&s) = pending_times.last() {
                 if dir * (s - t_stop) > 0.0 || (terminal.is_some() && s == t_stop) {
                     break;
                 }
                 pending_times.pop();
-                if s == t_new && terminal.is_none() {
-                    break; // recorded below from the step itself
+                if last && s == t_end {
+                    break;
                 }
                 stepper.interpolate((s - t) / h, &mut buf);
                 self.record(s, &buf)?;
@@ -394,7 +422,12 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
                 }
                 self.project(ts, &mut y_new)?;
                 let (q, qd) = split::<N>(&y_new);
-                self.sol.events.push(EventHit { index: i, t: ts, q, qd });
+                self.sol.events.push(EventHit {
+                    index: i,
+                    t: ts,
+                    q,
+                    qd,
+                });
                 self.record(ts, &y_new)?;
                 self.sol.status = Status::Terminated { event: i };
                 return Ok(());
@@ -403,15 +436,8 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
             if self.project(t_new, &mut y_new)? {
                 stepper.reset(self.sys, t_new, &y_new)?;
             }
-            let record_now = match &options.output {
-                Output::Steps => true,
-                Output::Times(ts) => last && ts.contains(&t_end),
-                Output::Final => false,
-            };
-            if record_now || last {
-                if record_now || !matches!(options.output, Output::Times(_)) || last {
-                    self.record(t_new, &y_new)?;
-                }
+            if last || matches!(options.output, Output::Steps) {
+                self.record(t_new, &y_new)?;
             }
             std::mem::swap(&mut g_old, &mut g_new);
             y.copy_from_slice(&y_new);
@@ -453,7 +479,11 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
         let zeros = vec![0.0; dim];
         let d0 = norm.norm(y0, y0, &zeros);
         let d1 = norm.norm(&f0, y0, &zeros);
-        let mut h0 = if d0 < 1e-5 || d1 < 1e-5 { 1e-6 } else { 0.01 * d0 / d1 };
+        let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
+            1e-6
+        } else {
+            0.01 * d0 / d1
+        };
         h0 = h0.min((t_end - t0).abs());
         let y1: Vec<f64> = (0..dim).map(|i| y0[i] + dir * h0 * f0[i]).collect();
         let mut f1 = vec![0.0; dim];
@@ -468,6 +498,3 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
         Ok((100.0 * h0).min(h1))
     }
 }
-
-#[allow(dead_code)]
-fn _assert_svector<const N: usize>(_: SVector<f64, N>) {}

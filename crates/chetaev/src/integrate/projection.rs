@@ -49,8 +49,9 @@ pub struct Projected<const N: usize> {
     pub residual: f64,
 }
 
-/// The scale `|J_a|·|q̇|` of constraint `a` (1 where it vanishes).
-fn scale(j_row_norm: f64, qd_norm: f64) -> f64 {
+/// The natural scale `|J_a|·|q̇|` of constraint `a` (1 where it vanishes), against which residuals
+/// are measured.
+pub(crate) fn constraint_scale(j_row_norm: f64, qd_norm: f64) -> f64 {
     let s = j_row_norm * qd_norm;
     if s > 0.0 {
         s
@@ -75,7 +76,7 @@ pub fn project_velocity<M: Model<N, K>, const N: usize, const K: usize>(
         let cd = constraint_derivatives::<M, f64, N, K>(model, t, q, &qd);
         let qd_norm = qd.norm();
         residual = (0..K).fold(0.0f64, |acc, a| {
-            acc.max(cd.f[a].abs() / scale(cd.j.row(a).norm(), qd_norm))
+            acc.max(cd.f[a].abs() / constraint_scale(cd.j.row(a).norm(), qd_norm))
         });
         if !residual.is_finite() {
             return Err(locate(saddle::SaddleFailure::NonFinite, t, q, &qd));
@@ -100,7 +101,7 @@ pub fn project_velocity<M: Model<N, K>, const N: usize, const K: usize>(
             let cd = constraint_derivatives::<M, f64, N, K>(model, t, q, &qd);
             let qd_norm = qd.norm();
             let r = (0..K).fold(0.0f64, |acc, a| {
-                acc.max(cd.f[a].abs() / scale(cd.j.row(a).norm(), qd_norm))
+                acc.max(cd.f[a].abs() / constraint_scale(cd.j.row(a).norm(), qd_norm))
             });
             if r <= 1e3 * tol.max(f64::EPSILON) {
                 return Ok(Projected {

@@ -1,0 +1,245 @@
+//! Bad input gets a typed error that says what was wrong; failures mid-run keep what was computed.
+
+use chetaev::prelude::*;
+use uniform_projectile::closed_form::Params;
+use uniform_projectile::model::{impact, uniform_problem, Projectile, UniformProjectile};
+
+fn model(v0: f64) -> UniformProjectile {
+    UniformProjectile {
+        particle: Projectile { m: 1.0, g: 10.0 },
+        v0,
+    }
+}
+
+#[test]
+fn non_finite_initial_state_is_rejected() {
+    let e = Problem::new(
+        model(10.0),
+        0.0,
+        SVector::from([f64::NAN, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, Error::NonFiniteInput { ref what, .. } if what == "q0[0]"),
+        "{e}"
+    );
+    let e = Problem::new(
+        model(10.0),
+        f64::INFINITY,
+        SVector::zeros(),
+        SVector::from([10.0, 0.0]),
+    )
+    .unwrap_err();
+    assert!(matches!(e, Error::NonFiniteInput { .. }), "{e}");
+}
+
+#[test]
+fn zero_speed_under_the_constant_speed_constraint_is_degenerate() {
+    let e = Problem::new(model(0.0), 0.0, SVector::from([0.0, 5.0]), SVector::zeros()).unwrap_err();
+    assert!(
+        matches!(e, Error::DegenerateConstraint { index: 0, .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("v0 must not be zero"), "{e}");
+}
+
+#[test]
+fn inconsistent_initial_velocity_is_an_error_unless_projection_is_asked_for() {
+    let qd0 = SVector::from([10.5, 0.0]);
+    let e = Problem::new(model(10.0), 0.0, SVector::from([0.0, 5.0]), qd0).unwrap_err();
+    assert!(
+        matches!(e, Error::InconsistentInitialState { index: 0, .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("with_projected_velocity"));
+    let p = Problem::with_projected_velocity(model(10.0), 0.0, SVector::from([0.0, 5.0]), qd0)
+        .expect("projectable");
+    assert!((p.qd0().norm() - 10.0).abs() <= 1e-14 * 10.0);
+    assert_eq!(
+        p.qd0()[1],
+        0.0,
+        "the minimal correction in the metric W = m I keeps the direction"
+    );
+}
+
+/// The same constraint twice: J has rank 1, not 2.
+#[derive(Debug)]
+struct Twice;
+impl Lagrangian<2> for Twice {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5
+    }
+}
+impl Constraints<2, 2> for Twice {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 2> {
+        let f = qd.dot(qd) - 1.0;
+        SVector::from([f, f])
+    }
+}
+
+#[test]
+fn rank_deficient_constraints_are_singular() {
+    let e = Problem::new(Twice, 0.0, SVector::zeros(), SVector::from([1.0, 0.0])).unwrap_err();
+    assert!(matches!(e, Error::Singular { t: 0.0, .. }), "{e}");
+}
+
+/// y has no kinetic term: W is singular, and no constraint fixes ÿ.
+#[derive(Debug)]
+struct NoKinetic;
+impl Lagrangian<2> for NoKinetic {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd[0] * qd[0] * 0.5 - q[1] * q[1]
+    }
+}
+
+#[test]
+fn singular_mass_matrix_is_singular() {
+    let e = Problem::unconstrained(NoKinetic, 0.0, SVector::zeros(), SVector::zeros()).unwrap_err();
+    assert!(matches!(e, Error::Singular { .. }), "{e}");
+}
+
+/// A potential √(1 − t) y that stops existing at t = 1.
+struct Expiring;
+impl Lagrangian<2> for Expiring {
+    fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5 - (-t + 1.0).sqrt() * q[1]
+    }
+}
+
+#[test]
+fn nan_mid_run_is_reported_with_time_and_the_trajectory_so_far() {
+    let p = Problem::unconstrained(Expiring, 0.0, SVector::zeros(), SVector::from([1.0, 0.0]))
+        .expect("valid at t0");
+    let sol = solve(&p, Dopri5::default(), &Options::until(2.0)).expect("valid options");
+    match sol.error() {
+        Some(Error::NonFiniteEvaluation { t, q, .. }) => {
+            assert!(*t > 0.99 && *t <= 1.01, "t = {t}");
+            assert_eq!(q.len(), 2);
+        }
+        other => panic!("expected NonFiniteEvaluation, got {other:?}"),
+    }
+    assert!(
+        sol.len() > 3 && *sol.t.last().expect("points") > 0.9,
+        "the motion up to the failure is kept"
+    );
+    assert!(
+        sol.q.iter().all(|q| q.iter().all(|v| v.is_finite())),
+        "no NaN in the output"
+    );
+}
+
+#[test]
+fn bad_tolerances_are_rejected() {
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    for (rtol, atol) in [
+        (0.0, 0.0),
+        (-1e-6, 1e-9),
+        (f64::NAN, 1e-9),
+        (1e-6, f64::INFINITY),
+        (1e-6, -1.0),
+        (1e-17, 1e-9),
+    ] {
+        let e = solve(
+            &p,
+            Dopri5::default(),
+            &Options::until(1.0).tolerances(rtol, atol),
+        )
+        .unwrap_err();
+        assert!(
+            matches!(e, Error::InvalidOption { .. }),
+            "{rtol} {atol}: {e}"
+        );
+    }
+    let e = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(1.0)
+            .atol_per_component(SVector::from([1e-9, -1.0]), SVector::from([1e-9, 1e-9])),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, Error::InvalidOption { name: "atol", .. }),
+        "{e}"
+    );
+    let e = solve(&p, Rk4::new(0.0), &Options::until(1.0)).unwrap_err();
+    assert!(
+        matches!(e, Error::InvalidOption { name: "Rk4::h", .. }),
+        "{e}"
+    );
+    let e = solve(&p, Dopri5::default(), &Options::until(f64::NAN)).unwrap_err();
+    assert!(matches!(e, Error::NonFiniteInput { .. }), "{e}");
+}
+
+#[test]
+fn step_limit_keeps_the_partial_solution() {
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    let sol = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(1.0).tolerances(1e-12, 1e-12).max_steps(5),
+    )
+    .expect("valid");
+    assert!(
+        matches!(sol.error(), Some(Error::MaxSteps { max_steps: 5, .. })),
+        "{:?}",
+        sol.status
+    );
+    assert!(sol.len() >= 2);
+}
+
+#[test]
+fn zero_length_interval_returns_the_initial_point() {
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    let sol = solve(&p, Dopri5::default(), &Options::until(0.0)).expect("valid");
+    assert!(sol.is_success());
+    assert_eq!(sol.len(), 1);
+    assert_eq!(sol.q[0], *p.q0());
+}
+
+#[test]
+fn backward_from_the_impact_recovers_the_start() {
+    let params = Params::PAPER;
+    let p = uniform_problem(&params).expect("valid");
+    let fwd = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(5.0).tolerances(1e-12, 1e-12).event(impact()),
+    )
+    .expect("valid");
+    let (t1, q1, qd1) = fwd.last().expect("points");
+    let back = Problem::new(*p.model(), t1, q1, qd1).expect("consistent");
+    let sol = solve(
+        &back,
+        Dopri5::default(),
+        &Options::until(0.0).tolerances(1e-12, 1e-12),
+    )
+    .expect("valid");
+    assert!(sol.is_success(), "{:?}", sol.status);
+    let (t0, q0, qd0) = sol.last().expect("points");
+    assert_eq!(t0, 0.0);
+    assert!((q0 - p.q0()).norm() <= 1e-10 * params.h0, "{q0:?}");
+    assert!((qd0 - p.qd0()).norm() <= 1e-10 * params.v0, "{qd0:?}");
+}
+
+#[test]
+fn output_times_are_hit_exactly() {
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    let times = vec![0.1, 0.25, 0.5, 0.75];
+    let sol = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(0.75)
+            .tolerances(1e-10, 1e-10)
+            .output_times(times.clone()),
+    )
+    .expect("valid");
+    assert_eq!(sol.t, vec![0.0, 0.1, 0.25, 0.5, 0.75]);
+    for (i, t) in sol.t.iter().enumerate() {
+        let v = uniform_projectile::closed_form::uniform::velocity(&Params::PAPER, *t);
+        assert!(
+            (sol.qd[i][1] - v[1]).abs() <= 1e-8,
+            "dense output at t = {t}"
+        );
+    }
+}

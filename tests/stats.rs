@@ -1,0 +1,94 @@
+//! Statistics against calls counted independently, inside the user's model.
+
+use std::cell::Cell;
+
+use chetaev::prelude::*;
+
+/// The paper's model, counting how often `chetaev` calls it.
+struct Counting {
+    l_calls: Cell<usize>,
+    f_calls: Cell<usize>,
+}
+
+impl Lagrangian<2> for Counting {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        self.l_calls.set(self.l_calls.get() + 1);
+        qd.dot(qd) * 0.5 - q[1] * 10.0
+    }
+}
+impl Constraints<2, 1> for Counting {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        self.f_calls.set(self.f_calls.get() + 1);
+        SVector::from([qd.dot(qd) - 100.0])
+    }
+}
+
+fn problem() -> Problem<Counting, 2, 1> {
+    let model = Counting {
+        l_calls: Cell::new(0),
+        f_calls: Cell::new(0),
+    };
+    let p = Problem::new(
+        model,
+        0.0,
+        SVector::from([0.0, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )
+    .expect("valid");
+    p.model().l_calls.set(0);
+    p.model().f_calls.set(0);
+    p
+}
+
+#[test]
+fn rhs_and_output_evaluations_match_model_calls() {
+    for record in [Record::State, Record::Dynamics, Record::Energy] {
+        let p = problem();
+        let sol = solve(
+            &p,
+            Dopri5::default(),
+            &Options::until(1.0).tolerances(1e-8, 1e-8).record(record),
+        )
+        .expect("valid");
+        assert!(sol.is_success());
+        let s = sol.stats;
+        // Each evaluation of the equations: 3 passes over L, 2 over f.
+        let evaluations = s.rhs_evaluations + s.output_evaluations;
+        assert_eq!(p.model().l_calls.get(), 3 * evaluations, "{record:?}");
+        assert_eq!(p.model().f_calls.get(), 2 * evaluations, "{record:?}");
+        // Dopri5 is FSAL: 6 new stages per step, plus 1 at the start and 2 for the initial step size.
+        assert_eq!(
+            s.rhs_evaluations,
+            6 * (s.accepted_steps + s.rejected_steps) + 1 + 2
+        );
+        match record {
+            Record::State => assert_eq!(s.output_evaluations, 0, "no diagnostics asked for"),
+            _ => assert_eq!(s.output_evaluations, sol.len()),
+        }
+        assert_eq!(
+            s.jacobian_evaluations, 0,
+            "explicit methods never build a Jacobian"
+        );
+    }
+}
+
+#[test]
+fn projection_work_is_counted() {
+    let p = problem();
+    let sol = solve(
+        &p,
+        Rk4::new(0.05),
+        &Options::until(1.0)
+            .record(Record::State)
+            .project(Projection::default()),
+    )
+    .expect("valid");
+    let s = sol.stats;
+    assert_eq!(s.projections, s.accepted_steps);
+    assert!(s.projection_iterations >= 1);
+    // Per projection: f evaluated at the start and after each iteration; W once per iteration;
+    // and the stepper restarts (one right-hand side) after each projection that moved the state.
+    assert!(
+        p.model().f_calls.get() >= 2 * s.rhs_evaluations + s.projections + s.projection_iterations
+    );
+}
