@@ -79,7 +79,12 @@ impl<M: Lagrangian<N>, const N: usize> Lagrangian<N> for Unconstrained<M> {
 
 impl<M, const N: usize> Constraints<N, 0> for Unconstrained<M> {
     #[inline(always)]
-    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, N>, _qd: &SVector<R, N>) -> SVector<R, 0> {
+    fn constraints<R: Real>(
+        &self,
+        _t: R,
+        _q: &SVector<R, N>,
+        _qd: &SVector<R, N>,
+    ) -> SVector<R, 0> {
         SVector::zeros()
     }
 }

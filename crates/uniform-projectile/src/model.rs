@@ -77,7 +77,9 @@ pub fn impact() -> Event<2> {
 /// magnitude (the stiff and extreme scenes).
 pub fn scaled_atol(p: &Params, rtol: f64) -> (SVector<f64, 2>, SVector<f64, 2>) {
     let t_fall = (2.0 * p.h0 / p.g).sqrt();
-    let x_scale = (p.v0 * t_fall).min(p.v0 * p.v0 / p.g).max(f64::MIN_POSITIVE);
+    let x_scale = (p.v0 * t_fall)
+        .min(p.v0 * p.v0 / p.g)
+        .max(f64::MIN_POSITIVE);
     let v_scale = p.v0.min((2.0 * p.g * p.h0).sqrt()).max(f64::MIN_POSITIVE);
     (
         SVector::from([rtol * x_scale, rtol * p.h0]),

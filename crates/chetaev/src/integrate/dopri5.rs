@@ -124,12 +124,23 @@ impl Stepper for Dopri5Stepper {
         sys.rhs(t + C4 * h, yt, k4)?;
         combine(yt, y, h, &[(A51, k1), (A52, k2), (A53, k3), (A54, k4)]);
         sys.rhs(t + C5 * h, yt, k5)?;
-        combine(&mut self.ysti, y, h, &[(A61, k1), (A62, k2), (A63, k3), (A64, k4), (A65, k5)]);
+        combine(
+            &mut self.ysti,
+            y,
+            h,
+            &[(A61, k1), (A62, k2), (A63, k3), (A64, k4), (A65, k5)],
+        );
         sys.rhs(t + h, &self.ysti, k6)?;
-        combine(y_new, y, h, &[(A71, k1), (A73, k3), (A74, k4), (A75, k5), (A76, k6)]);
+        combine(
+            y_new,
+            y,
+            h,
+            &[(A71, k1), (A73, k3), (A74, k4), (A75, k5), (A76, k6)],
+        );
         sys.rhs(t + h, y_new, k7)?;
         for i in 0..y.len() {
-            self.err[i] = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+            self.err[i] =
+                h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
         }
         Ok(norm.norm(&self.err, y, y_new))
     }
@@ -171,7 +182,8 @@ impl Stepper for Dopri5Stepper {
             r2[i] = dy;
             r3[i] = bspl;
             r4[i] = dy - h * k7[i] - bspl;
-            r5[i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+            r5[i] =
+                h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
         }
         // First same as last: the derivative at the new point starts the next step.
         let (head, tail) = self.k.split_at_mut(6);

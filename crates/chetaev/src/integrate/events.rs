@@ -150,7 +150,10 @@ mod tests {
     fn finds_a_root_to_a_few_ulps() {
         let f = |x: f64| x.cos() - x;
         let (r, n) = locate_root(f, 0.0, f(0.0), 1.0, f(1.0));
-        assert!((r - 0.739_085_133_215_160_6).abs() <= 4.0 * f64::EPSILON, "{r}");
+        assert!(
+            (r - 0.739_085_133_215_160_6).abs() <= 4.0 * f64::EPSILON,
+            "{r}"
+        );
         assert!(n < 20, "{n}");
     }
 

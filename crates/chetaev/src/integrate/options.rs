@@ -166,4 +166,5 @@ impl<const N: usize> Options<N> {
 }
 
 /// An event function `g(t, q, q̇)`, shared so options can be cloned across a parameter sweep.
-pub type EventFn<const N: usize> = Arc<dyn Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> f64 + Send + Sync>;
+pub type EventFn<const N: usize> =
+    Arc<dyn Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> f64 + Send + Sync>;

@@ -92,7 +92,12 @@ impl Stepper for Rk4Stepper {
         sys.rhs(t + 0.5 * h, yt, k3)?;
         combine(yt, y, h, &[(1.0, k3)]);
         sys.rhs(t + h, yt, k4)?;
-        combine(y_new, y, h / 6.0, &[(1.0, k1), (2.0, k2), (2.0, k3), (1.0, k4)]);
+        combine(
+            y_new,
+            y,
+            h / 6.0,
+            &[(1.0, k1), (2.0, k2), (2.0, k3), (1.0, k4)],
+        );
         Ok(0.0)
     }
 

@@ -22,7 +22,13 @@ pub trait OdeSystem {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error>;
     /// The Jacobian `∂F/∂y` (row-major, `dim × dim`) and `∂F/∂t` (length `dim`). Only implicit
     /// methods call it.
-    fn jacobian(&mut self, t: f64, y: &[f64], jac: &mut [f64], dfdt: &mut [f64]) -> Result<(), Error>;
+    fn jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        jac: &mut [f64],
+        dfdt: &mut [f64],
+    ) -> Result<(), Error>;
 }
 
 /// Counts of the work done, kept where user code is called so that no method can forget one.
@@ -129,7 +135,8 @@ impl<M: Model<N, K>, const N: usize, const K: usize> OdeSystem for ChetaevOde<'_
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
         self.stats.rhs_evaluations += 1;
         let (q, qd) = split::<N>(y);
-        let d = dynamics(self.model, &mut self.ws, t, &q, &qd).map_err(|e| locate(e, t, &q, &qd))?;
+        let d =
+            dynamics(self.model, &mut self.ws, t, &q, &qd).map_err(|e| locate(e, t, &q, &qd))?;
         dy[..N].copy_from_slice(qd.as_slice());
         dy[N..2 * N].copy_from_slice(d.qdd.as_slice());
         if self.energy {
@@ -139,7 +146,13 @@ impl<M: Model<N, K>, const N: usize, const K: usize> OdeSystem for ChetaevOde<'_
         Ok(())
     }
 
-    fn jacobian(&mut self, t: f64, y: &[f64], jac: &mut [f64], dfdt: &mut [f64]) -> Result<(), Error> {
+    fn jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        jac: &mut [f64],
+        dfdt: &mut [f64],
+    ) -> Result<(), Error> {
         self.stats.jacobian_evaluations += 1;
         let dim = self.dim();
         let mut ws = SaddleWorkspace::<Dual64>::default();
@@ -150,7 +163,8 @@ impl<M: Model<N, K>, const N: usize, const K: usize> OdeSystem for ChetaevOde<'_
             let qd = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(y[N + i], seed(N + i)));
             let td = Dual64::new(t, seed(2 * N));
             let (qr, qdr) = split::<N>(y);
-            let d = dynamics(self.model, &mut ws, td, &q, &qd).map_err(|e| locate(e, t, &qr, &qdr))?;
+            let d =
+                dynamics(self.model, &mut ws, td, &q, &qd).map_err(|e| locate(e, t, &qr, &qdr))?;
             let mut col = |row: usize, v: f64| {
                 if dir < 2 * N {
                     jac[row * dim + dir] = v;
