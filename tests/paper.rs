@@ -64,7 +64,7 @@ fn impact_is_located_to_1e_12_relative() {
     let k = table(&p);
     let sol = solve(
         &uniform_problem(&p).expect("valid"),
-        Dop853Or5::method(),
+        Dop853::default(),
         &Options::until(10.0)
             .tolerances(1e-13, 1e-13)
             .event(impact()),
@@ -99,14 +99,6 @@ fn impact_is_located_to_1e_12_relative() {
     let hit = &sol.events[0];
     assert!(rel_err(hit.t, k.classical.t_impact) <= 1e-12);
     assert!(rel_err(hit.q[0], k.classical.range) <= 1e-12);
-}
-
-/// The most accurate explicit method available.
-struct Dop853Or5;
-impl Dop853Or5 {
-    fn method() -> Dopri5 {
-        Dopri5::default()
-    }
 }
 
 #[test]

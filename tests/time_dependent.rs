@@ -100,6 +100,11 @@ fn dopri5_handles_explicit_time_dependence() {
 }
 
 #[test]
+fn dop853_handles_explicit_time_dependence() {
+    check_all(Dop853::default(), 1e-11);
+}
+
+#[test]
 fn rk4_handles_explicit_time_dependence() {
     // Fixed step: error ~ C h⁴; h = 1e-3 gives ~1e-12 here.
     check_all(Rk4::new(1e-3), 1e-10);

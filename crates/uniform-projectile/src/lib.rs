@@ -3,3 +3,4 @@
 
 pub mod closed_form;
 pub mod model;
+pub mod report;

@@ -5,6 +5,7 @@
 //! error, and interpolate inside the last accepted step. It never sees the physics; the driver
 //! ([`solve`](crate::solve)) never sees a tableau.
 
+pub mod dop853;
 pub mod dopri5;
 pub mod driver;
 pub mod events;
@@ -13,6 +14,7 @@ pub mod projection;
 pub mod rk4;
 pub mod system;
 
+pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use rk4::Rk4;
 

@@ -1,0 +1,927 @@
+//! Dormand–Prince 8(5,3) with its seventh-order continuous extension and Hairer's stiffness test.
+//!
+//! Tableau: P. J. Prince, J. R. Dormand, "High order embedded Runge-Kutta formulae",
+//! J. Comput. Appl. Math. 7 (1981) 67–75. Error estimate, dense output and stiffness detection:
+//! E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I*, 2nd ed.,
+//! Springer 1993, Sections II.5, II.6, II.10 and IV.2 (the code DOP853, version of April 25, 1996
+//! with the corrections of March 4, 2002, whose coefficients are reproduced here digit for digit).
+//!
+//! Twelve stages give the eighth-order step; the twelfth stage and the first-same-as-last
+//! thirteenth sit at the node `t + h`. The error estimate combines an embedded fifth-order and an
+//! embedded third-order formula: with `err5²` and `err3²` their weighted sums of squares over the
+//! `n` controlled components, `err = |h|·err5² / sqrt(n·(err5² + 0.01·err3²))`, which behaves like
+//! an eighth-order estimate, so the step size is controlled with the exponent `1/8`. Three further
+//! stages (nodes `0.1`, `0.2`, `7/9`) are evaluated after each accepted step for the dense output.
+//!
+//! The stiffness test is DOP853's: `h·|λ|` is estimated from stages 12 and 13, which share the
+//! node `t + h`, and stiffness is reported after 15 steps above `6.1` (just inside the stability
+//! interval `(-6.39, 0)`), six steps below clearing the count. As for [`Dopri5`](super::Dopri5),
+//! every accepted step is tested.
+
+#![allow(clippy::excessive_precision)]
+
+use super::{combine, system::OdeSystem, ErrorNorm, Method, Stepper};
+use crate::error::Error;
+
+// Nodes. Stages 1, 12 and 13 sit at c = 0, 1, 1 and take t and t + h directly.
+const C2: f64 = 0.526001519587677318785587544488e-01;
+const C3: f64 = 0.789002279381515978178381316732e-01;
+const C4: f64 = 0.118350341907227396726757197510e+00;
+const C5: f64 = 0.281649658092772603273242802490e+00;
+const C6: f64 = 0.333333333333333333333333333333e+00;
+const C7: f64 = 0.25e+00;
+const C8: f64 = 0.307692307692307692307692307692e+00;
+const C9: f64 = 0.651282051282051282051282051282e+00;
+const C10: f64 = 0.6e+00;
+const C11: f64 = 0.857142857142857142857142857142e+00;
+const C14: f64 = 0.1e+00;
+const C15: f64 = 0.2e+00;
+const C16: f64 = 0.777777777777777777777777777778e+00;
+
+// Weights of the eighth-order step.
+const B1: f64 = 5.42937341165687622380535766363e-2;
+const B6: f64 = 4.45031289275240888144113950566e0;
+const B7: f64 = 1.89151789931450038304281599044e0;
+const B8: f64 = -5.8012039600105847814672114227e0;
+const B9: f64 = 3.1116436695781989440891606237e-1;
+const B10: f64 = -1.52160949662516078556178806805e-1;
+const B11: f64 = 2.01365400804030348374776537501e-1;
+const B12: f64 = 4.47106157277725905176885569043e-2;
+
+// The embedded third-order formula, for err3.
+const BHH1: f64 = 0.244094488188976377952755905512e+00;
+const BHH2: f64 = 0.733846688281611857341361741547e+00;
+const BHH3: f64 = 0.220588235294117647058823529412e-01;
+
+// The difference of the eighth-order step and the embedded fifth-order formula, for err5.
+const ER1: f64 = 0.1312004499419488073250102996e-01;
+const ER6: f64 = -0.1225156446376204440720569753e+01;
+const ER7: f64 = -0.4957589496572501915214079952e+00;
+const ER8: f64 = 0.1664377182454986536961530415e+01;
+const ER9: f64 = -0.3503288487499736816886487290e+00;
+const ER10: f64 = 0.3341791187130174790297318841e+00;
+const ER11: f64 = 0.8192320648511571246570742613e-01;
+const ER12: f64 = -0.2235530786388629525884427845e-01;
+
+// Stage coefficients of the step.
+const A21: f64 = 5.26001519587677318785587544488e-2;
+const A31: f64 = 1.97250569845378994544595329183e-2;
+const A32: f64 = 5.91751709536136983633785987549e-2;
+const A41: f64 = 2.95875854768068491816892993775e-2;
+const A43: f64 = 8.87627564304205475450678981324e-2;
+const A51: f64 = 2.41365134159266685502369798665e-1;
+const A53: f64 = -8.84549479328286085344864962717e-1;
+const A54: f64 = 9.24834003261792003115737966543e-1;
+const A61: f64 = 3.7037037037037037037037037037e-2;
+const A64: f64 = 1.70828608729473871279604482173e-1;
+const A65: f64 = 1.25467687566822425016691814123e-1;
+const A71: f64 = 3.7109375e-2;
+const A74: f64 = 1.70252211019544039314978060272e-1;
+const A75: f64 = 6.02165389804559606850219397283e-2;
+const A76: f64 = -1.7578125e-2;
+const A81: f64 = 3.70920001185047927108779319836e-2;
+const A84: f64 = 1.70383925712239993810214054705e-1;
+const A85: f64 = 1.07262030446373284651809199168e-1;
+const A86: f64 = -1.53194377486244017527936158236e-2;
+const A87: f64 = 8.27378916381402288758473766002e-3;
+const A91: f64 = 6.24110958716075717114429577812e-1;
+const A94: f64 = -3.36089262944694129406857109825e0;
+const A95: f64 = -8.68219346841726006818189891453e-1;
+const A96: f64 = 2.75920996994467083049415600797e1;
+const A97: f64 = 2.01540675504778934086186788979e1;
+const A98: f64 = -4.34898841810699588477366255144e1;
+const A101: f64 = 4.77662536438264365890433908527e-1;
+const A104: f64 = -2.48811461997166764192642586468e0;
+const A105: f64 = -5.90290826836842996371446475743e-1;
+const A106: f64 = 2.12300514481811942347288949897e1;
+const A107: f64 = 1.52792336328824235832596922938e1;
+const A108: f64 = -3.32882109689848629194453265587e1;
+const A109: f64 = -2.03312017085086261358222928593e-2;
+const A111: f64 = -9.3714243008598732571704021658e-1;
+const A114: f64 = 5.18637242884406370830023853209e0;
+const A115: f64 = 1.09143734899672957818500254654e0;
+const A116: f64 = -8.14978701074692612513997267357e0;
+const A117: f64 = -1.85200656599969598641566180701e1;
+const A118: f64 = 2.27394870993505042818970056734e1;
+const A119: f64 = 2.49360555267965238987089396762e0;
+const A1110: f64 = -3.0467644718982195003823669022e0;
+const A121: f64 = 2.27331014751653820792359768449e0;
+const A124: f64 = -1.05344954667372501984066689879e1;
+const A125: f64 = -2.00087205822486249909675718444e0;
+const A126: f64 = -1.79589318631187989172765950534e1;
+const A127: f64 = 2.79488845294199600508499808837e1;
+const A128: f64 = -2.85899827713502369474065508674e0;
+const A129: f64 = -8.87285693353062954433549289258e0;
+const A1210: f64 = 1.23605671757943030647266201528e1;
+const A1211: f64 = 6.43392746015763530355970484046e-1;
+
+// Stages 14 to 16 of the continuous extension (stage 13 is the derivative at t + h).
+const A141: f64 = 5.61675022830479523392909219681e-2;
+const A147: f64 = 2.53500210216624811088794765333e-1;
+const A148: f64 = -2.46239037470802489917441475441e-1;
+const A149: f64 = -1.24191423263816360469010140626e-1;
+const A1410: f64 = 1.5329179827876569731206322685e-1;
+const A1411: f64 = 8.20105229563468988491666602057e-3;
+const A1412: f64 = 7.56789766054569976138603589584e-3;
+const A1413: f64 = -8.298e-3;
+const A151: f64 = 3.18346481635021405060768473261e-2;
+const A156: f64 = 2.83009096723667755288322961402e-2;
+const A157: f64 = 5.35419883074385676223797384372e-2;
+const A158: f64 = -5.49237485713909884646569340306e-2;
+const A1511: f64 = -1.08347328697249322858509316994e-4;
+const A1512: f64 = 3.82571090835658412954920192323e-4;
+const A1513: f64 = -3.40465008687404560802977114492e-4;
+const A1514: f64 = 1.41312443674632500278074618366e-1;
+const A161: f64 = -4.28896301583791923408573538692e-1;
+const A166: f64 = -4.69762141536116384314449447206e0;
+const A167: f64 = 7.68342119606259904184240953878e0;
+const A168: f64 = 4.06898981839711007970213554331e0;
+const A169: f64 = 3.56727187455281109270669543021e-1;
+const A1613: f64 = -1.39902416515901462129418009734e-3;
+const A1614: f64 = 2.9475147891527723389556272149e0;
+const A1615: f64 = -9.15095847217987001081870187138e0;
+
+// Coefficients of the continuous extension.
+const D41: f64 = -0.84289382761090128651353491142e+01;
+const D46: f64 = 0.56671495351937776962531783590e+00;
+const D47: f64 = -0.30689499459498916912797304727e+01;
+const D48: f64 = 0.23846676565120698287728149680e+01;
+const D49: f64 = 0.21170345824450282767155149946e+01;
+const D410: f64 = -0.87139158377797299206789907490e+00;
+const D411: f64 = 0.22404374302607882758541771650e+01;
+const D412: f64 = 0.63157877876946881815570249290e+00;
+const D413: f64 = -0.88990336451333310820698117400e-01;
+const D414: f64 = 0.18148505520854727256656404962e+02;
+const D415: f64 = -0.91946323924783554000451984436e+01;
+const D416: f64 = -0.44360363875948939664310572000e+01;
+const D51: f64 = 0.10427508642579134603413151009e+02;
+const D56: f64 = 0.24228349177525818288430175319e+03;
+const D57: f64 = 0.16520045171727028198505394887e+03;
+const D58: f64 = -0.37454675472269020279518312152e+03;
+const D59: f64 = -0.22113666853125306036270938578e+02;
+const D510: f64 = 0.77334326684722638389603898808e+01;
+const D511: f64 = -0.30674084731089398182061213626e+02;
+const D512: f64 = -0.93321305264302278729567221706e+01;
+const D513: f64 = 0.15697238121770843886131091075e+02;
+const D514: f64 = -0.31139403219565177677282850411e+02;
+const D515: f64 = -0.93529243588444783865713862664e+01;
+const D516: f64 = 0.35816841486394083752465898540e+02;
+const D61: f64 = 0.19985053242002433820987653617e+02;
+const D66: f64 = -0.38703730874935176555105901742e+03;
+const D67: f64 = -0.18917813819516756882830838328e+03;
+const D68: f64 = 0.52780815920542364900561016686e+03;
+const D69: f64 = -0.11573902539959630126141871134e+02;
+const D610: f64 = 0.68812326946963000169666922661e+01;
+const D611: f64 = -0.10006050966910838403183860980e+01;
+const D612: f64 = 0.77771377980534432092869265740e+00;
+const D613: f64 = -0.27782057523535084065932004339e+01;
+const D614: f64 = -0.60196695231264120758267380846e+02;
+const D615: f64 = 0.84320405506677161018159903784e+02;
+const D616: f64 = 0.11992291136182789328035130030e+02;
+const D71: f64 = -0.25693933462703749003312586129e+02;
+const D76: f64 = -0.15418974869023643374053993627e+03;
+const D77: f64 = -0.23152937917604549567536039109e+03;
+const D78: f64 = 0.35763911791061412378285349910e+03;
+const D79: f64 = 0.93405324183624310003907691704e+02;
+const D710: f64 = -0.37458323136451633156875139351e+02;
+const D711: f64 = 0.10409964950896230045147246184e+03;
+const D712: f64 = 0.29840293426660503123344363579e+02;
+const D713: f64 = -0.43533456590011143754432175058e+02;
+const D714: f64 = 0.96324553959188282948394950600e+02;
+const D715: f64 = -0.39177261675615439165231486172e+02;
+const D716: f64 = -0.14972683625798562581422125276e+03;
+
+/// `h·|λ|` above which a step counts as limited by stability rather than by accuracy.
+const STIFF_H_LAMBDA: f64 = 6.1;
+/// Consecutive stiff steps before stiffness is reported.
+const STIFF_STEPS: u32 = 15;
+/// Non-stiff steps that clear the count of stiff ones.
+const NONSTIFF_STEPS: u32 = 6;
+
+/// Dormand–Prince 8(5,3): explicit, adaptive, eighth order, with seventh-order dense output.
+///
+/// The choice for non-stiff problems at stringent tolerances (about `1e-7` to `1e-13`). A step costs
+/// eleven new evaluations of the right-hand side (the twelfth is the previous step's last); each
+/// accepted step costs one more for the next step and three for the dense output.
+#[derive(Clone, Copy, Debug)]
+pub struct Dop853 {
+    /// Stop with [`Error::Stiff`] when the stiffness test fires on 15 accepted steps (default on).
+    pub stiffness_detection: bool,
+}
+
+impl Default for Dop853 {
+    fn default() -> Self {
+        Self {
+            stiffness_detection: true,
+        }
+    }
+}
+
+impl Method for Dop853 {
+    type Stepper = Dop853Stepper;
+    fn name(&self) -> &'static str {
+        "Dop853"
+    }
+    fn stepper(&self, dim: usize) -> Dop853Stepper {
+        Dop853Stepper {
+            k: std::array::from_fn(|_| vec![0.0; dim]),
+            ytmp: vec![0.0; dim],
+            ysti: vec![0.0; dim],
+            err5: vec![0.0; dim],
+            err3: vec![0.0; dim],
+            rcont: std::array::from_fn(|_| vec![0.0; dim]),
+            detect: self.stiffness_detection,
+            stiff_steps: 0,
+            nonstiff_steps: 0,
+            h_lambda: 0.0,
+        }
+    }
+}
+
+/// The working state of [`Dop853`].
+#[derive(Clone, Debug)]
+pub struct Dop853Stepper {
+    /// Stages 1–12 of the step, 13 (the derivative at the new point) and 14–16 of the dense output.
+    k: [Vec<f64>; 16],
+    ytmp: Vec<f64>,
+    /// The argument of stage 12, which shares the node `t + h` with stage 13.
+    ysti: Vec<f64>,
+    err5: Vec<f64>,
+    err3: Vec<f64>,
+    rcont: [Vec<f64>; 8],
+    detect: bool,
+    stiff_steps: u32,
+    nonstiff_steps: u32,
+    h_lambda: f64,
+}
+
+impl Stepper for Dop853Stepper {
+    fn control_order(&self) -> Option<u32> {
+        Some(8)
+    }
+
+    fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
+        sys.rhs(t, y, &mut self.k[0])
+    }
+
+    fn try_step<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h: f64,
+        y: &[f64],
+        y_new: &mut [f64],
+        norm: &ErrorNorm,
+    ) -> Result<f64, Error> {
+        let [k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, ..] = &mut self.k;
+        let yt = &mut self.ytmp;
+        combine(yt, y, h, &[(A21, k1)]);
+        sys.rhs(t + C2 * h, yt, k2)?;
+        combine(yt, y, h, &[(A31, k1), (A32, k2)]);
+        sys.rhs(t + C3 * h, yt, k3)?;
+        combine(yt, y, h, &[(A41, k1), (A43, k3)]);
+        sys.rhs(t + C4 * h, yt, k4)?;
+        combine(yt, y, h, &[(A51, k1), (A53, k3), (A54, k4)]);
+        sys.rhs(t + C5 * h, yt, k5)?;
+        combine(yt, y, h, &[(A61, k1), (A64, k4), (A65, k5)]);
+        sys.rhs(t + C6 * h, yt, k6)?;
+        combine(yt, y, h, &[(A71, k1), (A74, k4), (A75, k5), (A76, k6)]);
+        sys.rhs(t + C7 * h, yt, k7)?;
+        combine(
+            yt,
+            y,
+            h,
+            &[(A81, k1), (A84, k4), (A85, k5), (A86, k6), (A87, k7)],
+        );
+        sys.rhs(t + C8 * h, yt, k8)?;
+        combine(
+            yt,
+            y,
+            h,
+            &[
+                (A91, k1),
+                (A94, k4),
+                (A95, k5),
+                (A96, k6),
+                (A97, k7),
+                (A98, k8),
+            ],
+        );
+        sys.rhs(t + C9 * h, yt, k9)?;
+        combine(
+            yt,
+            y,
+            h,
+            &[
+                (A101, k1),
+                (A104, k4),
+                (A105, k5),
+                (A106, k6),
+                (A107, k7),
+                (A108, k8),
+                (A109, k9),
+            ],
+        );
+        sys.rhs(t + C10 * h, yt, k10)?;
+        combine(
+            yt,
+            y,
+            h,
+            &[
+                (A111, k1),
+                (A114, k4),
+                (A115, k5),
+                (A116, k6),
+                (A117, k7),
+                (A118, k8),
+                (A119, k9),
+                (A1110, k10),
+            ],
+        );
+        sys.rhs(t + C11 * h, yt, k11)?;
+        combine(
+            &mut self.ysti,
+            y,
+            h,
+            &[
+                (A121, k1),
+                (A124, k4),
+                (A125, k5),
+                (A126, k6),
+                (A127, k7),
+                (A128, k8),
+                (A129, k9),
+                (A1210, k10),
+                (A1211, k11),
+            ],
+        );
+        sys.rhs(t + h, &self.ysti, k12)?;
+        for i in 0..y.len() {
+            let incr = B1 * k1[i]
+                + B6 * k6[i]
+                + B7 * k7[i]
+                + B8 * k8[i]
+                + B9 * k9[i]
+                + B10 * k10[i]
+                + B11 * k11[i]
+                + B12 * k12[i];
+            y_new[i] = y[i] + h * incr;
+            self.err3[i] = incr - BHH1 * k1[i] - BHH2 * k9[i] - BHH3 * k12[i];
+            self.err5[i] = ER1 * k1[i]
+                + ER6 * k6[i]
+                + ER7 * k7[i]
+                + ER8 * k8[i]
+                + ER9 * k9[i]
+                + ER10 * k10[i]
+                + ER11 * k11[i]
+                + ER12 * k12[i];
+        }
+        let err = norm.sum_sq(&self.err5, y, y_new);
+        let err2 = norm.sum_sq(&self.err3, y, y_new);
+        let mut deno = err + 0.01 * err2;
+        if deno <= 0.0 {
+            deno = 1.0;
+        }
+        Ok(h.abs() * err * (1.0 / (norm.len() as f64 * deno)).sqrt())
+    }
+
+    fn accept<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h: f64,
+        y: &[f64],
+        y_new: &[f64],
+    ) -> Result<(), Error> {
+        let [k1, _, _, _, _, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16] = &mut self.k;
+        sys.rhs(t + h, y_new, k13)?;
+        if self.detect {
+            // h·|λ| estimated from stages 12 and 13, which share the node t + h.
+            let (mut num, mut den) = (0.0, 0.0);
+            for i in 0..y.len() {
+                num += (k13[i] - k12[i]).powi(2);
+                den += (y_new[i] - self.ysti[i]).powi(2);
+            }
+            if den > 0.0 {
+                self.h_lambda = h.abs() * (num / den).sqrt();
+            }
+            if self.h_lambda > STIFF_H_LAMBDA {
+                self.nonstiff_steps = 0;
+                self.stiff_steps += 1;
+            } else {
+                self.nonstiff_steps += 1;
+                if self.nonstiff_steps == NONSTIFF_STEPS {
+                    self.stiff_steps = 0;
+                }
+            }
+        }
+        // The three stages of the continuous extension.
+        let yt = &mut self.ytmp;
+        combine(
+            yt,
+            y,
+            h,
+            &[
+                (A141, k1),
+                (A147, k7),
+                (A148, k8),
+                (A149, k9),
+                (A1410, k10),
+                (A1411, k11),
+                (A1412, k12),
+                (A1413, k13),
+            ],
+        );
+        sys.rhs(t + C14 * h, yt, k14)?;
+        combine(
+            yt,
+            y,
+            h,
+            &[
+                (A151, k1),
+                (A156, k6),
+                (A157, k7),
+                (A158, k8),
+                (A1511, k11),
+                (A1512, k12),
+                (A1513, k13),
+                (A1514, k14),
+            ],
+        );
+        sys.rhs(t + C15 * h, yt, k15)?;
+        combine(
+            yt,
+            y,
+            h,
+            &[
+                (A161, k1),
+                (A166, k6),
+                (A167, k7),
+                (A168, k8),
+                (A169, k9),
+                (A1613, k13),
+                (A1614, k14),
+                (A1615, k15),
+            ],
+        );
+        sys.rhs(t + C16 * h, yt, k16)?;
+        let [r1, r2, r3, r4, r5, r6, r7, r8] = &mut self.rcont;
+        for i in 0..y.len() {
+            let ydiff = y_new[i] - y[i];
+            let bspl = h * k1[i] - ydiff;
+            r1[i] = y[i];
+            r2[i] = ydiff;
+            r3[i] = bspl;
+            r4[i] = ydiff - h * k13[i] - bspl;
+            r5[i] = h
+                * (D41 * k1[i]
+                    + D46 * k6[i]
+                    + D47 * k7[i]
+                    + D48 * k8[i]
+                    + D49 * k9[i]
+                    + D410 * k10[i]
+                    + D411 * k11[i]
+                    + D412 * k12[i]
+                    + D413 * k13[i]
+                    + D414 * k14[i]
+                    + D415 * k15[i]
+                    + D416 * k16[i]);
+            r6[i] = h
+                * (D51 * k1[i]
+                    + D56 * k6[i]
+                    + D57 * k7[i]
+                    + D58 * k8[i]
+                    + D59 * k9[i]
+                    + D510 * k10[i]
+                    + D511 * k11[i]
+                    + D512 * k12[i]
+                    + D513 * k13[i]
+                    + D514 * k14[i]
+                    + D515 * k15[i]
+                    + D516 * k16[i]);
+            r7[i] = h
+                * (D61 * k1[i]
+                    + D66 * k6[i]
+                    + D67 * k7[i]
+                    + D68 * k8[i]
+                    + D69 * k9[i]
+                    + D610 * k10[i]
+                    + D611 * k11[i]
+                    + D612 * k12[i]
+                    + D613 * k13[i]
+                    + D614 * k14[i]
+                    + D615 * k15[i]
+                    + D616 * k16[i]);
+            r8[i] = h
+                * (D71 * k1[i]
+                    + D76 * k6[i]
+                    + D77 * k7[i]
+                    + D78 * k8[i]
+                    + D79 * k9[i]
+                    + D710 * k10[i]
+                    + D711 * k11[i]
+                    + D712 * k12[i]
+                    + D713 * k13[i]
+                    + D714 * k14[i]
+                    + D715 * k15[i]
+                    + D716 * k16[i]);
+        }
+        // First same as last: the derivative at the new point starts the next step.
+        k1.copy_from_slice(k13);
+        Ok(())
+    }
+
+    fn interpolate(&self, theta: f64, out: &mut [f64]) {
+        let [r1, r2, r3, r4, r5, r6, r7, r8] = &self.rcont;
+        let th1 = 1.0 - theta;
+        for i in 0..out.len() {
+            let par = r5[i] + theta * (r6[i] + th1 * (r7[i] + theta * r8[i]));
+            out[i] = r1[i] + theta * (r2[i] + th1 * (r3[i] + theta * (r4[i] + th1 * par)));
+        }
+    }
+
+    fn stiffness(&self) -> Option<f64> {
+        (self.stiff_steps >= STIFF_STEPS).then_some(self.h_lambda)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `y' = f(t, y)` on a small state, counting evaluations.
+    struct Sys<F> {
+        dim: usize,
+        f: F,
+        evaluations: usize,
+    }
+
+    impl<F: FnMut(f64, &[f64], &mut [f64])> Sys<F> {
+        fn new(dim: usize, f: F) -> Self {
+            Self {
+                dim,
+                f,
+                evaluations: 0,
+            }
+        }
+    }
+
+    impl<F: FnMut(f64, &[f64], &mut [f64])> OdeSystem for Sys<F> {
+        fn dim(&self) -> usize {
+            self.dim
+        }
+        fn controlled_dim(&self) -> usize {
+            self.dim
+        }
+        fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+            self.evaluations += 1;
+            (self.f)(t, y, dy);
+            Ok(())
+        }
+        fn jacobian(
+            &mut self,
+            _t: f64,
+            _y: &[f64],
+            jac: &mut [f64],
+            dfdt: &mut [f64],
+        ) -> Result<(), Error> {
+            jac.fill(0.0);
+            dfdt.fill(0.0);
+            Ok(())
+        }
+    }
+
+    /// A norm under which every step is accepted.
+    fn loose(dim: usize) -> ErrorNorm {
+        ErrorNorm::new(0.0, vec![1e10; dim])
+    }
+
+    /// `n` steps of equal size from `(t0, y0)` to `t1`.
+    fn fixed_steps<S: OdeSystem>(
+        sys: &mut S,
+        t0: f64,
+        y0: &[f64],
+        t1: f64,
+        n: usize,
+    ) -> Result<Vec<f64>, Error> {
+        let dim = y0.len();
+        let norm = loose(dim);
+        let mut st = Dop853::default().stepper(dim);
+        let mut y = y0.to_vec();
+        let mut y_new = vec![0.0; dim];
+        let h = (t1 - t0) / n as f64;
+        st.reset(sys, t0, &y)?;
+        for i in 0..n {
+            let t = t0 + i as f64 * h;
+            st.try_step(sys, t, h, &y, &mut y_new, &norm)?;
+            st.accept(sys, t, h, &y, &y_new)?;
+            y.copy_from_slice(&y_new);
+        }
+        Ok(y)
+    }
+
+    /// `log2(e_h / e_{h/2})` for consecutive entries.
+    fn slopes(errors: &[f64]) -> Vec<f64> {
+        errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
+    }
+
+    #[test]
+    fn tableau_is_consistent() {
+        // Row sums of the stage coefficients are the nodes.
+        let rows: [(f64, &[f64]); 14] = [
+            (C2, &[A21]),
+            (C3, &[A31, A32]),
+            (C4, &[A41, A43]),
+            (C5, &[A51, A53, A54]),
+            (C6, &[A61, A64, A65]),
+            (C7, &[A71, A74, A75, A76]),
+            (C8, &[A81, A84, A85, A86, A87]),
+            (C9, &[A91, A94, A95, A96, A97, A98]),
+            (C10, &[A101, A104, A105, A106, A107, A108, A109]),
+            (C11, &[A111, A114, A115, A116, A117, A118, A119, A1110]),
+            (
+                1.0,
+                &[A121, A124, A125, A126, A127, A128, A129, A1210, A1211],
+            ),
+            (C14, &[A141, A147, A148, A149, A1410, A1411, A1412, A1413]),
+            (C15, &[A151, A156, A157, A158, A1511, A1512, A1513, A1514]),
+            (C16, &[A161, A166, A167, A168, A169, A1613, A1614, A1615]),
+        ];
+        for (c, a) in rows {
+            assert!((a.iter().sum::<f64>() - c).abs() < 1e-14, "row of c = {c}");
+        }
+        // The weights integrate t^(q-1) exactly for q ≤ 8, the fifth-order formula (b - er) for
+        // q ≤ 5, the third-order one for q ≤ 3.
+        let c = [0.0, C6, C7, C8, C9, C10, C11, 1.0];
+        let b = [B1, B6, B7, B8, B9, B10, B11, B12];
+        let er = [ER1, ER6, ER7, ER8, ER9, ER10, ER11, ER12];
+        for q in 1..=8 {
+            let s: f64 = (0..8).map(|j| b[j] * c[j].powi(q - 1)).sum();
+            assert!((s - 1.0 / q as f64).abs() < 1e-14, "b, q = {q}");
+            if q <= 5 {
+                let s: f64 = (0..8).map(|j| (b[j] - er[j]) * c[j].powi(q - 1)).sum();
+                assert!((s - 1.0 / q as f64).abs() < 1e-14, "b - er, q = {q}");
+            }
+            if q <= 3 {
+                let s = BHH1 * 0.0f64.powi(q - 1) + BHH2 * C9.powi(q - 1) + BHH3;
+                assert!((s - 1.0 / q as f64).abs() < 1e-14, "bhh, q = {q}");
+            }
+        }
+    }
+
+    #[test]
+    fn step_converges_with_order_8() -> Result<(), Error> {
+        // y' = cos(t)·y, y = exp(sin t), over [0, 2] with h = 1/2, 1/4, 1/8.
+        let mut errors = Vec::new();
+        for n in [4, 8, 16] {
+            let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| {
+                dy[0] = t.cos() * y[0]
+            });
+            let y = fixed_steps(&mut sys, 0.0, &[1.0], 2.0, n)?;
+            errors.push((y[0] - 2.0f64.sin().exp()).abs());
+        }
+        let p = slopes(&errors);
+        eprintln!("exp(sin t): errors {errors:?}, observed orders {p:?}");
+        assert!(p.iter().all(|p| (p - 8.0).abs() < 0.3), "{p:?}");
+
+        // y' = t·y, y = exp(t²/2), over [0, 3] with h = 3/8, 3/16, 3/32.
+        let mut errors = Vec::new();
+        for n in [8, 16, 32] {
+            let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| dy[0] = t * y[0]);
+            let y = fixed_steps(&mut sys, 0.0, &[1.0], 3.0, n)?;
+            errors.push((y[0] - 4.5f64.exp()).abs());
+        }
+        let p = slopes(&errors);
+        eprintln!("exp(t²/2): errors {errors:?}, observed orders {p:?}");
+        assert!(p.iter().all(|p| (p - 8.0).abs() < 0.3), "{p:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn error_estimate_behaves_like_order_8() -> Result<(), Error> {
+        // On one step the fifth-order difference is O(h^5) per unit step, the third-order one
+        // O(h^3), and their combination |h|·err5²/sqrt(err5² + 0.01·err3²) is O(h^8).
+        let norm = ErrorNorm::new(0.0, vec![1e-12]);
+        let (mut est, mut e5, mut e3) = (Vec::new(), Vec::new(), Vec::new());
+        for h in [0.05, 0.025, 0.0125] {
+            let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| {
+                dy[0] = t.cos() * y[0]
+            });
+            let mut st = Dop853::default().stepper(1);
+            let y = [1.0];
+            let mut y_new = [0.0];
+            st.reset(&mut sys, 0.0, &y)?;
+            est.push(st.try_step(&mut sys, 0.0, h, &y, &mut y_new, &norm)?);
+            e5.push(norm.sum_sq(&st.err5, &y, &y_new).sqrt());
+            e3.push(norm.sum_sq(&st.err3, &y, &y_new).sqrt());
+        }
+        let (p, p5, p3) = (slopes(&est), slopes(&e5), slopes(&e3));
+        eprintln!("error estimates {est:?}, observed orders {p:?}, err5 {p5:?}, err3 {p3:?}");
+        assert!(p.iter().all(|p| (p - 8.0).abs() < 0.3), "{p:?}");
+        assert!(p5.iter().all(|p| (p - 5.0).abs() < 0.1), "{p5:?}");
+        assert!(p3.iter().all(|p| (p - 3.0).abs() < 0.1), "{p3:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn dense_output_has_order_7() -> Result<(), Error> {
+        // One step from t0; a continuous extension of order 7 has a local error O(h^8).
+        let exact = |t: f64| t.sin().exp();
+        let t0 = 0.3;
+        let mut errors = Vec::new();
+        for h in [0.4, 0.2, 0.1] {
+            let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| {
+                dy[0] = t.cos() * y[0]
+            });
+            let mut st = Dop853::default().stepper(1);
+            let y = [exact(t0)];
+            let mut y_new = [0.0];
+            st.reset(&mut sys, t0, &y)?;
+            st.try_step(&mut sys, t0, h, &y, &mut y_new, &loose(1))?;
+            st.accept(&mut sys, t0, h, &y, &y_new)?;
+            let mut out = [0.0];
+            st.interpolate(0.0, &mut out);
+            assert_eq!(out[0], y[0]);
+            st.interpolate(1.0, &mut out);
+            assert!((out[0] - y_new[0]).abs() < 1e-15);
+            st.interpolate(0.5, &mut out);
+            errors.push((out[0] - exact(t0 + 0.5 * h)).abs());
+        }
+        let p: Vec<f64> = slopes(&errors).iter().map(|s| s - 1.0).collect();
+        eprintln!("dense output at θ = 1/2: errors {errors:?}, observed orders {p:?}");
+        assert!(p.iter().all(|p| (p - 7.0).abs() < 0.5), "{p:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn polynomials_in_t_are_exact() -> Result<(), Error> {
+        // y' = q·t^(q-1), y = t^q, q ≤ 8, in one step over [0, 1] and over [0.5, 1.5]; the dense
+        // output is exact for q ≤ 7.
+        for q in 1..=8 {
+            let qf = q as f64;
+            for (t0, h) in [(0.0f64, 1.0), (0.5, 1.0)] {
+                let mut sys = Sys::new(1, move |t: f64, _y: &[f64], dy: &mut [f64]| {
+                    dy[0] = qf * t.powi(q - 1)
+                });
+                let mut st = Dop853::default().stepper(1);
+                let y = [t0.powi(q)];
+                let mut y_new = [0.0];
+                st.reset(&mut sys, t0, &y)?;
+                st.try_step(&mut sys, t0, h, &y, &mut y_new, &loose(1))?;
+                let exact = (t0 + h).powi(q);
+                assert!(
+                    (y_new[0] - exact).abs() < 1e-13 * exact,
+                    "q = {q}, t0 = {t0}: {}",
+                    y_new[0]
+                );
+                st.accept(&mut sys, t0, h, &y, &y_new)?;
+                if q <= 7 {
+                    let mut out = [0.0];
+                    for theta in [0.1, 0.3, 0.5, 0.77, 0.9] {
+                        st.interpolate(theta, &mut out);
+                        let exact = (t0 + theta * h).powi(q);
+                        assert!(
+                            (out[0] - exact).abs() < 1e-13,
+                            "q = {q}, θ = {theta}: {}",
+                            out[0]
+                        );
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn step_costs_twelve_evaluations_and_accept_four() -> Result<(), Error> {
+        let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| {
+            dy[0] = t.cos() * y[0]
+        });
+        let mut st = Dop853::default().stepper(1);
+        let mut y_new = [0.0];
+        st.reset(&mut sys, 0.0, &[1.0])?;
+        assert_eq!(sys.evaluations, 1);
+        st.try_step(&mut sys, 0.0, 0.1, &[1.0], &mut y_new, &loose(1))?;
+        assert_eq!(sys.evaluations, 12);
+        st.accept(&mut sys, 0.0, 0.1, &[1.0], &y_new)?;
+        assert_eq!(sys.evaluations, 16);
+        Ok(())
+    }
+
+    /// Runs the driver's step-size control (safety 0.9, exponent 1/8, factor in [0.2, 10]) for at
+    /// most `max_steps` accepted steps; returns the step at which stiffness was reported.
+    fn controlled<S: OdeSystem>(
+        sys: &mut S,
+        method: Dop853,
+        t0: f64,
+        y0: &[f64],
+        t_end: f64,
+        tol: f64,
+        max_steps: usize,
+    ) -> Result<Option<(usize, f64)>, Error> {
+        let dim = y0.len();
+        let norm = ErrorNorm::new(tol, vec![tol; dim]);
+        let mut st = method.stepper(dim);
+        let mut y = y0.to_vec();
+        let mut y_new = vec![0.0; dim];
+        let (mut t, mut h) = (t0, 1e-3f64);
+        st.reset(sys, t, &y)?;
+        let mut accepted = 0;
+        while accepted < max_steps && t < t_end {
+            h = h.min(t_end - t);
+            let err = st.try_step(sys, t, h, &y, &mut y_new, &norm)?;
+            let fac = if err > 0.0 {
+                0.9 * err.powf(-1.0 / 8.0)
+            } else {
+                10.0
+            };
+            if err > 1.0 {
+                h *= fac.clamp(0.2, 1.0);
+                continue;
+            }
+            st.accept(sys, t, h, &y, &y_new)?;
+            accepted += 1;
+            if let Some(h_lambda) = st.stiffness() {
+                return Ok(Some((accepted, h_lambda)));
+            }
+            t += h;
+            y.copy_from_slice(&y_new);
+            h *= fac.clamp(0.2, 10.0);
+        }
+        Ok(None)
+    }
+
+    #[test]
+    fn stiffness_is_detected() -> Result<(), Error> {
+        let lambda = 1e6;
+        let f = move |t: f64, y: &[f64], dy: &mut [f64]| dy[0] = -lambda * (y[0] - t.cos());
+
+        // Fixed steps with h·λ = 6.3, inside the stability interval (-6.39, 0) and above 6.1.
+        let mut sys = Sys::new(1, f);
+        let mut st = Dop853::default().stepper(1);
+        let norm = loose(1);
+        let (mut t, h) = (0.0, 6.3 / lambda);
+        let (mut y, mut y_new) = ([1.0], [0.0]);
+        st.reset(&mut sys, t, &y)?;
+        for step in 1..=15 {
+            st.try_step(&mut sys, t, h, &y, &mut y_new, &norm)?;
+            st.accept(&mut sys, t, h, &y, &y_new)?;
+            t += h;
+            y = y_new;
+            match st.stiffness() {
+                None => assert!(step < 15),
+                Some(h_lambda) => {
+                    assert_eq!(step, 15);
+                    assert!((h_lambda - 6.3).abs() < 1e-6, "{h_lambda}");
+                }
+            }
+        }
+
+        // Under step-size control the steps settle at the stability limit.
+        let mut sys = Sys::new(1, f);
+        let hit = controlled(&mut sys, Dop853::default(), 0.0, &[1.0], 1.0, 1e-6, 2000)?;
+        eprintln!("controlled stiff run: reported at accepted step, h·λ = {hit:?}");
+        assert!(matches!(hit, Some((_, h_lambda)) if h_lambda > STIFF_H_LAMBDA));
+
+        // Switched off, never.
+        let mut sys = Sys::new(1, f);
+        let method = Dop853 {
+            stiffness_detection: false,
+        };
+        assert_eq!(
+            controlled(&mut sys, method, 0.0, &[1.0], 1.0, 1e-6, 2000)?,
+            None
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn stiffness_is_not_reported_on_a_nonstiff_problem() -> Result<(), Error> {
+        for tol in [1e-4, 1e-8, 1e-12] {
+            let mut sys = Sys::new(2, |_t: f64, y: &[f64], dy: &mut [f64]| {
+                dy[0] = y[1];
+                dy[1] = -y[0];
+            });
+            assert_eq!(
+                controlled(
+                    &mut sys,
+                    Dop853::default(),
+                    0.0,
+                    &[1.0, 0.0],
+                    50.0,
+                    tol,
+                    100_000
+                )?,
+                None
+            );
+            let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| {
+                dy[0] = -2.0 * y[0] + t.cos()
+            });
+            assert_eq!(
+                controlled(&mut sys, Dop853::default(), 0.0, &[1.0], 50.0, tol, 100_000)?,
+                None
+            );
+        }
+        Ok(())
+    }
+}

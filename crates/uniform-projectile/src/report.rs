@@ -1,0 +1,502 @@
+//! The verification of `chetaev` against the paper's closed forms: Table 42.1 rebuilt, the
+//! largest errors along both motions, observed orders of convergence, and error against run time.
+//!
+//! Everything here returns values; the binary prints them.
+
+use std::time::Instant;
+
+use chetaev::integrate::Method;
+use chetaev::prelude::*;
+use serde::Serialize;
+
+use crate::closed_form::{classical, table, uniform, Kinematics, Params};
+use crate::model::{classical_problem, impact, uniform_problem};
+
+/// One quantity: numerical beside closed form.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Compared {
+    /// From the integration.
+    pub numerical: f64,
+    /// From the closed form.
+    pub closed_form: f64,
+    /// `|numerical − closed_form| / |closed_form|`.
+    pub rel_error: f64,
+}
+
+/// One row of Table 42.1 as five numbers (JSON field names as in the paper).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Row {
+    /// Time of flight.
+    #[serde(rename = "T")]
+    pub t: f64,
+    /// Range.
+    #[serde(rename = "R")]
+    pub r: f64,
+    /// Impact speed.
+    #[serde(rename = "v_R")]
+    pub v_r: f64,
+    /// Impact angle below the horizontal, degrees.
+    pub impact_angle_deg: f64,
+    /// Length of the trajectory.
+    pub s: f64,
+}
+
+impl From<Kinematics> for Row {
+    fn from(k: Kinematics) -> Self {
+        Self {
+            t: k.t_impact,
+            r: k.range,
+            v_r: k.impact_speed,
+            impact_angle_deg: k.impact_angle_deg(),
+            s: k.length,
+        }
+    }
+}
+
+/// One motion's row, numerical and closed form, with relative errors.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct TableRow {
+    /// From `chetaev`.
+    pub numerical: Row,
+    /// From the closed forms.
+    pub closed_form: Row,
+    /// Relative errors, field by field.
+    pub rel_error: Row,
+}
+
+/// Table 42.1.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Table {
+    /// The classical projectile.
+    pub classical: TableRow,
+    /// The uniform projectile.
+    pub uniform: TableRow,
+}
+
+/// Largest errors along a motion, each relative to the scale named in its doc.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct MotionErrors {
+    /// `x`, relative to the range.
+    pub x: f64,
+    /// `y`, relative to `h0`.
+    pub y: f64,
+    /// `ẋ`, relative to `v0`.
+    pub xd: f64,
+    /// `ẏ`, relative to the impact speed.
+    pub yd: f64,
+    /// `ẍ`, relative to `g`.
+    pub xdd: f64,
+    /// `ÿ`, relative to `g`.
+    pub ydd: f64,
+    /// Curvature (42.13)/(42.36), relative to its largest value `g/v0²`.
+    pub curvature: f64,
+    /// `μ` (42.40), relative to `m g / (2 v0)` (uniform motion only).
+    pub mu: Option<f64>,
+    /// `|Φ|` (42.42), relative to `m g` (uniform motion only).
+    pub phi: Option<f64>,
+    /// Largest constraint residual `|f|`, relative to `v0²` (uniform motion only).
+    pub residual: Option<f64>,
+    /// Largest `|W_Φ − m g (y − h0)|`, relative to `m g h0`: the work of the Chetaev force against the
+    /// change of potential energy (uniform motion only).
+    pub work_vs_potential: Option<f64>,
+    /// Largest `|E − E0 − W_Φ + ∫∂L/∂t|`, relative to `m v0² + m g h0`.
+    pub energy_balance: f64,
+    /// Points compared.
+    pub points: usize,
+}
+
+/// An observed order of convergence.
+#[derive(Clone, Debug, Serialize)]
+pub struct Convergence {
+    /// The method.
+    pub method: String,
+    /// What was refined: `"h"` (fixed steps halving: the order of the method) or `"tolerance"`
+    /// (the exponent α of error ∝ tol^α as the tolerance tightens: 1 for proportionality).
+    pub against: String,
+    /// `(parameter, error)` pairs.
+    pub points: Vec<(f64, f64)>,
+    /// Observed order (least-squares slope of `log error` against `log h` or `log tol`).
+    pub order: f64,
+    /// The theoretical order.
+    pub expected: f64,
+}
+
+/// One point of the error-against-run-time study.
+#[derive(Clone, Debug, Serialize)]
+pub struct WorkPoint {
+    /// The method.
+    pub method: String,
+    /// The tolerance asked for (or the step for a fixed-step method).
+    pub tolerance: f64,
+    /// Largest error of `(q, q̇)` at the end (positions relative to `max(h0, R)`, velocities to `v0`).
+    pub error: f64,
+    /// Median wall time of repeated runs, seconds.
+    pub seconds: f64,
+    /// Repetitions timed.
+    pub repeats: usize,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: usize,
+    /// Accepted steps.
+    pub steps: usize,
+}
+
+/// Everything the verification computes.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    /// The parameters.
+    pub params: ParamsOut,
+    /// The tolerance of the table and error runs (relative and absolute).
+    pub tolerance: f64,
+    /// Table 42.1 rebuilt.
+    pub table: Table,
+    /// Largest errors along the classical motion.
+    pub classical_errors: MotionErrors,
+    /// Largest errors along the uniform motion.
+    pub uniform_errors: MotionErrors,
+    /// Observed orders.
+    pub convergence: Vec<Convergence>,
+    /// Error against run time.
+    pub work_precision: Vec<WorkPoint>,
+}
+
+/// The parameters, for the report.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct ParamsOut {
+    /// Initial speed.
+    pub v0: f64,
+    /// Gravity.
+    pub g: f64,
+    /// Initial height.
+    pub h0: f64,
+    /// Mass.
+    pub m: f64,
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    if b == 0.0 {
+        a.abs()
+    } else {
+        ((a - b) / b).abs()
+    }
+}
+
+fn row_errors(n: &Row, c: &Row) -> Row {
+    Row {
+        t: rel(n.t, c.t),
+        r: rel(n.r, c.r),
+        v_r: rel(n.v_r, c.v_r),
+        impact_angle_deg: rel(n.impact_angle_deg, c.impact_angle_deg),
+        s: rel(n.s, c.s),
+    }
+}
+
+/// Gauss–Legendre nodes and weights on [−1, 1], 8 points.
+const GL8: [(f64, f64); 8] = [
+    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
+    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
+    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
+    (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
+];
+
+/// Solves to the impact, then measures the length `s = ∫|q̇| dt` on the dense output by composite
+/// Gauss–Legendre quadrature (64 panels of 8 nodes).
+fn numerical_row<M: Model<2, K>, const K: usize, Me: Method + Copy>(
+    problem: &Problem<M, 2, K>,
+    method: Me,
+    tol: f64,
+    t_max: f64,
+) -> Result<(Row, Solution<2, K>), Error> {
+    let opts = Options::until(t_max).tolerances(tol, tol).event(impact());
+    let sol = solve(problem, method, &opts)?;
+    if let Some(e) = sol.error() {
+        return Err(e.clone());
+    }
+    let hit = sol.events.first().ok_or(Error::InvalidOption {
+        name: "t_max",
+        value: t_max,
+        hint: "no impact before t_max",
+    })?;
+    let (t_imp, q, qd) = (hit.t, hit.q, hit.qd);
+    let panels = 64;
+    let mut times = Vec::with_capacity(panels * 8);
+    let mut weights = Vec::with_capacity(panels * 8);
+    let w = t_imp / panels as f64;
+    for k in 0..panels {
+        let mid = (k as f64 + 0.5) * w;
+        for (x, wt) in GL8 {
+            times.push(mid + 0.5 * w * x);
+            weights.push(0.5 * w * wt);
+        }
+    }
+    let dense = solve(
+        problem,
+        method,
+        &Options::until(t_imp)
+            .tolerances(tol, tol)
+            .output_times(times.clone())
+            .record(Record::State),
+    )?;
+    let mut s = 0.0;
+    for (i, t) in dense.t.iter().enumerate() {
+        if let Some(j) = times.iter().position(|x| x == t) {
+            s += weights[j] * dense.qd[i].norm();
+        }
+    }
+    Ok((
+        Row {
+            t: t_imp,
+            r: q[0],
+            v_r: qd.norm(),
+            impact_angle_deg: (-qd[1]).atan2(qd[0]).to_degrees(),
+            s,
+        },
+        sol,
+    ))
+}
+
+fn motion_errors<const K: usize>(
+    p: &Params,
+    sol: &Solution<2, K>,
+    k: &Kinematics,
+    uniform_motion: bool,
+) -> MotionErrors {
+    let mut e = MotionErrors {
+        points: sol.len(),
+        ..Default::default()
+    };
+    let (mut mu, mut phi, mut res, mut work) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let balance = sol.energy_balance();
+    let e_scale = p.m * p.v0 * p.v0 + p.m * p.g * p.h0;
+    for i in 0..sol.len() {
+        let t = sol.t[i];
+        let (x, v, a, kappa) = if uniform_motion {
+            (
+                uniform::position(p, t),
+                uniform::velocity(p, t),
+                uniform::acceleration(p, t),
+                uniform::curvature(p, t),
+            )
+        } else {
+            (
+                classical::position(p, t),
+                classical::velocity(p, t),
+                classical::acceleration(p, t),
+                classical::curvature(p, t),
+            )
+        };
+        let (q, qd, qdd) = (sol.q[i], sol.qd[i], sol.qdd[i]);
+        e.x = e.x.max((q[0] - x[0]).abs() / k.range);
+        e.y = e.y.max((q[1] - x[1]).abs() / p.h0);
+        e.xd = e.xd.max((qd[0] - v[0]).abs() / p.v0);
+        e.yd = e.yd.max((qd[1] - v[1]).abs() / k.impact_speed);
+        e.xdd = e.xdd.max((qdd[0] - a[0]).abs() / p.g);
+        e.ydd = e.ydd.max((qdd[1] - a[1]).abs() / p.g);
+        let kn = (qd[0] * qdd[1] - qdd[0] * qd[1]).abs() / qd.norm().powi(3);
+        e.curvature = e.curvature.max((kn - kappa).abs() / (p.g / (p.v0 * p.v0)));
+        e.energy_balance = e.energy_balance.max(balance[i].abs() / e_scale);
+        if uniform_motion {
+            mu = mu.max((sol.mu[i][0] - uniform::multiplier(p, t)).abs() / (p.m * p.g / (2.0 * p.v0)));
+            phi = phi.max((sol.phi[i].norm() - uniform::chetaev_force_magnitude(p, t)).abs() / (p.m * p.g));
+            res = res.max(sol.residual[i][0].abs() / (p.v0 * p.v0));
+            work = work.max((sol.work[i] - p.m * p.g * (q[1] - p.h0)).abs() / (p.m * p.g * p.h0));
+        }
+    }
+    if uniform_motion {
+        e.mu = Some(mu);
+        e.phi = Some(phi);
+        e.residual = Some(res);
+        e.work_vs_potential = Some(work);
+    }
+    e
+}
+
+/// Least-squares slope of `log y` against `log x`.
+pub fn log_slope(points: &[(f64, f64)]) -> f64 {
+    let pts: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0)
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
+    let n = pts.len() as f64;
+    let (sx, sy) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
+    let (mx, my) = (sx / n, sy / n);
+    let (num, den) = pts.iter().fold((0.0, 0.0), |a, p| {
+        (a.0 + (p.0 - mx) * (p.1 - my), a.1 + (p.0 - mx).powi(2))
+    });
+    num / den
+}
+
+/// Largest error of the end state of the uniform motion at `t_end`, scaled as in [`WorkPoint`].
+fn end_error(p: &Params, sol: &Solution<2, 1>, t_end: f64, range: f64) -> f64 {
+    let (_, q, qd) = sol.last().unwrap_or((0.0, SVector::zeros(), SVector::zeros()));
+    let (x, v) = (uniform::position(p, t_end), uniform::velocity(p, t_end));
+    ((q[0] - x[0]).abs() / range.max(p.h0))
+        .max((q[1] - x[1]).abs() / range.max(p.h0))
+        .max((qd[0] - v[0]).abs() / p.v0)
+        .max((qd[1] - v[1]).abs() / p.v0)
+}
+
+/// Times one configuration: the median of repeated runs (at least 5, and until 20 ms have passed,
+/// at most 200).
+fn time_runs<Me: Method + Copy>(
+    problem: &Problem<crate::model::UniformProjectile, 2, 1>,
+    method: Me,
+    opts: &Options<2>,
+) -> Result<(Solution<2, 1>, f64, usize), Error> {
+    let mut times = Vec::new();
+    let start = Instant::now();
+    let mut last = None;
+    while times.len() < 5 || (start.elapsed().as_secs_f64() < 0.02 && times.len() < 200) {
+        let t0 = Instant::now();
+        let sol = solve(problem, method, opts)?;
+        times.push(t0.elapsed().as_secs_f64());
+        last = Some(sol);
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    let n = times.len();
+    last.map(|s| (s, median, n)).ok_or(Error::InvalidOption {
+        name: "repeats",
+        value: 0.0,
+        hint: "no run",
+    })
+}
+
+fn work_precision_adaptive<Me: Method + Copy>(
+    p: &Params,
+    problem: &Problem<crate::model::UniformProjectile, 2, 1>,
+    method: Me,
+    tolerances: &[f64],
+    t_end: f64,
+    range: f64,
+    out: &mut Vec<WorkPoint>,
+) -> Result<(), Error> {
+    for &tol in tolerances {
+        let opts = Options::until(t_end)
+            .tolerances(tol, tol)
+            .output_final()
+            .record(Record::State);
+        let (sol, seconds, repeats) = time_runs(problem, method, &opts)?;
+        out.push(WorkPoint {
+            method: method.name().to_string(),
+            tolerance: tol,
+            error: end_error(p, &sol, t_end, range),
+            seconds,
+            repeats,
+            rhs_evaluations: sol.stats.rhs_evaluations,
+            steps: sol.stats.accepted_steps,
+        });
+    }
+    Ok(())
+}
+
+/// Builds the whole report for `p`; `tol` is the tolerance of the table and error runs.
+pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
+    let closed = table(p);
+    let t_max = 10.0 * closed.uniform.t_impact.max(closed.classical.t_impact);
+
+    let cp = classical_problem(p)?;
+    let up = uniform_problem(p)?;
+    let (c_row, c_sol) = numerical_row(&cp, Dop853::default(), tol, t_max)?;
+    let (u_row, u_sol) = numerical_row(&up, Dop853::default(), tol, t_max)?;
+    let table_out = Table {
+        classical: TableRow {
+            numerical: c_row,
+            closed_form: closed.classical.into(),
+            rel_error: row_errors(&c_row, &closed.classical.into()),
+        },
+        uniform: TableRow {
+            numerical: u_row,
+            closed_form: closed.uniform.into(),
+            rel_error: row_errors(&u_row, &closed.uniform.into()),
+        },
+    };
+    let classical_errors = motion_errors(p, &c_sol, &closed.classical, false);
+    let uniform_errors = motion_errors(p, &u_sol, &closed.uniform, true);
+
+    // Convergence in h: every method with fixed steps halving over [0, T]. The adaptive methods are
+    // held to the step h by a first and largest step h and a tolerance that never rejects.
+    let t_end = closed.uniform.t_impact;
+    let range = closed.uniform.range;
+    let mut convergence = Vec::new();
+    let fixed = |h: f64| {
+        Options::until(t_end)
+            .tolerances(1e3, 1e3)
+            .initial_step(h)
+            .max_step(h)
+            .output_final()
+            .record(Record::State)
+    };
+    let mut orders = |name: &str, expected: f64, ks: std::ops::Range<u32>, run: &dyn Fn(f64) -> Result<Solution<2, 1>, Error>| -> Result<(), Error> {
+        let mut pts = Vec::new();
+        for k in ks {
+            let h = t_end / f64::from(1u32 << k);
+            pts.push((h, end_error(p, &run(h)?, t_end, range)));
+        }
+        convergence.push(Convergence {
+            method: name.into(),
+            against: "h".into(),
+            order: log_slope(&pts),
+            points: pts,
+            expected,
+        });
+        Ok(())
+    };
+    orders("Rk4", 4.0, 3..9, &|h| solve(&up, Rk4::new(h), &fixed(h)))?;
+    orders("Dopri5", 5.0, 2..7, &|h| solve(&up, Dopri5::default(), &fixed(h)))?;
+    orders("Dop853", 8.0, 1..5, &|h| solve(&up, Dop853::default(), &fixed(h)))?;
+
+    let tolerances: Vec<f64> = (3..=13).map(|e| 10f64.powi(-e)).collect();
+    let mut work_precision = Vec::new();
+    work_precision_adaptive(p, &up, Dopri5::default(), &tolerances, t_end, range, &mut work_precision)?;
+    work_precision_adaptive(p, &up, Dop853::default(), &tolerances, t_end, range, &mut work_precision)?;
+    for k in 2..10 {
+        let h = t_end / f64::from(1u32 << k);
+        let opts = Options::until(t_end).output_final().record(Record::State);
+        let (sol, seconds, repeats) = time_runs(&up, Rk4::new(h), &opts)?;
+        work_precision.push(WorkPoint {
+            method: "Rk4".into(),
+            tolerance: h,
+            error: end_error(p, &sol, t_end, range),
+            seconds,
+            repeats,
+            rhs_evaluations: sol.stats.rhs_evaluations,
+            steps: sol.stats.accepted_steps,
+        });
+    }
+    for name in ["Dopri5", "Dop853"] {
+        // Tolerance proportionality: error ∝ tol^α with α ≈ 1 for a well-behaved controller, fitted
+        // from 1e-6 down to where rounding sets in.
+        let pts: Vec<(f64, f64)> = work_precision
+            .iter()
+            .filter(|w| w.method == name && w.tolerance <= 1e-6 && w.error > 1e-14)
+            .map(|w| (w.tolerance, w.error))
+            .collect();
+        convergence.push(Convergence {
+            method: name.into(),
+            against: "tolerance".into(),
+            order: log_slope(&pts),
+            points: pts,
+            expected: 1.0,
+        });
+    }
+
+    Ok(Report {
+        params: ParamsOut {
+            v0: p.v0,
+            g: p.g,
+            h0: p.h0,
+            m: p.m,
+        },
+        tolerance: tol,
+        table: table_out,
+        classical_errors,
+        uniform_errors,
+        convergence,
+        work_precision,
+    })
+}
