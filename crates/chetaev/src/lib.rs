@@ -1,5 +1,6 @@
 //! chetaev
 pub mod equations;
+pub mod backend;
 pub mod error;
 pub mod integrate;
 pub mod model;

@@ -177,12 +177,17 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
     /// Records `(t, y)` with what the record level asks for.
     fn record(&mut self, t: f64, y: &[f64]) -> Result<(), Error> {
         let (q, qd) = split::<N>(y);
+        // Evaluate before pushing anything, so a failure leaves every recorded vector the same length.
+        let d = if self.options.record >= Record::Dynamics {
+            Some(self.sys.evaluate(t, &q, &qd)?)
+        } else {
+            None
+        };
         let sol = &mut *self.sol;
         sol.t.push(t);
         sol.q.push(q);
         sol.qd.push(qd);
-        if self.options.record >= Record::Dynamics {
-            let d = self.sys.evaluate(t, &q, &qd)?;
+        if let Some(d) = d {
             sol.qdd.push(d.qdd);
             sol.mu.push(d.mu);
             sol.phi.push(d.phi);
