@@ -9,3 +9,13 @@ pub fn rel_err(a: f64, b: f64) -> f64 {
 pub fn observed_order(err_coarse: f64, err_fine: f64, ratio: f64) -> f64 {
     (err_coarse / err_fine).ln() / ratio.ln()
 }
+
+/// The README's code, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeDoctests;
+
+/// The guide's code, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../../docs/adding-a-constraint.md")]
+pub struct GuideDoctests;

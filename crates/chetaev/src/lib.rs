@@ -1,6 +1,68 @@
-//! chetaev
-pub mod equations;
+//! # chetaev
+//!
+//! Mechanics under nonholonomic constraints, including constraints nonlinear in the velocities.
+//! A user writes a Lagrangian `L(t, q, q̇)` and `K` velocity constraints `f(t, q, q̇) = 0` as generic
+//! methods ([`model`]); everything else is derived.
+//!
+//! ## The pipeline
+//!
+//! | step | where | what |
+//! |---|---|---|
+//! | model | [`model`] | [`Lagrangian`](model::Lagrangian), [`Constraints`](model::Constraints): written once over `R: Real` |
+//! | problem | [`Problem`] | the model with a consistent initial state, validated |
+//! | derivatives | [`equations::derivatives`] | `∂L/∂q`, `W = ∂²L/∂q̇²`, `(∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t`, `J = ∂f/∂q̇`, `(∂f/∂q) q̇ + ∂f/∂t` by num-dual |
+//! | block solve | [`equations::saddle`] | `[W −Jᵀ; J 0][q̈; μ] = [∂L/∂q − g; −c]`, complete pivoting, conditioning reported |
+//! | method | [`integrate`] | [`Dopri5`](integrate::Dopri5), [`Dop853`](integrate::Dop853), [`Rk4`](integrate::Rk4), ...: a trial step, its error, dense output |
+//! | driver | [`solve`] | step control, output, events, projection, statistics |
+//! | solution | [`Solution`] | `t, q, q̇, q̈, μ, Φ, f, E, W_Φ`, events, [`Stats`](integrate::system::Stats), [`Status`] |
+//!
+//! Conventions (Newton form, `d/dt ∂L/∂q̇ − ∂L/∂q = Jᵀμ = Φ`) are in `docs/conventions.md`.
+//!
+//! ## Example
+//!
+//! A particle in gravity held at constant speed (Swaczyna and Volný, *Uniform horizontal projectile
+//! motion*), and the classical projectile for comparison:
+//!
+//! ```
+//! use chetaev::prelude::*;
+//!
+//! struct Particle { g: f64 }
+//! impl Lagrangian<2> for Particle {
+//!     fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+//!         qd.dot(qd) * 0.5 - q[1] * self.g
+//!     }
+//! }
+//! struct ConstantSpeed { particle: Particle, v0: f64 }
+//! impl Lagrangian<2> for ConstantSpeed {
+//!     fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+//!         self.particle.lagrangian(t, q, qd)
+//!     }
+//! }
+//! impl Constraints<2, 1> for ConstantSpeed {
+//!     fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+//!         SVector::from([qd.dot(qd) - self.v0 * self.v0])
+//!     }
+//! }
+//!
+//! let (q0, qd0) = (SVector::from([0.0, 5.0]), SVector::from([10.0, 0.0]));
+//! let ground = || Event::new("ground", |_t, q: &SVector<f64, 2>, _qd: &SVector<f64, 2>| q[1]).falling().terminal();
+//! let options = Options::until(10.0).tolerances(1e-10, 1e-10).event(ground());
+//!
+//! let uniform = Problem::new(ConstantSpeed { particle: Particle { g: 10.0 }, v0: 10.0 }, 0.0, q0, qd0)?;
+//! let classical = Problem::unconstrained(Particle { g: 10.0 }, 0.0, q0, qd0)?;
+//! let u = solve(&uniform, Dopri5::default(), &options)?;
+//! let c = solve(&classical, Dopri5::default(), &options)?;
+//!
+//! // The uniform motion lands closer and later (Table 42.1).
+//! assert!(u.events[0].q[0] < c.events[0].q[0] && u.events[0].t > c.events[0].t);
+//! // μ < 0 while falling (42.40); the work of Φ equals the change of potential energy.
+//! assert!(u.mu.iter().skip(1).all(|mu| mu[0] < 0.0));
+//! let last = u.len() - 1;
+//! assert!((u.work[last] - 10.0 * (u.q[last][1] - 5.0)).abs() < 1e-8);
+//! # Ok::<(), chetaev::Error>(())
+//! ```
 pub mod backend;
+pub mod equations;
 pub mod error;
 pub mod integrate;
 pub mod model;

@@ -8,7 +8,10 @@ use uniform_projectile::report::{build, MotionErrors, Report, Row, TableRow};
 
 /// Command-line options.
 #[derive(Parser, Debug)]
-#[command(version, about = "Verify chetaev against the paper's closed forms (42.4)-(42.42)")]
+#[command(
+    version,
+    about = "Verify chetaev against the paper's closed forms (42.4)-(42.42)"
+)]
 struct Cli {
     /// Initial speed v0 [m/s].
     #[arg(long, default_value_t = 10.0)]
@@ -38,7 +41,13 @@ fn main() {
         h0: cli.h0,
         m: cli.m,
     };
-    for (name, v) in [("v0", cli.v0), ("g", cli.g), ("h0", cli.h0), ("m", cli.m), ("tol", cli.tol)] {
+    for (name, v) in [
+        ("v0", cli.v0),
+        ("g", cli.g),
+        ("h0", cli.h0),
+        ("m", cli.m),
+        ("tol", cli.tol),
+    ] {
         if !(v.is_finite() && v > 0.0) {
             eprintln!("error: --{name} must be a finite positive number, got {v}");
             std::process::exit(2);
@@ -111,7 +120,10 @@ fn print_text(r: &Report) {
         "Uniform horizontal projectile (Swaczyna and Volný): v0 = {} m/s, g = {} m/s², h0 = {} m, m = {} kg",
         p.v0, p.g, p.h0, p.m
     );
-    println!("Integrated by chetaev (Dop853, rtol = atol = {:e}), impact located as an event y = 0.\n", r.tolerance);
+    println!(
+        "Integrated by chetaev (Dop853, rtol = atol = {:e}), impact located as an event y = 0.\n",
+        r.tolerance
+    );
     println!("Table 42.1 rebuilt");
     println!(
         "  {:<13} {:>19} {:>19} {:>19} {:>19} {:>19}",
@@ -137,7 +149,10 @@ fn print_text(r: &Report) {
         } else {
             "tolerance proportionality: error vs tol"
         };
-        println!("  {:<7} {:<48} observed {:>5.2}   expected {:.0}", c.method, what, c.order, c.expected);
+        println!(
+            "  {:<7} {:<48} observed {:>5.2}   expected {:.0}",
+            c.method, what, c.order, c.expected
+        );
     }
 
     println!("\nError against run time (uniform motion to t = T; state only recorded; median of repeated runs)");

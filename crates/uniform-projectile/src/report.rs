@@ -271,7 +271,7 @@ fn motion_errors<const K: usize>(
     let (mut mu, mut phi, mut res, mut work) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     let balance = sol.energy_balance();
     let e_scale = p.m * p.v0 * p.v0 + p.m * p.g * p.h0;
-    for i in 0..sol.len() {
+    for (i, bal) in balance.iter().enumerate() {
         let t = sol.t[i];
         let (x, v, a, kappa) = if uniform_motion {
             (
@@ -297,10 +297,13 @@ fn motion_errors<const K: usize>(
         e.ydd = e.ydd.max((qdd[1] - a[1]).abs() / p.g);
         let kn = (qd[0] * qdd[1] - qdd[0] * qd[1]).abs() / qd.norm().powi(3);
         e.curvature = e.curvature.max((kn - kappa).abs() / (p.g / (p.v0 * p.v0)));
-        e.energy_balance = e.energy_balance.max(balance[i].abs() / e_scale);
+        e.energy_balance = e.energy_balance.max(bal.abs() / e_scale);
         if uniform_motion {
-            mu = mu.max((sol.mu[i][0] - uniform::multiplier(p, t)).abs() / (p.m * p.g / (2.0 * p.v0)));
-            phi = phi.max((sol.phi[i].norm() - uniform::chetaev_force_magnitude(p, t)).abs() / (p.m * p.g));
+            mu = mu
+                .max((sol.mu[i][0] - uniform::multiplier(p, t)).abs() / (p.m * p.g / (2.0 * p.v0)));
+            phi = phi.max(
+                (sol.phi[i].norm() - uniform::chetaev_force_magnitude(p, t)).abs() / (p.m * p.g),
+            );
             res = res.max(sol.residual[i][0].abs() / (p.v0 * p.v0));
             work = work.max((sol.work[i] - p.m * p.g * (q[1] - p.h0)).abs() / (p.m * p.g * p.h0));
         }
@@ -332,7 +335,9 @@ pub fn log_slope(points: &[(f64, f64)]) -> f64 {
 
 /// Largest error of the end state of the uniform motion at `t_end`, scaled as in [`WorkPoint`].
 fn end_error(p: &Params, sol: &Solution<2, 1>, t_end: f64, range: f64) -> f64 {
-    let (_, q, qd) = sol.last().unwrap_or((0.0, SVector::zeros(), SVector::zeros()));
+    let (_, q, qd) = sol
+        .last()
+        .unwrap_or((0.0, SVector::zeros(), SVector::zeros()));
     let (x, v) = (uniform::position(p, t_end), uniform::velocity(p, t_end));
     ((q[0] - x[0]).abs() / range.max(p.h0))
         .max((q[1] - x[1]).abs() / range.max(p.h0))
@@ -431,7 +436,11 @@ pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
             .output_final()
             .record(Record::State)
     };
-    let mut orders = |name: &str, expected: f64, ks: std::ops::Range<u32>, run: &dyn Fn(f64) -> Result<Solution<2, 1>, Error>| -> Result<(), Error> {
+    let mut orders = |name: &str,
+                      expected: f64,
+                      ks: std::ops::Range<u32>,
+                      run: &dyn Fn(f64) -> Result<Solution<2, 1>, Error>|
+     -> Result<(), Error> {
         let mut pts = Vec::new();
         for k in ks {
             let h = t_end / f64::from(1u32 << k);
@@ -447,13 +456,33 @@ pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
         Ok(())
     };
     orders("Rk4", 4.0, 3..9, &|h| solve(&up, Rk4::new(h), &fixed(h)))?;
-    orders("Dopri5", 5.0, 2..7, &|h| solve(&up, Dopri5::default(), &fixed(h)))?;
-    orders("Dop853", 8.0, 1..5, &|h| solve(&up, Dop853::default(), &fixed(h)))?;
+    orders("Dopri5", 5.0, 2..7, &|h| {
+        solve(&up, Dopri5::default(), &fixed(h))
+    })?;
+    orders("Dop853", 8.0, 1..5, &|h| {
+        solve(&up, Dop853::default(), &fixed(h))
+    })?;
 
     let tolerances: Vec<f64> = (3..=13).map(|e| 10f64.powi(-e)).collect();
     let mut work_precision = Vec::new();
-    work_precision_adaptive(p, &up, Dopri5::default(), &tolerances, t_end, range, &mut work_precision)?;
-    work_precision_adaptive(p, &up, Dop853::default(), &tolerances, t_end, range, &mut work_precision)?;
+    work_precision_adaptive(
+        p,
+        &up,
+        Dopri5::default(),
+        &tolerances,
+        t_end,
+        range,
+        &mut work_precision,
+    )?;
+    work_precision_adaptive(
+        p,
+        &up,
+        Dop853::default(),
+        &tolerances,
+        t_end,
+        range,
+        &mut work_precision,
+    )?;
     for k in 2..10 {
         let h = t_end / f64::from(1u32 << k);
         let opts = Options::until(t_end).output_final().record(Record::State);

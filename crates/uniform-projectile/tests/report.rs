@@ -22,15 +22,34 @@ fn report_rebuilds_table_42_1_and_observes_the_orders() {
 
     for c in &r.convergence {
         // SciML's convention: observed order within ±0.3 of the theoretical one.
-        assert!((c.order - c.expected).abs() <= 0.3, "{} vs {}: {:.2} (expected {})", c.method, c.against, c.order, c.expected);
+        assert!(
+            (c.order - c.expected).abs() <= 0.3,
+            "{} vs {}: {:.2} (expected {})",
+            c.method,
+            c.against,
+            c.order,
+            c.expected
+        );
     }
     let ue = &r.uniform_errors;
-    for v in [ue.x, ue.y, ue.xd, ue.yd, ue.xdd, ue.ydd, ue.curvature, ue.energy_balance] {
+    for v in [
+        ue.x,
+        ue.y,
+        ue.xd,
+        ue.yd,
+        ue.xdd,
+        ue.ydd,
+        ue.curvature,
+        ue.energy_balance,
+    ] {
         assert!(v <= 100.0 * tol, "{ue:?}");
     }
     assert!(ue.mu.unwrap_or(1.0) <= 100.0 * tol && ue.phi.unwrap_or(1.0) <= 100.0 * tol);
     assert!(ue.work_vs_potential.unwrap_or(1.0) <= 100.0 * tol);
-    assert!(r.work_precision.iter().all(|w| w.error.is_finite() && w.seconds > 0.0 && w.rhs_evaluations > 0));
+    assert!(r
+        .work_precision
+        .iter()
+        .all(|w| w.error.is_finite() && w.seconds > 0.0 && w.rhs_evaluations > 0));
 }
 
 #[test]
@@ -40,9 +59,19 @@ fn json_has_the_promised_fields() {
     for motion in ["classical", "uniform"] {
         for side in ["numerical", "closed_form"] {
             for field in ["T", "R", "v_R", "impact_angle_deg", "s"] {
-                assert!(v["table"][motion][side][field].is_f64(), "table.{motion}.{side}.{field}");
+                assert!(
+                    v["table"][motion][side][field].is_f64(),
+                    "table.{motion}.{side}.{field}"
+                );
             }
         }
     }
-    assert!((v["table"]["uniform"]["closed_form"]["T"].as_f64().unwrap_or(0.0) - 1.085_038_501_948).abs() < 1e-11);
+    assert!(
+        (v["table"]["uniform"]["closed_form"]["T"]
+            .as_f64()
+            .unwrap_or(0.0)
+            - 1.085_038_501_948)
+            .abs()
+            < 1e-11
+    );
 }
