@@ -1,0 +1,1 @@
+//! Work-precision study and benchmarks.
