@@ -3,7 +3,7 @@
 use super::events::{locate_root, EventHit};
 use super::options::{Atol, Options, Output, Record};
 use super::projection::project_velocity;
-use super::system::{split, ChetaevOde, OdeSystem};
+use super::system::{split, ChetaevOde, OdeSystem, Stats};
 use super::{ErrorNorm, Method, Stepper};
 use crate::error::Error;
 use crate::model::Model;
@@ -58,30 +58,48 @@ where
     validate(options)?;
     method.validate()?;
     let t0 = problem.t0();
-    let t_end = options.t_end;
     let mut sys = ChetaevOde::new(problem.model(), options.record >= Record::Energy);
-    let dim = sys.dim();
-    let mut y = vec![0.0; dim];
+    let mut y = vec![0.0; sys.dim()];
     y[..N].copy_from_slice(problem.q0().as_slice());
     y[N..2 * N].copy_from_slice(problem.qd0().as_slice());
     let norm = error_norm(options, N);
 
     let mut sol = Solution::new(method.name(), options.record);
-    let mut run = Run {
-        sys: &mut sys,
+    let mut hooks = ChetaevHooks {
         sol: &mut sol,
         options,
+        event_evaluations: 0,
     };
-    let outcome = run.integrate(method, t0, t_end, &mut y, &norm);
+    let settings = LoopSettings {
+        output: &options.output,
+        max_steps: options.max_steps,
+        initial_step: options.initial_step,
+        max_step: options.max_step,
+    };
+    let mut counts = Stats::default();
+    let outcome = step_loop(
+        &mut sys,
+        &mut hooks,
+        method,
+        t0,
+        options.t_end,
+        &mut y,
+        &norm,
+        &settings,
+        &mut counts,
+    );
+    let event_evaluations = hooks.event_evaluations;
     if let Err(e) = outcome {
-        run.sol.status = Status::Failed(e);
+        sol.status = Status::Failed(e);
     }
-    let stats = sys.stats;
-    sol.stats = Stats { ..stats };
+    sol.stats = Stats {
+        accepted_steps: counts.accepted_steps,
+        rejected_steps: counts.rejected_steps,
+        event_evaluations,
+        ..sys.stats
+    };
     Ok(sol)
 }
-
-use super::system::Stats;
 
 fn validate<const N: usize>(o: &Options<N>) -> Result<(), Error> {
     check_finite("t_end", std::slice::from_ref(&o.t_end))?;
@@ -167,19 +185,54 @@ fn error_norm<const N: usize>(o: &Options<N>, n: usize) -> ErrorNorm {
     ErrorNorm::new(o.rtol, atol)
 }
 
-struct Run<'s, 'a, M, const N: usize, const K: usize> {
-    sys: &'s mut ChetaevOde<'a, M, N, K>,
-    sol: &'s mut Solution<N, K>,
-    options: &'s Options<N>,
+/// What the step loop needs beyond the right-hand side: recording, event functions, projection.
+trait Hooks<S: OdeSystem> {
+    /// Records `(t, y)`.
+    fn record(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error>;
+    /// Number of event functions.
+    fn n_events(&self) -> usize;
+    /// The value of event function `i` at `(t, y)`.
+    fn event_value(&mut self, i: usize, t: f64, y: &[f64]) -> Result<f64, Error>;
+    /// Whether going from `g0` to `g1` is a crossing of event `i` that counts.
+    fn crosses(&self, i: usize, g0: f64, g1: f64) -> bool;
+    /// Whether event `i` stops the integration.
+    fn is_terminal(&self, i: usize) -> bool;
+    /// Event `i` happened at `(t, y)`.
+    fn event_hit(&mut self, i: usize, t: f64, y: &[f64]);
+    /// The integration stopped at terminal event `i`.
+    fn terminated(&mut self, i: usize);
+    /// Projects `y` onto the constraints; returns whether it changed.
+    fn project(&mut self, sys: &mut S, t: f64, y: &mut [f64]) -> Result<bool, Error>;
 }
 
-impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
-    /// Records `(t, y)` with what the record level asks for.
-    fn record(&mut self, t: f64, y: &[f64]) -> Result<(), Error> {
+/// The driver's settings that do not depend on the model.
+struct LoopSettings<'o> {
+    output: &'o Output,
+    max_steps: usize,
+    initial_step: Option<f64>,
+    max_step: Option<f64>,
+}
+
+/// The Chetaev driver's hooks: the solution being recorded and the user's options.
+struct ChetaevHooks<'s, const N: usize, const K: usize> {
+    sol: &'s mut Solution<N, K>,
+    options: &'s Options<N>,
+    event_evaluations: usize,
+}
+
+impl<M: Model<N, K>, const N: usize, const K: usize> Hooks<ChetaevOde<'_, M, N, K>>
+    for ChetaevHooks<'_, N, K>
+{
+    fn record(
+        &mut self,
+        sys: &mut ChetaevOde<'_, M, N, K>,
+        t: f64,
+        y: &[f64],
+    ) -> Result<(), Error> {
         let (q, qd) = split::<N>(y);
         // Evaluate before pushing anything, so a failure leaves every recorded vector the same length.
         let d = if self.options.record >= Record::Dynamics {
-            Some(self.sys.evaluate(t, &q, &qd)?)
+            Some(sys.evaluate(t, &q, &qd)?)
         } else {
             None
         };
@@ -201,24 +254,48 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
         Ok(())
     }
 
-    fn events_at(&mut self, t: f64, y: &[f64], out: &mut [f64]) -> Result<(), Error> {
-        let (q, qd) = split::<N>(y);
-        for (i, e) in self.options.events.iter().enumerate() {
-            self.sys.stats.event_evaluations += 1;
-            let v = (e.g)(t, &q, &qd);
-            if !v.is_finite() {
-                return Err(Error::NonFiniteEvent {
-                    index: i,
-                    t,
-                    value: v,
-                });
-            }
-            out[i] = v;
-        }
-        Ok(())
+    fn n_events(&self) -> usize {
+        self.options.events.len()
     }
 
-    fn project(&mut self, t: f64, y: &mut [f64]) -> Result<bool, Error> {
+    fn event_value(&mut self, i: usize, t: f64, y: &[f64]) -> Result<f64, Error> {
+        let (q, qd) = split::<N>(y);
+        self.event_evaluations += 1;
+        let v = (self.options.events[i].g)(t, &q, &qd);
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(Error::NonFiniteEvent {
+                index: i,
+                t,
+                value: v,
+            })
+        }
+    }
+
+    fn crosses(&self, i: usize, g0: f64, g1: f64) -> bool {
+        self.options.events[i].crosses(g0, g1)
+    }
+
+    fn is_terminal(&self, i: usize) -> bool {
+        self.options.events[i].terminal
+    }
+
+    fn event_hit(&mut self, i: usize, t: f64, y: &[f64]) {
+        let (q, qd) = split::<N>(y);
+        self.sol.events.push(EventHit { index: i, t, q, qd });
+    }
+
+    fn terminated(&mut self, i: usize) {
+        self.sol.status = Status::Terminated { event: i };
+    }
+
+    fn project(
+        &mut self,
+        sys: &mut ChetaevOde<'_, M, N, K>,
+        t: f64,
+        y: &mut [f64],
+    ) -> Result<bool, Error> {
         let Some(p) = self.options.projection else {
             return Ok(false);
         };
@@ -226,280 +303,420 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Run<'_, '_, M, N, K> {
             return Ok(false);
         }
         let (q, qd) = split::<N>(y);
-        let r = project_velocity(
-            self.sys.model,
-            &mut self.sys.ws,
-            t,
-            &q,
-            &qd,
-            p.tol,
-            p.max_iterations,
-        )?;
-        self.sys.stats.projections += 1;
-        self.sys.stats.projection_iterations += r.iterations;
+        let r = project_velocity(sys.model, &mut sys.ws, t, &q, &qd, p.tol, p.max_iterations)?;
+        sys.stats.projections += 1;
+        sys.stats.projection_iterations += r.iterations;
         y[N..2 * N].copy_from_slice(r.qd.as_slice());
         Ok(r.iterations > 0)
     }
+}
 
-    fn integrate<Me: Method>(
-        &mut self,
-        method: Me,
-        t0: f64,
-        t_end: f64,
-        y: &mut [f64],
-        norm: &ErrorNorm,
-    ) -> Result<(), Error> {
-        let options = self.options;
-        self.record(t0, y)?;
-        if t_end == t0 {
-            return Ok(());
+/// Options of [`solve_ode`]: a plain first-order system with no events, projection or diagnostics.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OdeOptions {
+    /// The end time (earlier than the start integrates backward).
+    pub t_end: f64,
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance, one per controlled component (or one for all).
+    pub atol: Atol,
+    /// First step size; chosen automatically when `None`.
+    pub initial_step: Option<f64>,
+    /// Largest step size.
+    pub max_step: Option<f64>,
+    /// Step limit.
+    pub max_steps: usize,
+    /// Where to record.
+    pub output: Output,
+}
+
+impl OdeOptions {
+    /// Integrate to `t_end` with `rtol = 1e-6`, `atol = 1e-9`, recording every step.
+    pub fn until(t_end: f64) -> Self {
+        Self {
+            t_end,
+            rtol: 1e-6,
+            atol: Atol::Scalar(1e-9),
+            initial_step: None,
+            max_step: None,
+            max_steps: 1_000_000,
+            output: Output::Steps,
         }
-        let dir = (t_end - t0).signum();
-        let dim = y.len();
-        let mut stepper = method.stepper(dim);
-        stepper.reset(self.sys, t0, y)?;
+    }
 
-        let n_events = options.events.len();
-        let mut g_old = vec![0.0; n_events];
-        let mut g_new = vec![0.0; n_events];
-        self.events_at(t0, y, &mut g_old)?;
-        let mut pending_times: Vec<f64> = match &options.output {
-            Output::Times(ts) => {
-                let mut v: Vec<f64> = ts
-                    .iter()
-                    .copied()
-                    .filter(|&s| dir * (s - t0) > 0.0 && dir * (s - t_end) <= 0.0)
-                    .collect();
-                v.sort_by(|a, b| (dir * a).total_cmp(&(dir * b)));
-                v
-            }
-            _ => Vec::new(),
-        };
-        pending_times.reverse(); // pop from the back in time order
-        let h_max = options
-            .max_step
-            .unwrap_or(f64::INFINITY)
-            .min((t_end - t0).abs());
+    /// Sets the relative and absolute tolerance.
+    pub fn tolerances(mut self, rtol: f64, atol: f64) -> Self {
+        self.rtol = rtol;
+        self.atol = Atol::Scalar(atol);
+        self
+    }
+}
 
-        let mut h = match stepper.fixed_step() {
-            Some(h) => h,
-            None => match options.initial_step {
-                Some(h) => h.abs(),
-                None => self.initial_step(&mut stepper, t0, y, t_end, norm, dir)?,
-            },
+/// The result of [`solve_ode`].
+#[derive(Clone, Debug)]
+#[must_use = "a solution carries a status that says whether the integration succeeded"]
+pub struct OdeSolution {
+    /// Output times.
+    pub t: Vec<f64>,
+    /// States at the output times.
+    pub y: Vec<Vec<f64>>,
+    /// Accepted and rejected steps (the system counts its own evaluations).
+    pub stats: Stats,
+    /// `None` on success, or why the integration failed.
+    pub error: Option<Error>,
+}
+
+struct PlainHooks<'s> {
+    sol: &'s mut OdeSolution,
+}
+
+impl<S: OdeSystem> Hooks<S> for PlainHooks<'_> {
+    fn record(&mut self, _sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
+        self.sol.t.push(t);
+        self.sol.y.push(y.to_vec());
+        Ok(())
+    }
+    fn n_events(&self) -> usize {
+        0
+    }
+    fn event_value(&mut self, _i: usize, _t: f64, _y: &[f64]) -> Result<f64, Error> {
+        Ok(0.0)
+    }
+    fn crosses(&self, _i: usize, _g0: f64, _g1: f64) -> bool {
+        false
+    }
+    fn is_terminal(&self, _i: usize) -> bool {
+        false
+    }
+    fn event_hit(&mut self, _i: usize, _t: f64, _y: &[f64]) {}
+    fn terminated(&mut self, _i: usize) {}
+    fn project(&mut self, _sys: &mut S, _t: f64, _y: &mut [f64]) -> Result<bool, Error> {
+        Ok(false)
+    }
+}
+
+/// Integrates any first-order system `y' = F(t, y)` with the same methods and step control as
+/// [`solve`]. For hand-written right-hand sides, comparisons and tests; constrained mechanics goes
+/// through [`solve`].
+pub fn solve_ode<S: OdeSystem, Me: Method>(
+    sys: &mut S,
+    method: Me,
+    t0: f64,
+    y0: &[f64],
+    options: &OdeOptions,
+) -> Result<OdeSolution, Error> {
+    method.validate()?;
+    check_finite("t0", std::slice::from_ref(&t0))?;
+    check_finite("y0", y0)?;
+    if y0.len() != sys.dim() {
+        return Err(Error::InvalidOption {
+            name: "y0 (length)",
+            value: y0.len() as f64,
+            hint: "the initial state must have the system's dimension",
+        });
+    }
+    let n = sys.controlled_dim();
+    let atol = match &options.atol {
+        Atol::Scalar(a) => vec![*a; n],
+        Atol::PerComponent(v) => v.clone(),
+    };
+    let mut check = Options::<0>::until(options.t_end).tolerances(options.rtol, 1.0);
+    check.initial_step = options.initial_step;
+    check.max_step = options.max_step;
+    check.max_steps = options.max_steps;
+    check.output = options.output.clone();
+    validate(&check)?;
+    if atol.len() != n || atol.iter().any(|a| !(a.is_finite() && *a >= 0.0)) {
+        return Err(Error::InvalidOption {
+            name: "atol",
+            value: atol.len() as f64,
+            hint: "absolute tolerances must be finite, non-negative, one per controlled component",
+        });
+    }
+    let norm = ErrorNorm::new(options.rtol, atol);
+    let mut sol = OdeSolution {
+        t: Vec::new(),
+        y: Vec::new(),
+        stats: Stats::default(),
+        error: None,
+    };
+    let settings = LoopSettings {
+        output: &options.output,
+        max_steps: options.max_steps,
+        initial_step: options.initial_step,
+        max_step: options.max_step,
+    };
+    let mut y = y0.to_vec();
+    let mut counts = Stats::default();
+    let outcome = step_loop(
+        sys,
+        &mut PlainHooks { sol: &mut sol },
+        method,
+        t0,
+        options.t_end,
+        &mut y,
+        &norm,
+        &settings,
+        &mut counts,
+    );
+    sol.error = outcome.err();
+    sol.stats = counts;
+    Ok(sol)
+}
+
+/// The step loop shared by every driver: step-size control, dense output at requested times, event
+/// location, projection and recording.
+#[allow(clippy::too_many_arguments)]
+fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
+    sys: &mut S,
+    hooks: &mut H,
+    method: Me,
+    t0: f64,
+    t_end: f64,
+    y: &mut [f64],
+    norm: &ErrorNorm,
+    settings: &LoopSettings<'_>,
+    counts: &mut Stats,
+) -> Result<(), Error> {
+    hooks.record(sys, t0, y)?;
+    if t_end == t0 {
+        return Ok(());
+    }
+    let dir = (t_end - t0).signum();
+    let dim = y.len();
+    let mut stepper = method.stepper(dim);
+    stepper.reset(sys, t0, y)?;
+
+    let n_events = hooks.n_events();
+    let mut g_old = vec![0.0; n_events];
+    let mut g_new = vec![0.0; n_events];
+    for (i, g) in g_old.iter_mut().enumerate() {
+        *g = hooks.event_value(i, t0, y)?;
+    }
+    let mut pending_times: Vec<f64> = match settings.output {
+        Output::Times(ts) => {
+            let mut v: Vec<f64> = ts
+                .iter()
+                .copied()
+                .filter(|&s| dir * (s - t0) > 0.0 && dir * (s - t_end) <= 0.0)
+                .collect();
+            v.sort_by(|a, b| (dir * b).total_cmp(&(dir * a)));
+            v // latest first: pop from the back in time order
         }
-        .min(h_max)
-            * dir;
+        _ => Vec::new(),
+    };
+    let h_max = settings
+        .max_step
+        .unwrap_or(f64::INFINITY)
+        .min((t_end - t0).abs());
 
-        let mut t = t0;
-        let mut y_new = vec![0.0; dim];
-        let mut buf = vec![0.0; dim];
-        let mut steps = 0usize;
-        let mut rejected_last = false;
-        let order = stepper.control_order();
-        loop {
-            if steps >= options.max_steps {
-                return Err(Error::MaxSteps {
-                    t,
-                    max_steps: options.max_steps,
-                });
-            }
-            steps += 1;
-            let remaining = t_end - t;
-            // Land exactly on t_end; avoid a sliver of a last step by stretching within 1%.
-            let last = (h * 1.01).abs() >= remaining.abs();
-            if last {
-                h = remaining;
-            }
-            if h.abs() <= 4.0 * f64::EPSILON * t.abs() && !last {
-                return Err(Error::StepSizeTooSmall { t, h });
-            }
-            let trial = stepper.try_step(self.sys, t, h, y, &mut y_new, norm);
-            let err = match trial {
-                Ok(e) if e.is_finite() => e,
-                Ok(_) | Err(Error::NonFiniteEvaluation { .. }) if order.is_some() => {
-                    // A trial stage left the model's domain: retry with a smaller step.
-                    self.sys.stats.rejected_steps += 1;
-                    h *= 0.25;
-                    rejected_last = true;
-                    if h.abs() <= 4.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
-                        return Err(trial.err().unwrap_or(Error::StepSizeTooSmall { t, h }));
-                    }
-                    continue;
-                }
-                Ok(_) => {
-                    let (q, qd) = split::<N>(&y_new);
-                    return Err(super::system::locate(
-                        crate::equations::saddle::SaddleFailure::NonFinite,
-                        t + h,
-                        &q,
-                        &qd,
-                    ));
-                }
-                Err(e) => return Err(e),
-            };
-            if err > 1.0 && order.is_some() {
-                self.sys.stats.rejected_steps += 1;
-                let p = order.unwrap_or(1) as f64;
-                h *= (SAFETY * err.powf(-1.0 / p)).clamp(FAC_MIN, 1.0);
+    let mut h = match stepper.fixed_step() {
+        Some(h) => h,
+        None => match settings.initial_step {
+            Some(h) => h.abs(),
+            None => initial_step(sys, t0, y, t_end, norm, dir)?,
+        },
+    }
+    .min(h_max)
+        * dir;
+
+    let mut t = t0;
+    let mut y_new = vec![0.0; dim];
+    let mut buf = vec![0.0; dim];
+    let mut steps = 0usize;
+    let mut rejected_last = false;
+    let order = stepper.control_order();
+    loop {
+        if steps >= settings.max_steps {
+            return Err(Error::MaxSteps {
+                t,
+                max_steps: settings.max_steps,
+            });
+        }
+        steps += 1;
+        let remaining = t_end - t;
+        // Land exactly on t_end; avoid a sliver of a last step by stretching within 1%.
+        let last = (h * 1.01).abs() >= remaining.abs();
+        if last {
+            h = remaining;
+        }
+        if h.abs() <= 4.0 * f64::EPSILON * t.abs() && !last {
+            return Err(Error::StepSizeTooSmall { t, h });
+        }
+        let trial = stepper.try_step(sys, t, h, y, &mut y_new, norm);
+        let err = match trial {
+            Ok(e) if e.is_finite() => e,
+            Ok(_) | Err(Error::NonFiniteEvaluation { .. }) if order.is_some() => {
+                // A trial stage left the model's domain: retry with a smaller step.
+                counts.rejected_steps += 1;
+                h *= 0.25;
                 rejected_last = true;
+                if h.abs() <= 4.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
+                    return Err(trial.err().unwrap_or(Error::StepSizeTooSmall { t, h }));
+                }
                 continue;
             }
-
-            // Accepted.
-            self.sys.stats.accepted_steps += 1;
-            stepper.accept(self.sys, t, h, y, &y_new)?;
-            let t_new = if last { t_end } else { t + h };
-            if let Some(h_lambda) = stepper.stiffness() {
-                self.record(t_new, &y_new)?;
-                return Err(Error::Stiff {
-                    t: t_new,
-                    h_lambda,
-                    suggestion: stepper.stiff_alternative(),
-                });
+            Ok(_) => {
+                return Err(Error::NonFiniteEvaluation {
+                    t: t + h,
+                    q: y_new.clone(),
+                    qd: Vec::new(),
+                })
             }
-
-            // Events on the dense output of [t, t_new].
-            let mut terminal: Option<(usize, f64)> = None;
-            if n_events > 0 {
-                self.events_at(t_new, &y_new, &mut g_new)?;
-                let mut hits: Vec<(usize, f64)> = Vec::new();
-                for (i, e) in options.events.iter().enumerate() {
-                    if !e.crosses(g_old[i], g_new[i]) {
-                        continue;
-                    }
-                    let g = e.g.clone();
-                    let mut evals = 0usize;
-                    let mut at = |s: f64| {
-                        evals += 1;
-                        stepper.interpolate((s - t) / h, &mut buf);
-                        let (q, qd) = split::<N>(&buf);
-                        g(s, &q, &qd)
-                    };
-                    let (ts, _) = locate_root(&mut at, t, g_old[i], t_new, g_new[i]);
-                    self.sys.stats.event_evaluations += evals;
-                    hits.push((i, ts));
-                }
-                hits.sort_by(|a, b| (dir * a.1).total_cmp(&(dir * b.1)));
-                for &(i, ts) in &hits {
-                    if terminal.is_some() {
-                        break;
-                    }
-                    if options.events[i].terminal {
-                        terminal = Some((i, ts));
-                    } else {
-                        stepper.interpolate((ts - t) / h, &mut buf);
-                        let (q, qd) = split::<N>(&buf);
-                        self.sol.events.push(EventHit {
-                            index: i,
-                            t: ts,
-                            q,
-                            qd,
-                        });
-                    }
-                }
-            }
-            let t_stop = terminal.map_or(t_new, |(_, ts)| ts);
-
-            // Dense output at requested times up to the stop (an event point and the final point are
-            // recorded from the method's own step below).
-            while let Some(&s) = pending_times.last() {
-                if dir * (s - t_stop) > 0.0 || (terminal.is_some() && s == t_stop) {
-                    break;
-                }
-                pending_times.pop();
-                if last && s == t_end {
-                    break;
-                }
-                stepper.interpolate((s - t) / h, &mut buf);
-                self.record(s, &buf)?;
-            }
-
-            if let Some((i, ts)) = terminal {
-                // Land on the event with one step of the method itself, more accurate than the
-                // interpolant, then stop.
-                stepper.reset(self.sys, t, y)?;
-                let h_event = ts - t;
-                if h_event != 0.0 {
-                    stepper.try_step(self.sys, t, h_event, y, &mut y_new, norm)?;
-                } else {
-                    y_new.copy_from_slice(y);
-                }
-                self.project(ts, &mut y_new)?;
-                let (q, qd) = split::<N>(&y_new);
-                self.sol.events.push(EventHit {
-                    index: i,
-                    t: ts,
-                    q,
-                    qd,
-                });
-                self.record(ts, &y_new)?;
-                self.sol.status = Status::Terminated { event: i };
-                return Ok(());
-            }
-
-            if self.project(t_new, &mut y_new)? {
-                stepper.reset(self.sys, t_new, &y_new)?;
-            }
-            if last || matches!(options.output, Output::Steps) {
-                self.record(t_new, &y_new)?;
-            }
-            std::mem::swap(&mut g_old, &mut g_new);
-            y.copy_from_slice(&y_new);
-            t = t_new;
-            if last {
-                return Ok(());
-            }
-            if let Some(p) = order {
-                let fac_max = if rejected_last { 1.0 } else { FAC_MAX };
-                let fac = if err > 0.0 {
-                    SAFETY * err.powf(-1.0 / p as f64)
-                } else {
-                    FAC_MAX
-                };
-                h *= fac.clamp(FAC_MIN, fac_max);
-                if h.abs() > h_max {
-                    h = h_max * dir;
-                }
-            }
-            rejected_last = false;
+            Err(e) => return Err(e),
+        };
+        if err > 1.0 && order.is_some() {
+            counts.rejected_steps += 1;
+            let p = order.unwrap_or(1) as f64;
+            h *= (SAFETY * err.powf(-1.0 / p)).clamp(FAC_MIN, 1.0);
+            rejected_last = true;
+            continue;
         }
-    }
 
-    /// Hairer's starting step (Solving ODEs I, II.4): balances `h·|F|` against the tolerance and
-    /// the second derivative estimated from one Euler step.
-    fn initial_step<S: Stepper>(
-        &mut self,
-        _stepper: &mut S,
-        t0: f64,
-        y0: &[f64],
-        t_end: f64,
-        norm: &ErrorNorm,
-        dir: f64,
-    ) -> Result<f64, Error> {
-        let dim = y0.len();
-        let p = 5.0f64;
-        let mut f0 = vec![0.0; dim];
-        self.sys.rhs(t0, y0, &mut f0)?;
-        let zeros = vec![0.0; dim];
-        let d0 = norm.norm(y0, y0, &zeros);
-        let d1 = norm.norm(&f0, y0, &zeros);
-        let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
-            1e-6
-        } else {
-            0.01 * d0 / d1
-        };
-        h0 = h0.min((t_end - t0).abs());
-        let y1: Vec<f64> = (0..dim).map(|i| y0[i] + dir * h0 * f0[i]).collect();
-        let mut f1 = vec![0.0; dim];
-        self.sys.rhs(t0 + dir * h0, &y1, &mut f1)?;
-        let diff: Vec<f64> = (0..dim).map(|i| f1[i] - f0[i]).collect();
-        let d2 = norm.norm(&diff, y0, &zeros) / h0;
-        let h1 = if d1.max(d2) <= 1e-15 {
-            (h0 * 1e-3).max(1e-6)
-        } else {
-            (0.01 / d1.max(d2)).powf(1.0 / p)
-        };
-        Ok((100.0 * h0).min(h1))
+        // Accepted.
+        counts.accepted_steps += 1;
+        stepper.accept(sys, t, h, y, &y_new)?;
+        let t_new = if last { t_end } else { t + h };
+        if let Some(h_lambda) = stepper.stiffness() {
+            hooks.record(sys, t_new, &y_new)?;
+            return Err(Error::Stiff {
+                t: t_new,
+                h_lambda,
+                suggestion: stepper.stiff_alternative(),
+            });
+        }
+
+        // Events on the dense output of [t, t_new].
+        let mut terminal: Option<(usize, f64)> = None;
+        if n_events > 0 {
+            for (i, g) in g_new.iter_mut().enumerate() {
+                *g = hooks.event_value(i, t_new, &y_new)?;
+            }
+            let mut hits: Vec<(usize, f64)> = Vec::new();
+            for i in 0..n_events {
+                if !hooks.crosses(i, g_old[i], g_new[i]) {
+                    continue;
+                }
+                let mut failure = None;
+                let mut at = |s: f64| {
+                    stepper.interpolate((s - t) / h, &mut buf);
+                    match hooks.event_value(i, s, &buf) {
+                        Ok(v) => v,
+                        Err(e) => {
+                            failure.get_or_insert(e);
+                            f64::NAN
+                        }
+                    }
+                };
+                let (ts, _) = locate_root(&mut at, t, g_old[i], t_new, g_new[i]);
+                if let Some(e) = failure {
+                    return Err(e);
+                }
+                hits.push((i, ts));
+            }
+            hits.sort_by(|a, b| (dir * a.1).total_cmp(&(dir * b.1)));
+            for &(i, ts) in &hits {
+                if hooks.is_terminal(i) {
+                    terminal = Some((i, ts));
+                    break;
+                }
+                stepper.interpolate((ts - t) / h, &mut buf);
+                hooks.event_hit(i, ts, &buf);
+            }
+        }
+        let t_stop = terminal.map_or(t_new, |(_, ts)| ts);
+
+        // Dense output at requested times up to the stop (an event point and the final point are
+        // recorded from the method's own step below).
+        while let Some(&s) = pending_times.last() {
+            if dir * (s - t_stop) > 0.0 || (terminal.is_some() && s == t_stop) {
+                break;
+            }
+            pending_times.pop();
+            if last && s == t_end {
+                break;
+            }
+            stepper.interpolate((s - t) / h, &mut buf);
+            hooks.record(sys, s, &buf)?;
+        }
+
+        if let Some((i, ts)) = terminal {
+            // Land on the event with one step of the method itself, more accurate than the
+            // interpolant, then stop.
+            stepper.reset(sys, t, y)?;
+            let h_event = ts - t;
+            if h_event != 0.0 {
+                stepper.try_step(sys, t, h_event, y, &mut y_new, norm)?;
+            } else {
+                y_new.copy_from_slice(y);
+            }
+            hooks.project(sys, ts, &mut y_new)?;
+            hooks.event_hit(i, ts, &y_new);
+            hooks.record(sys, ts, &y_new)?;
+            hooks.terminated(i);
+            return Ok(());
+        }
+
+        if hooks.project(sys, t_new, &mut y_new)? {
+            stepper.reset(sys, t_new, &y_new)?;
+        }
+        if last || matches!(settings.output, Output::Steps) {
+            hooks.record(sys, t_new, &y_new)?;
+        }
+        std::mem::swap(&mut g_old, &mut g_new);
+        y.copy_from_slice(&y_new);
+        t = t_new;
+        if last {
+            return Ok(());
+        }
+        if let Some(p) = order {
+            let fac_max = if rejected_last { 1.0 } else { FAC_MAX };
+            let fac = if err > 0.0 {
+                SAFETY * err.powf(-1.0 / p as f64)
+            } else {
+                FAC_MAX
+            };
+            h *= fac.clamp(FAC_MIN, fac_max);
+            if h.abs() > h_max {
+                h = h_max * dir;
+            }
+        }
+        rejected_last = false;
     }
+}
+
+/// Hairer's starting step (Solving ODEs I, II.4): balances `h·|F|` against the tolerance and the
+/// second derivative estimated from one Euler step.
+fn initial_step<S: OdeSystem>(
+    sys: &mut S,
+    t0: f64,
+    y0: &[f64],
+    t_end: f64,
+    norm: &ErrorNorm,
+    dir: f64,
+) -> Result<f64, Error> {
+    let dim = y0.len();
+    let p = 5.0f64;
+    let mut f0 = vec![0.0; dim];
+    sys.rhs(t0, y0, &mut f0)?;
+    let zeros = vec![0.0; dim];
+    let d0 = norm.norm(y0, y0, &zeros);
+    let d1 = norm.norm(&f0, y0, &zeros);
+    let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
+        1e-6
+    } else {
+        0.01 * d0 / d1
+    };
+    h0 = h0.min((t_end - t0).abs());
+    let y1: Vec<f64> = (0..dim).map(|i| y0[i] + dir * h0 * f0[i]).collect();
+    let mut f1 = vec![0.0; dim];
+    sys.rhs(t0 + dir * h0, &y1, &mut f1)?;
+    let diff: Vec<f64> = (0..dim).map(|i| f1[i] - f0[i]).collect();
+    let d2 = norm.norm(&diff, y0, &zeros) / h0;
+    let h1 = if d1.max(d2) <= 1e-15 {
+        (h0 * 1e-3).max(1e-6)
+    } else {
+        (0.01 / d1.max(d2)).powf(1.0 / p)
+    };
+    Ok((100.0 * h0).min(h1))
 }

@@ -12,11 +12,13 @@ pub mod events;
 pub mod options;
 pub mod projection;
 pub mod rk4;
+pub mod rodas4;
 pub mod system;
 
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use rk4::Rk4;
+pub use rodas4::Rodas4;
 
 use crate::error::Error;
 use system::OdeSystem;

@@ -29,6 +29,8 @@ pub trait OdeSystem {
         jac: &mut [f64],
         dfdt: &mut [f64],
     ) -> Result<(), Error>;
+    /// Records one LU decomposition of an implicit method's iteration matrix.
+    fn count_lu(&mut self) {}
 }
 
 /// Counts of the work done, kept where user code is called so that no method can forget one.
@@ -144,6 +146,10 @@ impl<M: Model<N, K>, const N: usize, const K: usize> OdeSystem for ChetaevOde<'_
             dy[2 * N + 1] = d.dl_dt;
         }
         Ok(())
+    }
+
+    fn count_lu(&mut self) {
+        self.stats.lu_decompositions += 1;
     }
 
     fn jacobian(

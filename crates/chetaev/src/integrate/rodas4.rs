@@ -1,0 +1,746 @@
+//! RODAS: Hairer and Wanner's L-stable, stiffly accurate Rosenbrock method of order 4(3) with six
+//! stages, an embedded third-order error estimate and a third-order dense output.
+//!
+//! Method: E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II*, 2nd ed., Springer
+//! 1996, Sections IV.7 (the implementation of Rosenbrock methods in the variables `u_i`, which
+//! avoids a matrix-vector product per stage), VI.3 and VI.4 (the code RODAS). The coefficients are
+//! those of the published code `rodas.f`, subroutine `ROCOE` with `METH = 1`, reproduced here digit
+//! for digit; `OrdinaryDiffEq.jl`'s `Rodas4` tableau has the same values.
+//!
+//! With `E = I/(hγ) − J`, `J = ∂F/∂y (t, y)` and `F_t = ∂F/∂t (t, y)`, both evaluated once at the
+//! start of the step, the stages are
+//!
+//! ```text
+//! E u_i = F(t + c_i h, y + Σ_{j<i} a_ij u_j) + h d_i F_t + Σ_{j<i} (c_ij / h) u_j,   i = 1..6,
+//! ```
+//!
+//! with `c_1 = 0`, `c_5 = c_6 = 1` and `d_5 = d_6 = 0`. The embedded third-order solution is
+//! `ŷ = y + Σ_{j≤4} a_5j u_j + u_5` (the argument of the sixth stage), the fourth-order solution is
+//! `y_1 = ŷ + u_6`, and `u_6` is the error estimate; the step size is controlled with the exponent
+//! `1/4`. The dense output is
+//!
+//! ```text
+//! y(t + θh) = (1 − θ) y + θ (y_1 + (1 − θ)(Σ_{j≤5} d_2j u_j + θ Σ_{j≤5} d_3j u_j)).
+//! ```
+//!
+//! One step costs one Jacobian (reused when a rejected step is retried from the same point, as in
+//! RODAS), one LU decomposition of `E` with partial pivoting, six right-hand sides (five when the
+//! Jacobian is reused) and six triangular solves.
+
+#![allow(clippy::excessive_precision)]
+
+use nalgebra::{DMatrix, DVectorViewMut, Dyn, LU};
+
+use super::{combine, system::OdeSystem, ErrorNorm, Method, Stepper};
+use crate::error::Error;
+
+const GAMMA: f64 = 0.25;
+
+// Nodes.
+const C2: f64 = 0.386;
+const C3: f64 = 0.21;
+const C4: f64 = 0.63;
+
+// Coefficients γ_i = Σ_j γ_ij of the time derivative.
+const D1: f64 = 0.2500000000000000e+00;
+const D2: f64 = -0.1043000000000000e+00;
+const D3: f64 = 0.1035000000000000e+00;
+const D4: f64 = -0.3620000000000023e-01;
+
+// Stage arguments.
+const A21: f64 = 0.1544000000000000e+01;
+const A31: f64 = 0.9466785280815826e+00;
+const A32: f64 = 0.2557011698983284e+00;
+const A41: f64 = 0.3314825187068521e+01;
+const A42: f64 = 0.2896124015972201e+01;
+const A43: f64 = 0.9986419139977817e+00;
+const A51: f64 = 0.1221224509226641e+01;
+const A52: f64 = 0.6019134481288629e+01;
+const A53: f64 = 0.1253708332932087e+02;
+const A54: f64 = -0.6878860361058950e+00;
+
+// Couplings of the stage increments.
+const C21: f64 = -0.5668800000000000e+01;
+const C31: f64 = -0.2430093356833875e+01;
+const C32: f64 = -0.2063599157091915e+00;
+const C41: f64 = -0.1073529058151375e+00;
+const C42: f64 = -0.9594562251023355e+01;
+const C43: f64 = -0.2047028614809616e+02;
+const C51: f64 = 0.7496443313967647e+01;
+const C52: f64 = -0.1024680431464352e+02;
+const C53: f64 = -0.3399990352819905e+02;
+const C54: f64 = 0.1170890893206160e+02;
+const C61: f64 = 0.8083246795921522e+01;
+const C62: f64 = -0.7981132988064893e+01;
+const C63: f64 = -0.3152159432874371e+02;
+const C64: f64 = 0.1631930543123136e+02;
+const C65: f64 = -0.6058818238834054e+01;
+
+// Dense output.
+const D21: f64 = 0.1012623508344586e+02;
+const D22: f64 = -0.7487995877610167e+01;
+const D23: f64 = -0.3480091861555747e+02;
+const D24: f64 = -0.7992771707568823e+01;
+const D25: f64 = 0.1025137723295662e+01;
+const D31: f64 = -0.6762803392801253e+00;
+const D32: f64 = 0.6087714651680015e+01;
+const D33: f64 = 0.1643084320892478e+02;
+const D34: f64 = 0.2476722511418386e+02;
+const D35: f64 = -0.6594389125716872e+01;
+
+/// RODAS of Hairer and Wanner: linearly implicit (Rosenbrock), L-stable, stiffly accurate, order
+/// 4(3), with third-order dense output.
+///
+/// The method for stiff problems, which an explicit method such as [`Dopri5`](super::Dopri5)
+/// reports with [`Error::Stiff`]. Every step uses the exact Jacobian of the reduced equations and
+/// their exact time derivative (nested dual numbers), so the order is attained on non-autonomous
+/// problems as well. It has no options: the step-size control is the driver's.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Rodas4;
+
+impl Method for Rodas4 {
+    type Stepper = Rodas4Stepper;
+    fn name(&self) -> &'static str {
+        "Rodas4"
+    }
+    fn stepper(&self, dim: usize) -> Rodas4Stepper {
+        Rodas4Stepper {
+            jac: vec![0.0; dim * dim],
+            dfdt: vec![0.0; dim],
+            f0: vec![0.0; dim],
+            jac_t: f64::NAN,
+            jac_y: vec![0.0; dim],
+            jac_valid: false,
+            lu: Some(LU::new(DMatrix::zeros(dim, dim))),
+            k: std::array::from_fn(|_| vec![0.0; dim]),
+            ytmp: vec![0.0; dim],
+            dy: vec![0.0; dim],
+            rcont: std::array::from_fn(|_| vec![0.0; dim]),
+        }
+    }
+}
+
+/// The working state of [`Rodas4`].
+#[derive(Clone, Debug)]
+pub struct Rodas4Stepper {
+    /// `∂F/∂y`, row-major.
+    jac: Vec<f64>,
+    /// `∂F/∂t`.
+    dfdt: Vec<f64>,
+    /// `F(t, y)` at the point of the Jacobian.
+    f0: Vec<f64>,
+    /// The point `(t, y)` of `jac`, `dfdt` and `f0`, valid when `jac_valid`.
+    jac_t: f64,
+    jac_y: Vec<f64>,
+    jac_valid: bool,
+    /// The LU factors of `I/(hγ) − J` (`None` only while they are being recomputed).
+    lu: Option<LU<f64, Dyn, Dyn>>,
+    /// The stage increments `u_1..u_6`.
+    k: [Vec<f64>; 6],
+    ytmp: Vec<f64>,
+    dy: Vec<f64>,
+    /// Dense output: `y`, `y_1`, `Σ d_2j u_j`, `Σ d_3j u_j` of the last accepted step.
+    rcont: [Vec<f64>; 4],
+}
+
+/// `out = dy + hd·dfdt + Σ_s c_s k_s`: the right-hand side of a stage.
+#[inline(always)]
+fn stage_rhs(out: &mut [f64], dy: &[f64], hd: f64, dfdt: &[f64], terms: &[(f64, &[f64])]) {
+    for i in 0..out.len() {
+        let mut acc = dy[i] + hd * dfdt[i];
+        for (c, k) in terms {
+            acc += c * k[i];
+        }
+        out[i] = acc;
+    }
+}
+
+impl Rodas4Stepper {
+    /// Factors `I/(hγ) − J` into `self.lu`, reusing the storage of the previous factors. Returns
+    /// whether the matrix is invertible.
+    fn decompose<S: OdeSystem>(&mut self, sys: &mut S, h: f64) -> bool {
+        let n = self.dfdt.len();
+        let mut m = self
+            .lu
+            .take()
+            .map_or_else(|| DMatrix::zeros(n, n), LU::l_unpack);
+        let fac = 1.0 / (h * GAMMA);
+        for r in 0..n {
+            for c in 0..n {
+                m[(r, c)] = -self.jac[r * n + c];
+            }
+            m[(r, r)] += fac;
+        }
+        let lu = LU::new(m);
+        sys.count_lu();
+        let ok = lu.is_invertible();
+        self.lu = Some(lu);
+        ok
+    }
+}
+
+impl Stepper for Rodas4Stepper {
+    fn control_order(&self) -> Option<u32> {
+        Some(4)
+    }
+
+    fn reset<S: OdeSystem>(&mut self, _sys: &mut S, _t: f64, _y: &[f64]) -> Result<(), Error> {
+        // F, J and ∂F/∂t are evaluated by the step at its starting point, and reused only while
+        // that point stays the same.
+        Ok(())
+    }
+
+    fn try_step<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h: f64,
+        y: &[f64],
+        y_new: &mut [f64],
+        norm: &ErrorNorm,
+    ) -> Result<f64, Error> {
+        let n = y.len();
+        if !(self.jac_valid && self.jac_t == t && self.jac_y[..] == *y) {
+            self.jac_valid = false;
+            sys.rhs(t, y, &mut self.f0)?;
+            sys.jacobian(t, y, &mut self.jac, &mut self.dfdt)?;
+            self.jac_t = t;
+            self.jac_y.copy_from_slice(y);
+            self.jac_valid = true;
+        }
+        if !self.decompose(sys, h) {
+            // A singular iteration matrix: reject, so that the driver retries with a smaller h.
+            return Ok(f64::INFINITY);
+        }
+        let Self {
+            dfdt,
+            f0,
+            lu,
+            k,
+            ytmp,
+            dy,
+            ..
+        } = self;
+        let Some(lu) = lu.as_ref() else {
+            return Ok(f64::INFINITY);
+        };
+        let solve = |u: &mut [f64]| lu.solve_mut(&mut DVectorViewMut::from_slice(u, n));
+        let [k1, k2, k3, k4, k5, k6] = k;
+        let hinv = 1.0 / h;
+
+        stage_rhs(k1, f0, h * D1, dfdt, &[]);
+        solve(k1);
+
+        combine(ytmp, y, 1.0, &[(A21, k1)]);
+        sys.rhs(t + C2 * h, ytmp, dy)?;
+        stage_rhs(k2, dy, h * D2, dfdt, &[(C21 * hinv, k1)]);
+        solve(k2);
+
+        combine(ytmp, y, 1.0, &[(A31, k1), (A32, k2)]);
+        sys.rhs(t + C3 * h, ytmp, dy)?;
+        stage_rhs(k3, dy, h * D3, dfdt, &[(C31 * hinv, k1), (C32 * hinv, k2)]);
+        solve(k3);
+
+        combine(ytmp, y, 1.0, &[(A41, k1), (A42, k2), (A43, k3)]);
+        sys.rhs(t + C4 * h, ytmp, dy)?;
+        stage_rhs(
+            k4,
+            dy,
+            h * D4,
+            dfdt,
+            &[(C41 * hinv, k1), (C42 * hinv, k2), (C43 * hinv, k3)],
+        );
+        solve(k4);
+
+        combine(ytmp, y, 1.0, &[(A51, k1), (A52, k2), (A53, k3), (A54, k4)]);
+        sys.rhs(t + h, ytmp, dy)?;
+        stage_rhs(
+            k5,
+            dy,
+            0.0,
+            dfdt,
+            &[
+                (C51 * hinv, k1),
+                (C52 * hinv, k2),
+                (C53 * hinv, k3),
+                (C54 * hinv, k4),
+            ],
+        );
+        solve(k5);
+
+        // The embedded third-order solution.
+        for i in 0..n {
+            y_new[i] = ytmp[i] + k5[i];
+        }
+        sys.rhs(t + h, y_new, dy)?;
+        stage_rhs(
+            k6,
+            dy,
+            0.0,
+            dfdt,
+            &[
+                (C61 * hinv, k1),
+                (C62 * hinv, k2),
+                (C63 * hinv, k3),
+                (C64 * hinv, k4),
+                (C65 * hinv, k5),
+            ],
+        );
+        solve(k6);
+
+        // The fourth-order solution; u_6 is its difference from the embedded one.
+        for i in 0..n {
+            y_new[i] += k6[i];
+        }
+        Ok(norm.norm(k6, y, y_new))
+    }
+
+    fn accept<S: OdeSystem>(
+        &mut self,
+        _sys: &mut S,
+        _t: f64,
+        _h: f64,
+        y: &[f64],
+        y_new: &[f64],
+    ) -> Result<(), Error> {
+        let [k1, k2, k3, k4, k5, _] = &self.k;
+        let [r0, r1, r2, r3] = &mut self.rcont;
+        for i in 0..y.len() {
+            r0[i] = y[i];
+            r1[i] = y_new[i];
+            r2[i] = D21 * k1[i] + D22 * k2[i] + D23 * k3[i] + D24 * k4[i] + D25 * k5[i];
+            r3[i] = D31 * k1[i] + D32 * k2[i] + D33 * k3[i] + D34 * k4[i] + D35 * k5[i];
+        }
+        Ok(())
+    }
+
+    fn interpolate(&self, theta: f64, out: &mut [f64]) {
+        let [r0, r1, r2, r3] = &self.rcont;
+        let th1 = 1.0 - theta;
+        for i in 0..out.len() {
+            out[i] = th1 * r0[i] + theta * (r1[i] + th1 * (r2[i] + theta * r3[i]));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `y' = f(t, y)` with its exact Jacobian `∂f/∂y` (row-major) and `∂f/∂t`, counting
+    /// evaluations and LU decompositions.
+    struct Sys<F, J> {
+        dim: usize,
+        f: F,
+        j: J,
+        rhs_evaluations: usize,
+        jacobian_evaluations: usize,
+        lu_decompositions: usize,
+    }
+
+    impl<F, J> Sys<F, J>
+    where
+        F: FnMut(f64, &[f64], &mut [f64]),
+        J: FnMut(f64, &[f64], &mut [f64], &mut [f64]),
+    {
+        fn new(dim: usize, f: F, j: J) -> Self {
+            Self {
+                dim,
+                f,
+                j,
+                rhs_evaluations: 0,
+                jacobian_evaluations: 0,
+                lu_decompositions: 0,
+            }
+        }
+    }
+
+    impl<F, J> OdeSystem for Sys<F, J>
+    where
+        F: FnMut(f64, &[f64], &mut [f64]),
+        J: FnMut(f64, &[f64], &mut [f64], &mut [f64]),
+    {
+        fn dim(&self) -> usize {
+            self.dim
+        }
+        fn controlled_dim(&self) -> usize {
+            self.dim
+        }
+        fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+            self.rhs_evaluations += 1;
+            (self.f)(t, y, dy);
+            Ok(())
+        }
+        fn jacobian(
+            &mut self,
+            t: f64,
+            y: &[f64],
+            jac: &mut [f64],
+            dfdt: &mut [f64],
+        ) -> Result<(), Error> {
+            self.jacobian_evaluations += 1;
+            (self.j)(t, y, jac, dfdt);
+            Ok(())
+        }
+        fn count_lu(&mut self) {
+            self.lu_decompositions += 1;
+        }
+    }
+
+    /// A norm under which every step is accepted.
+    fn loose(dim: usize) -> ErrorNorm {
+        ErrorNorm::new(0.0, vec![1e10; dim])
+    }
+
+    /// `n` steps of equal size from `(t0, y0)` to `t1`.
+    fn fixed_steps<S: OdeSystem>(
+        sys: &mut S,
+        t0: f64,
+        y0: &[f64],
+        t1: f64,
+        n: usize,
+    ) -> Result<Vec<f64>, Error> {
+        let dim = y0.len();
+        let norm = loose(dim);
+        let mut st = Rodas4.stepper(dim);
+        let mut y = y0.to_vec();
+        let mut y_new = vec![0.0; dim];
+        let h = (t1 - t0) / n as f64;
+        st.reset(sys, t0, &y)?;
+        for i in 0..n {
+            let t = t0 + i as f64 * h;
+            st.try_step(sys, t, h, &y, &mut y_new, &norm)?;
+            st.accept(sys, t, h, &y, &y_new)?;
+            y.copy_from_slice(&y_new);
+        }
+        Ok(y)
+    }
+
+    /// Accepted and rejected steps of an adaptive run.
+    #[derive(Debug)]
+    struct Run {
+        y: Vec<f64>,
+        accepted: usize,
+        rejected: usize,
+    }
+
+    /// Adaptive integration from `(t0, y0)` to `t1`: a step is accepted when `err ≤ 1`, and
+    /// `h ← h·clamp(0.9·err^(−1/4), 0.2, 5)`.
+    fn adaptive<S: OdeSystem>(
+        sys: &mut S,
+        t0: f64,
+        y0: &[f64],
+        t1: f64,
+        h0: f64,
+        norm: &ErrorNorm,
+    ) -> Result<Run, Error> {
+        let dim = y0.len();
+        let mut st = Rodas4.stepper(dim);
+        let mut y = y0.to_vec();
+        let mut y_new = vec![0.0; dim];
+        let (mut t, mut h) = (t0, h0);
+        let (mut accepted, mut rejected) = (0, 0);
+        st.reset(sys, t, &y)?;
+        while t < t1 {
+            assert!(accepted + rejected < 100_000, "too many steps at t = {t}");
+            let last = t + h >= t1;
+            if last {
+                h = t1 - t;
+            }
+            let err = st.try_step(sys, t, h, &y, &mut y_new, norm)?;
+            if err <= 1.0 {
+                st.accept(sys, t, h, &y, &y_new)?;
+                y.copy_from_slice(&y_new);
+                t = if last { t1 } else { t + h };
+                accepted += 1;
+            } else {
+                rejected += 1;
+            }
+            h *= (0.9 * err.powf(-0.25)).clamp(0.2, 5.0);
+        }
+        Ok(Run {
+            y,
+            accepted,
+            rejected,
+        })
+    }
+
+    type Rhs = fn(f64, &[f64], &mut [f64]);
+    type Jac = fn(f64, &[f64], &mut [f64], &mut [f64]);
+
+    /// `log2(e_h / e_{h/2})` for consecutive entries.
+    fn slopes(errors: &[f64]) -> Vec<f64> {
+        errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
+    }
+
+    /// `y1' = −(y1 − cos t) − sin t`, `y2' = cos(t)·y2 + y1 − cos t`: the solution
+    /// `(cos t, exp(sin t))` from `(1, 1)`, with an explicit time dependence and a coupling that
+    /// vanishes on the solution.
+    fn non_autonomous() -> Sys<Rhs, Jac> {
+        Sys::new(
+            2,
+            |t: f64, y: &[f64], dy: &mut [f64]| {
+                dy[0] = -(y[0] - t.cos()) - t.sin();
+                dy[1] = t.cos() * y[1] + y[0] - t.cos();
+            },
+            |t: f64, y: &[f64], jac: &mut [f64], dfdt: &mut [f64]| {
+                jac.copy_from_slice(&[-1.0, 0.0, 1.0, t.cos()]);
+                dfdt[0] = -t.sin() - t.cos();
+                dfdt[1] = -t.sin() * y[1] + t.sin();
+            },
+        )
+    }
+
+    #[test]
+    fn rodas4_tableau_is_consistent() {
+        // On y' = 1 (h = 1, J = 0, F_t = 0): u_i = γ (1 + Σ_j c_ij u_j); every stage argument is
+        // then y + c_i, the step is exact, the error estimate and the dense-output corrections
+        // vanish.
+        let c: [&[f64]; 6] = [
+            &[],
+            &[C21],
+            &[C31, C32],
+            &[C41, C42, C43],
+            &[C51, C52, C53, C54],
+            &[C61, C62, C63, C64, C65],
+        ];
+        let mut u = [0.0f64; 6];
+        for i in 0..6 {
+            let s: f64 = c[i].iter().zip(&u).map(|(c, u)| c * u).sum();
+            u[i] = GAMMA * (1.0 + s);
+        }
+        let a: [(f64, &[f64]); 4] = [
+            (C2, &[A21]),
+            (C3, &[A31, A32]),
+            (C4, &[A41, A42, A43]),
+            (1.0, &[A51, A52, A53, A54]),
+        ];
+        for (ci, row) in a {
+            let s: f64 = row.iter().zip(&u).map(|(a, u)| a * u).sum();
+            assert!((s - ci).abs() < 1e-13, "node {ci}: {s}");
+        }
+        assert!(u[4].abs() < 1e-13 && u[5].abs() < 1e-13, "{u:?}");
+        let d2: f64 = [D21, D22, D23, D24, D25]
+            .iter()
+            .zip(&u)
+            .map(|(d, u)| d * u)
+            .sum();
+        let d3: f64 = [D31, D32, D33, D34, D35]
+            .iter()
+            .zip(&u)
+            .map(|(d, u)| d * u)
+            .sum();
+        assert!(d2.abs() < 1e-13 && d3.abs() < 1e-13, "{d2} {d3}");
+    }
+
+    #[test]
+    fn rodas4_integrates_polynomials_in_t_exactly() -> Result<(), Error> {
+        // y' = 2t and y' = 4t³: only the ∂F/∂t terms carry the time dependence into the stages.
+        let mut sys = Sys::new(
+            2,
+            |t: f64, _y: &[f64], dy: &mut [f64]| {
+                dy[0] = 2.0 * t;
+                dy[1] = 4.0 * t.powi(3);
+            },
+            |t: f64, _y: &[f64], jac: &mut [f64], dfdt: &mut [f64]| {
+                jac.fill(0.0);
+                dfdt[0] = 2.0;
+                dfdt[1] = 12.0 * t * t;
+            },
+        );
+        let y = fixed_steps(&mut sys, 0.0, &[0.0, 0.0], 3.0, 3)?;
+        eprintln!("t², t⁴ at t = 3: {y:?}");
+        assert!((y[0] - 9.0).abs() < 1e-13, "{}", y[0]);
+        assert!((y[1] - 81.0).abs() < 1e-11, "{}", y[1]);
+        Ok(())
+    }
+
+    #[test]
+    fn rodas4_step_converges_with_order_4() -> Result<(), Error> {
+        // Over [0, 2] with h = 1/32 … 1/256 (at h = 1/8 a fifth-order term still lowers the
+        // observed order to about 3.3).
+        let mut errors = Vec::new();
+        for n in [64, 128, 256, 512] {
+            let mut sys = non_autonomous();
+            let y = fixed_steps(&mut sys, 0.0, &[1.0, 1.0], 2.0, n)?;
+            let e = (y[0] - 2.0f64.cos())
+                .abs()
+                .max((y[1] - 2.0f64.sin().exp()).abs());
+            errors.push(e);
+            assert_eq!(sys.jacobian_evaluations, n);
+            assert_eq!(sys.lu_decompositions, n);
+            assert_eq!(sys.rhs_evaluations, 6 * n);
+        }
+        let p = slopes(&errors);
+        eprintln!("non-autonomous: errors {errors:?}, observed orders {p:?}");
+        assert!(p.iter().all(|p| (p - 4.0).abs() < 0.3), "{p:?}");
+
+        // y' = cos(t)·y, y = exp(sin t), over [0, 2].
+        let mut errors = Vec::new();
+        for n in [64, 128, 256, 512] {
+            let mut sys = Sys::new(
+                1,
+                |t: f64, y: &[f64], dy: &mut [f64]| dy[0] = t.cos() * y[0],
+                |t: f64, y: &[f64], jac: &mut [f64], dfdt: &mut [f64]| {
+                    jac[0] = t.cos();
+                    dfdt[0] = -t.sin() * y[0];
+                },
+            );
+            let y = fixed_steps(&mut sys, 0.0, &[1.0], 2.0, n)?;
+            errors.push((y[0] - 2.0f64.sin().exp()).abs());
+        }
+        let p = slopes(&errors);
+        eprintln!("exp(sin t): errors {errors:?}, observed orders {p:?}");
+        assert!(p.iter().all(|p| (p - 4.0).abs() < 0.3), "{p:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn rodas4_dense_output_has_order_3() -> Result<(), Error> {
+        // One step of size h from (0.3, y(0.3)); the error at θ = 1/2 is O(h⁴).
+        let t0: f64 = 0.3;
+        let y0 = [t0.cos(), t0.sin().exp()];
+        let norm = loose(2);
+        let mut errors = Vec::new();
+        let mut end_errors = Vec::new();
+        for h in [0.4, 0.2, 0.1, 0.05] {
+            let mut sys = non_autonomous();
+            let mut st = Rodas4.stepper(2);
+            let mut y1 = [0.0; 2];
+            st.reset(&mut sys, t0, &y0)?;
+            st.try_step(&mut sys, t0, h, &y0, &mut y1, &norm)?;
+            st.accept(&mut sys, t0, h, &y0, &y1)?;
+            let mut out = [0.0; 2];
+            let tm = t0 + 0.5 * h;
+            st.interpolate(0.5, &mut out);
+            errors.push(
+                (out[0] - tm.cos())
+                    .abs()
+                    .max((out[1] - tm.sin().exp()).abs()),
+            );
+            // The end points are reproduced.
+            st.interpolate(0.0, &mut out);
+            assert_eq!(out, y0);
+            st.interpolate(1.0, &mut out);
+            end_errors.push((out[0] - y1[0]).abs().max((out[1] - y1[1]).abs()));
+        }
+        let local = slopes(&errors);
+        let p: Vec<f64> = local.iter().map(|s| s - 1.0).collect();
+        eprintln!("dense output at θ = 1/2: errors {errors:?}, observed orders {p:?}");
+        assert!(p.iter().all(|&p| p >= 2.7), "{p:?}");
+        assert!(end_errors.iter().all(|&e| e < 1e-15), "{end_errors:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn rodas4_reuses_the_jacobian_after_a_rejection() -> Result<(), Error> {
+        let mut sys = non_autonomous();
+        let mut st = Rodas4.stepper(2);
+        let y0 = [1.0, 1.0];
+        let mut y1 = [0.0; 2];
+        let tight = ErrorNorm::new(1e-12, vec![1e-12; 2]);
+        st.reset(&mut sys, 0.0, &y0)?;
+        assert!(st.try_step(&mut sys, 0.0, 1.0, &y0, &mut y1, &tight)? > 1.0);
+        st.try_step(&mut sys, 0.0, 0.5, &y0, &mut y1, &tight)?;
+        assert_eq!(sys.jacobian_evaluations, 1);
+        assert_eq!(sys.lu_decompositions, 2);
+        assert_eq!(sys.rhs_evaluations, 1 + 5 + 5);
+        // A new starting point gets a new Jacobian.
+        let y_mid = y1;
+        st.accept(&mut sys, 0.0, 0.5, &y0, &y_mid)?;
+        st.try_step(&mut sys, 0.5, 0.5, &y_mid, &mut y1, &tight)?;
+        assert_eq!(sys.jacobian_evaluations, 2);
+        Ok(())
+    }
+
+    #[test]
+    fn rodas4_singular_iteration_matrix_is_a_rejection() -> Result<(), Error> {
+        // J = 4 = 1/(hγ) at h = 1: I/(hγ) − J vanishes.
+        let mut sys = Sys::new(
+            1,
+            |_t: f64, y: &[f64], dy: &mut [f64]| dy[0] = 4.0 * y[0],
+            |_t: f64, _y: &[f64], jac: &mut [f64], dfdt: &mut [f64]| {
+                jac[0] = 4.0;
+                dfdt[0] = 0.0;
+            },
+        );
+        let mut st = Rodas4.stepper(1);
+        let mut y1 = [0.0];
+        st.reset(&mut sys, 0.0, &[1.0])?;
+        let err = st.try_step(&mut sys, 0.0, 1.0, &[1.0], &mut y1, &loose(1))?;
+        assert_eq!(err, f64::INFINITY);
+        let err = st.try_step(&mut sys, 0.0, 0.01, &[1.0], &mut y1, &loose(1))?;
+        assert!(err.is_finite() && (y1[0] - 0.04f64.exp()).abs() < 1e-10);
+        Ok(())
+    }
+
+    #[test]
+    fn rodas4_stiff_linear_problem() -> Result<(), Error> {
+        // y' = −1e6 (y − cos t) − sin t, y = cos t over [0, 10]; an explicit method is limited to
+        // h ≈ 3e-6 by stability, some 3 million steps.
+        let mut sys = Sys::new(
+            1,
+            |t: f64, y: &[f64], dy: &mut [f64]| dy[0] = -1e6 * (y[0] - t.cos()) - t.sin(),
+            |t: f64, _y: &[f64], jac: &mut [f64], dfdt: &mut [f64]| {
+                jac[0] = -1e6;
+                dfdt[0] = -1e6 * t.sin() - t.cos();
+            },
+        );
+        let norm = ErrorNorm::new(1e-8, vec![1e-10]);
+        let run = adaptive(&mut sys, 0.0, &[1.0], 10.0, 1e-4, &norm)?;
+        let err = (run.y[0] - 10.0f64.cos()).abs();
+        eprintln!(
+            "stiff linear: error {err:e}, {run:?}, rhs {}, jacobians {}, LU {}",
+            sys.rhs_evaluations, sys.jacobian_evaluations, sys.lu_decompositions
+        );
+        assert!(err < 1e-7, "{err:e}");
+        assert!(run.accepted + run.rejected < 500, "{run:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn rodas4_robertson_kinetics() -> Result<(), Error> {
+        // Robertson's chemical kinetics over [0, 1e11], reference values of the IVP test set
+        // (Mazzia, Magherini, Bari). Once y3 is of order 1 the fast reaction gives an eigenvalue
+        // between about −3e3 and −1e4, so an explicit method would need on the order of 1e14
+        // steps.
+        let mut sys = Sys::new(
+            3,
+            |_t: f64, y: &[f64], dy: &mut [f64]| {
+                dy[0] = -0.04 * y[0] + 1e4 * y[1] * y[2];
+                dy[2] = 3e7 * y[1] * y[1];
+                dy[1] = -dy[0] - dy[2];
+            },
+            |_t: f64, y: &[f64], jac: &mut [f64], dfdt: &mut [f64]| {
+                let a = [-0.04, 1e4 * y[2], 1e4 * y[1]];
+                let b = [0.0, 6e7 * y[1], 0.0];
+                jac[..3].copy_from_slice(&a);
+                jac[6..].copy_from_slice(&b);
+                for j in 0..3 {
+                    jac[3 + j] = -a[j] - b[j];
+                }
+                dfdt.fill(0.0);
+            },
+        );
+        let norm = ErrorNorm::new(1e-6, vec![1e-12, 1e-16, 1e-12]);
+        let run = adaptive(&mut sys, 0.0, &[1.0, 0.0, 0.0], 1e11, 1e-6, &norm)?;
+        let reference = [
+            0.2083340149701255e-7,
+            0.8333360770334713e-13,
+            0.9999999791665050,
+        ];
+        let rel: Vec<f64> = (0..3)
+            .map(|i| (run.y[i] - reference[i]).abs() / reference[i])
+            .collect();
+        let mass = run.y.iter().sum::<f64>() - 1.0;
+        eprintln!(
+            "Robertson: relative errors {rel:?}, mass defect {mass:e}, {run:?}, rhs {}, \
+             jacobians {}, LU {}",
+            sys.rhs_evaluations, sys.jacobian_evaluations, sys.lu_decompositions
+        );
+        assert!(rel.iter().all(|&e| e < 1e-3), "{rel:?}");
+        assert!(mass.abs() < 1e-13, "{mass:e}");
+        assert!(run.accepted + run.rejected < 1000, "{run:?}");
+        Ok(())
+    }
+}

@@ -1,0 +1,133 @@
+//! The stiff scene of the uniform projectile: `v0 = 1e-3 m/s`, `g = 9.81 m/s²`, `h0 = 1 m`,
+//! `m = 1 kg`. The speed is held at 1 mm/s, so the fall lasts about `h0/v0 = 1000 s`; the velocity
+//! turns downwards within a few `v0/g ≈ 1e-4 s` and is held there by a reduced equation whose
+//! eigenvalue is about `−g/v0 ≈ −1e4`. An explicit method is limited by stability to steps of some
+//! `3e-4 s`; `Rodas4` is limited only by accuracy.
+
+use std::time::Instant;
+
+use chetaev::prelude::*;
+use chetaev_suite::rel_err;
+use uniform_projectile::closed_form::{table, Params};
+use uniform_projectile::model::{impact, scaled_atol, uniform_problem};
+
+const STIFF: Params = Params {
+    v0: 1e-3,
+    g: 9.81,
+    h0: 1.0,
+    m: 1.0,
+};
+
+/// Options for the scene: per-component absolute tolerances scaled to the motion, the terminal
+/// impact, output at the end only.
+fn options(rtol: f64) -> Options<2> {
+    let (atol_q, atol_qd) = scaled_atol(&STIFF, rtol);
+    let mut o = Options::until(2.0 * STIFF.h0 / STIFF.v0)
+        .output_final()
+        .event(impact())
+        .atol_per_component(atol_q, atol_qd);
+    o.rtol = rtol;
+    o
+}
+
+#[test]
+fn rodas4_reaches_the_impact_of_the_stiff_scene_to_1e_8() {
+    let exact = table(&STIFF).uniform;
+    let problem = uniform_problem(&STIFF).expect("valid");
+    let rtol = 1e-10;
+    let start = Instant::now();
+    let sol = solve(&problem, Rodas4, &options(rtol)).expect("valid");
+    let elapsed = start.elapsed();
+    assert_eq!(
+        sol.status,
+        Status::Terminated { event: 0 },
+        "{:?}",
+        sol.status
+    );
+    let hit = &sol.events[0];
+    let (e_t, e_r) = (
+        rel_err(hit.t, exact.t_impact),
+        rel_err(hit.q[0], exact.range),
+    );
+    let s = sol.stats;
+    eprintln!(
+        "Rodas4, rtol {rtol:e}: T = {} (error {e_t:.2e}), R = {:e} (error {e_r:.2e}); \
+         {} accepted + {} rejected steps, {} rhs, {} jacobians, {} LU, {elapsed:.2?}",
+        hit.t,
+        hit.q[0],
+        s.accepted_steps,
+        s.rejected_steps,
+        s.rhs_evaluations,
+        s.jacobian_evaluations,
+        s.lu_decompositions
+    );
+    assert!(e_t <= 1e-8, "T: {e_t:e}");
+    assert!(e_r <= 1e-8, "R: {e_r:e}");
+    assert!(
+        s.accepted_steps + s.rejected_steps <= 3000,
+        "{} steps",
+        s.accepted_steps + s.rejected_steps
+    );
+    assert!(s.jacobian_evaluations <= s.accepted_steps + s.rejected_steps + 1);
+    assert_eq!(
+        s.lu_decompositions,
+        s.accepted_steps + s.rejected_steps + 1,
+        "one LU per trial step, and one for the step onto the impact"
+    );
+}
+
+#[test]
+fn dopri5_detects_the_stiffness_and_suggests_rodas4() {
+    let problem = uniform_problem(&STIFF).expect("valid");
+    let start = Instant::now();
+    let sol = solve(&problem, Dopri5::default(), &options(1e-10)).expect("valid");
+    let elapsed = start.elapsed();
+    let s = sol.stats;
+    eprintln!(
+        "Dopri5: {:?} after {} accepted + {} rejected steps, {} rhs, t = {}, {elapsed:.2?}",
+        sol.status,
+        s.accepted_steps,
+        s.rejected_steps,
+        s.rhs_evaluations,
+        sol.t.last().copied().unwrap_or(f64::NAN)
+    );
+    assert!(
+        matches!(
+            sol.status,
+            Status::Failed(Error::Stiff {
+                suggestion: "Rodas4",
+                ..
+            })
+        ),
+        "{:?}",
+        sol.status
+    );
+}
+
+/// The explicit method run to the end with its stiffness test off: the step count that the
+/// stiffness test saves (a few million steps; run with `--ignored`, preferably `--release`).
+#[test]
+#[ignore = "a few million explicit steps"]
+fn dopri5_without_stiffness_detection_needs_millions_of_steps() {
+    let exact = table(&STIFF).uniform;
+    let problem = uniform_problem(&STIFF).expect("valid");
+    let method = Dopri5 {
+        stiffness_detection: false,
+    };
+    let start = Instant::now();
+    let sol = solve(&problem, method, &options(1e-10).max_steps(100_000_000)).expect("valid");
+    let elapsed = start.elapsed();
+    let s = sol.stats;
+    let hit = sol.events.first().map_or(f64::NAN, |e| e.t);
+    eprintln!(
+        "Dopri5 without stiffness test: {:?}, T error {:.2e}, {} accepted + {} rejected steps, \
+         {} rhs, {elapsed:.2?}",
+        sol.status,
+        rel_err(hit, exact.t_impact),
+        s.accepted_steps,
+        s.rejected_steps,
+        s.rhs_evaluations
+    );
+    assert_eq!(sol.status, Status::Terminated { event: 0 });
+    assert!(s.accepted_steps > 1_000_000);
+}
