@@ -637,6 +637,9 @@ fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
                 break;
             }
             stepper.interpolate((s - t) / h, &mut buf);
+            // The interpolant is not on the constraint manifold; with projection on, every recorded
+            // point is.
+            hooks.project(sys, s, &mut buf)?;
             hooks.record(sys, s, &buf)?;
         }
 

@@ -62,7 +62,7 @@ pub struct Options<const N: usize> {
     pub record: Record,
     /// Event functions.
     pub events: Vec<Event<N>>,
-    /// Projection onto `f = 0` after each accepted step (off by default).
+    /// Projection onto `f = 0` after each accepted step and at every recorded point (off by default).
     pub projection: Option<Projection>,
 }
 
