@@ -243,3 +243,23 @@ fn output_times_are_hit_exactly() {
         );
     }
 }
+
+#[test]
+fn non_finite_model_parameter_is_reported_at_construction() {
+    let e = Problem::new(
+        model(f64::NAN),
+        0.0,
+        SVector::from([0.0, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, Error::NonFiniteEvaluation { t: 0.0, .. }),
+        "{e}"
+    );
+    let p = Params {
+        g: f64::INFINITY,
+        ..Params::PAPER
+    };
+    assert!(uniform_problem(&p).is_err());
+}

@@ -169,6 +169,8 @@ fn a_long_horizon_with_projection_keeps_the_constraint() {
     let params = Params::PAPER;
     let p = uniform_problem(&params).expect("valid");
     let scale = params.v0 * params.v0;
+    // Tighter than the default 1e-12: this well-conditioned constraint reaches rounding level.
+    let strict = Projection { tol: 1e-14, ..Projection::default() };
     let opts = Options::until(1e4)
         .record(Record::Dynamics)
         .output_times((1..=10).map(|k| 1e3 * k as f64).collect());
@@ -198,7 +200,7 @@ fn a_long_horizon_with_projection_keeps_the_constraint() {
             solve(
                 &p,
                 Rk4::new(0.05),
-                &opts.clone().project(Projection::default()),
+                &opts.clone().project(strict),
             )
             .expect("valid"),
         ),
@@ -216,7 +218,7 @@ fn a_long_horizon_with_projection_keeps_the_constraint() {
                 &opts
                     .clone()
                     .tolerances(1e-10, 1e-10)
-                    .project(Projection::default()),
+                    .project(strict),
             )
             .expect("valid"),
         ),
@@ -235,7 +237,7 @@ fn a_long_horizon_with_projection_keeps_the_constraint() {
             projected.stats.projection_iterations
         );
         // With projection every recorded point satisfies the projection's bound,
-        // |f| ≤ tol·|J|·|q̇| = 1e-14 · 2 v0².
+        // |f| ≤ tol·|J|·|q̇| = 1e-14 · 2 v0² (or the rounding floor, 1e3·tol, where it stagnates).
         assert!(
             projected.max_residual() <= 2e-14 * scale,
             "{name}: {:e}",

@@ -40,6 +40,13 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Problem<M, N, K> {
             &q0,
             &qd0,
         );
+        if d.f.iter().any(|f| !f.is_finite()) || !d.energy.is_finite() {
+            return Err(Error::NonFiniteEvaluation {
+                t: t0,
+                q: q0.as_slice().to_vec(),
+                qd: qd0.as_slice().to_vec(),
+            });
+        }
         for a in 0..K {
             let scale =
                 crate::integrate::projection::constraint_scale(cd.j.row(a).norm(), qd0.norm());
