@@ -62,6 +62,7 @@
 //! # Ok::<(), chetaev::Error>(())
 //! ```
 pub mod backend;
+pub mod dynamic;
 pub mod equations;
 pub mod error;
 pub mod integrate;

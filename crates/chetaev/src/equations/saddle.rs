@@ -48,6 +48,7 @@ pub struct SaddleWorkspace<T> {
     b: Vec<T>,
     x: Vec<T>,
     col: Vec<usize>,
+    scale: Vec<f64>,
 }
 
 impl<T> Default for SaddleWorkspace<T> {
@@ -57,7 +58,15 @@ impl<T> Default for SaddleWorkspace<T> {
             b: Vec::new(),
             x: Vec::new(),
             col: Vec::new(),
+            scale: Vec::new(),
         }
+    }
+}
+
+impl<T> SaddleWorkspace<T> {
+    /// The last solution of [`solve_blocks`]: `q̈` (first `n`), then `μ` (last `k`).
+    pub fn solution(&self) -> &[T] {
+        &self.x
     }
 }
 
@@ -82,36 +91,57 @@ pub fn solve<T: Real, const N: usize, const K: usize>(
     r: &SVector<T, N>,
     s: &SVector<T, K>,
 ) -> Result<SaddleSolution<T, N, K>, SaddleFailure> {
-    let m = N + K;
-    let finite = |x: &T| x.re().is_finite();
-    if !(w.iter().all(finite)
-        && j.iter().all(finite)
-        && r.iter().all(finite)
-        && s.iter().all(finite))
-    {
+    let pivot_ratio = solve_blocks(
+        ws,
+        N,
+        K,
+        |i, k| w[(i, k)],
+        |a, i| j[(a, i)],
+        |i| r[i],
+        |a| s[a],
+    )?;
+    Ok(SaddleSolution {
+        qdd: SVector::<T, N>::from_fn(|i, _| ws.x[i]),
+        mu: SVector::<T, K>::from_fn(|a, _| ws.x[N + a]),
+        pivot_ratio,
+    })
+}
+
+/// The block solve for any sizes, with the blocks given element by element: `w(i, k)` (`n × n`),
+/// `j(a, i)` (`k × n`), `r(i)` (`n`), `s(a)` (`k`). On success the solution is
+/// [`SaddleWorkspace::solution`]: `q̈` then `μ`; the pivot ratio is returned.
+pub fn solve_blocks<T: Real>(
+    ws: &mut SaddleWorkspace<T>,
+    n: usize,
+    k: usize,
+    w: impl Fn(usize, usize) -> T,
+    j: impl Fn(usize, usize) -> T,
+    r: impl Fn(usize) -> T,
+    s: impl Fn(usize) -> T,
+) -> Result<f64, SaddleFailure> {
+    let m = n + k;
+    let finite = |x: T| x.re().is_finite();
+    let all_finite = (0..n).all(|i| finite(r(i)) && (0..n).all(|c| finite(w(i, c))))
+        && (0..k).all(|a| finite(s(a)) && (0..n).all(|i| finite(j(a, i))));
+    if !all_finite {
         return Err(SaddleFailure::NonFinite);
     }
 
     // Scale each constraint row to the magnitude of W: J̃ = D J, μ̃ = D⁻¹ μ.
-    let w_scale = w.iter().fold(0.0f64, |acc, x| acc.max(x.re().abs()));
+    let w_scale = (0..n)
+        .flat_map(|i| (0..n).map(move |c| (i, c)))
+        .fold(0.0f64, |acc, (i, c)| acc.max(w(i, c).re().abs()));
     let w_scale = if w_scale > 0.0 { w_scale } else { 1.0 };
-    let mut row_scale = [1.0f64; 64];
-    let mut scales: Vec<f64>;
-    let row_scale: &mut [f64] = if K <= 64 {
-        &mut row_scale[..K]
-    } else {
-        scales = vec![1.0; K];
-        &mut scales
-    };
-    for (a, d) in row_scale.iter_mut().enumerate() {
-        let jmax = (0..N).fold(0.0f64, |acc, i| acc.max(j[(a, i)].re().abs()));
+    ws.scale.clear();
+    for a in 0..k {
+        let jmax = (0..n).fold(0.0f64, |acc, i| acc.max(j(a, i).re().abs()));
         if jmax == 0.0 {
             return Err(SaddleFailure::ZeroConstraintRow { row: a });
         }
-        *d = w_scale / jmax;
+        ws.scale.push(w_scale / jmax);
     }
 
-    // Assemble the row-major (N+K)² matrix and the right-hand side.
+    // Assemble the row-major (n+k)² matrix and the right-hand side.
     ws.a.clear();
     ws.a.resize(m * m, T::zero());
     ws.b.clear();
@@ -121,18 +151,19 @@ pub fn solve<T: Real, const N: usize, const K: usize>(
     ws.col.clear();
     ws.col.extend(0..m);
     let a = &mut ws.a;
-    for i in 0..N {
-        for k in 0..N {
-            a[i * m + k] = w[(i, k)];
+    for i in 0..n {
+        for c in 0..n {
+            a[i * m + c] = w(i, c);
         }
-        for c in 0..K {
-            a[i * m + N + c] = -(j[(c, i)] * row_scale[c]);
-            a[(N + c) * m + i] = j[(c, i)] * row_scale[c];
+        for (c, d) in ws.scale.iter().enumerate() {
+            let jci = j(c, i) * *d;
+            a[i * m + n + c] = -jci;
+            a[(n + c) * m + i] = jci;
         }
-        ws.b[i] = r[i];
+        ws.b[i] = r(i);
     }
-    for c in 0..K {
-        ws.b[N + c] = s[c] * row_scale[c];
+    for (c, d) in ws.scale.iter().enumerate() {
+        ws.b[n + c] = s(c) * *d;
     }
 
     let (pivot_ratio, singular) = eliminate(a, &mut ws.b, &mut ws.col, m);
@@ -140,14 +171,10 @@ pub fn solve<T: Real, const N: usize, const K: usize>(
         return Err(SaddleFailure::Singular { pivot_ratio });
     }
     back_substitute(a, &ws.b, &ws.col, &mut ws.x, m);
-
-    let qdd = SVector::<T, N>::from_fn(|i, _| ws.x[i]);
-    let mu = SVector::<T, K>::from_fn(|c, _| ws.x[N + c] * row_scale[c]);
-    Ok(SaddleSolution {
-        qdd,
-        mu,
-        pivot_ratio,
-    })
+    for (c, d) in ws.scale.iter().enumerate() {
+        ws.x[n + c] *= *d;
+    }
+    Ok(pivot_ratio)
 }
 
 /// In-place Gaussian elimination with complete pivoting on the row-major `m × m` matrix `a` and

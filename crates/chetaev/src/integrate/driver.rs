@@ -101,7 +101,7 @@ where
     Ok(sol)
 }
 
-fn validate<const N: usize>(o: &Options<N>) -> Result<(), Error> {
+pub(crate) fn validate<const N: usize>(o: &Options<N>) -> Result<(), Error> {
     check_finite("t_end", std::slice::from_ref(&o.t_end))?;
     let positive = |name: &'static str, v: f64, hint: &'static str| {
         if v.is_finite() && v > 0.0 {
@@ -186,7 +186,7 @@ fn error_norm<const N: usize>(o: &Options<N>, n: usize) -> ErrorNorm {
 }
 
 /// What the step loop needs beyond the right-hand side: recording, event functions, projection.
-trait Hooks<S: OdeSystem> {
+pub(crate) trait Hooks<S: OdeSystem> {
     /// Records `(t, y)`.
     fn record(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error>;
     /// Number of event functions.
@@ -206,11 +206,11 @@ trait Hooks<S: OdeSystem> {
 }
 
 /// The driver's settings that do not depend on the model.
-struct LoopSettings<'o> {
-    output: &'o Output,
-    max_steps: usize,
-    initial_step: Option<f64>,
-    max_step: Option<f64>,
+pub(crate) struct LoopSettings<'o> {
+    pub output: &'o Output,
+    pub max_steps: usize,
+    pub initial_step: Option<f64>,
+    pub max_step: Option<f64>,
 }
 
 /// The Chetaev driver's hooks: the solution being recorded and the user's options.
@@ -467,7 +467,7 @@ pub fn solve_ode<S: OdeSystem, Me: Method>(
 /// The step loop shared by every driver: step-size control, dense output at requested times, event
 /// location, projection and recording.
 #[allow(clippy::too_many_arguments)]
-fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
+pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     sys: &mut S,
     hooks: &mut H,
     method: Me,

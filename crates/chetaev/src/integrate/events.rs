@@ -65,16 +65,21 @@ impl<const N: usize> Event<N> {
 
     /// Whether going from `g0` to `g1` (in the direction of integration) is a crossing that counts.
     pub(crate) fn crosses(&self, g0: f64, g1: f64) -> bool {
-        if g0 == 0.0 {
-            return false;
-        }
-        let rising = g0 < 0.0 && g1 >= 0.0;
-        let falling = g0 > 0.0 && g1 <= 0.0;
-        match self.direction {
-            Direction::Either => rising || falling,
-            Direction::Rising => rising,
-            Direction::Falling => falling,
-        }
+        crosses(self.direction, g0, g1)
+    }
+}
+
+/// Whether going from `g0` to `g1` (in the direction of integration) is a crossing in `direction`.
+pub(crate) fn crosses(direction: Direction, g0: f64, g1: f64) -> bool {
+    if g0 == 0.0 {
+        return false;
+    }
+    let rising = g0 < 0.0 && g1 >= 0.0;
+    let falling = g0 > 0.0 && g1 <= 0.0;
+    match direction {
+        Direction::Either => rising || falling,
+        Direction::Rising => rising,
+        Direction::Falling => falling,
     }
 }
 
