@@ -336,13 +336,16 @@ impl<M: DynModel> DynProblem<M> {
     }
 }
 
+/// An event function `g(t, q, q̇)` on slices, shared so options can be cloned.
+pub type DynEventFn = Arc<dyn Fn(f64, &[f64], &[f64]) -> f64 + Send + Sync>;
+
 /// An event `g(t, q, q̇)` on slices.
 #[derive(Clone)]
 pub struct DynEvent {
     /// A name for reports.
     pub name: String,
     /// The event function.
-    pub g: Arc<dyn Fn(f64, &[f64], &[f64]) -> f64 + Send + Sync>,
+    pub g: DynEventFn,
     /// Which crossings count.
     pub direction: Direction,
     /// Whether the integration stops at the first crossing.
@@ -577,9 +580,9 @@ impl<M: DynModel> OdeSystem for DynOde<'_, M> {
                     dfdt[row] = v;
                 }
             };
-            for i in 0..n {
-                put(i, qd[i].eps);
-                put(n + i, d.qdd[i].eps);
+            for (i, (v, a)) in qd.iter().zip(&d.qdd).enumerate() {
+                put(i, v.eps);
+                put(n + i, a.eps);
             }
             if self.energy {
                 put(2 * n, d.power.eps);
