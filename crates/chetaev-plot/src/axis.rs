@@ -1,0 +1,518 @@
+//! Axis ranges and ticks: 1-2-5 steps on linear axes, decades on log axes, and tick labels.
+//!
+//! Everything here works in *axis units*: the data value on a linear axis, its base-10 logarithm on
+//! a log axis.
+
+/// Text metrics: an estimate of the width of `text` at `font_size` pixels. SVG text is rendered by
+/// the viewer with a font we do not know, so layout uses the average advance of a sans-serif face
+/// (about 0.6 em for digits and lower-case letters).
+pub(crate) fn text_width(text: &str, font_size: f64) -> f64 {
+    text.chars()
+        .map(|c| match c {
+            '.' | ',' | ':' | ';' | 'i' | 'j' | 'l' | '|' | '\'' | ' ' | '(' | ')' | '[' | ']' => {
+                0.32
+            }
+            'f' | 't' | 'r' | 'I' => 0.4,
+            'm' | 'w' | 'M' | 'W' | '—' => 0.9,
+            '⁰' | '¹' | '²' | '³' | '⁴' | '⁵' | '⁶' | '⁷' | '⁸' | '⁹' | '⁻' => {
+                0.4
+            }
+            c if c.is_uppercase() => 0.7,
+            _ => 0.6,
+        })
+        .sum::<f64>()
+        * font_size
+}
+
+/// One tick: its position in axis units and its label (`None` for a minor, unlabelled tick).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Tick {
+    pub pos: f64,
+    pub label: Option<String>,
+}
+
+/// A resolved axis: the range in axis units and the ticks inside it.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Axis {
+    pub log: bool,
+    /// Lower end, in axis units.
+    pub lo: f64,
+    /// Upper end, in axis units.
+    pub hi: f64,
+    pub ticks: Vec<Tick>,
+}
+
+impl Axis {
+    /// Maps a data value to axis units: itself, or `log10` on a log axis (`None` for a value a log
+    /// axis cannot show, or a non-finite value).
+    pub fn to_axis_units(log: bool, v: f64) -> Option<f64> {
+        if !v.is_finite() {
+            None
+        } else if log {
+            (v > 0.0).then(|| v.log10())
+        } else {
+            Some(v)
+        }
+    }
+
+    /// The position of `a` (axis units) as a fraction of the axis length, 0 at `lo`, 1 at `hi`.
+    pub fn fraction(&self, a: f64) -> f64 {
+        (a - self.lo) / (self.hi - self.lo)
+    }
+
+    /// The labelled ticks.
+    pub fn labels(&self) -> impl Iterator<Item = (f64, &str)> {
+        self.ticks
+            .iter()
+            .filter_map(|t| t.label.as_deref().map(|l| (t.pos, l)))
+    }
+}
+
+/// How ticks are spaced on the page: the axis length in pixels, the least distance between two
+/// labelled ticks, and how much room a label takes along the axis (its width on a horizontal axis,
+/// its height on a vertical one).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Room {
+    pub length_px: f64,
+    pub min_spacing_px: f64,
+    pub font_size: f64,
+    pub horizontal: bool,
+}
+
+impl Room {
+    fn label_extent(&self, label: &str) -> f64 {
+        if self.horizontal {
+            text_width(label, self.font_size) + 0.8 * self.font_size
+        } else {
+            1.6 * self.font_size
+        }
+    }
+
+    /// Whether labelled ticks `spacing` pixels apart leave room for the widest of `labels`.
+    fn fits<'a>(&self, spacing: f64, labels: impl Iterator<Item = &'a str>) -> bool {
+        let widest = labels.map(|l| self.label_extent(l)).fold(0.0, f64::max);
+        spacing >= self.min_spacing_px.max(widest)
+    }
+}
+
+/// The extent `[lo, hi]` of finite values, `None` if there are none.
+pub(crate) fn extent(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    values
+        .filter(|v| v.is_finite())
+        .fold(None, |acc, v| match acc {
+            None => Some((v, v)),
+            Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
+        })
+}
+
+/// Widens a degenerate or overflowing extent into a usable one: a single value `v` becomes
+/// `v ± max(|v|/2, 1)` on a linear axis and `v ± 1` decade on a log axis (axis units either way).
+fn usable(lo: f64, hi: f64, log: bool) -> (f64, f64) {
+    let (lo, hi) = if hi - lo > 0.0 && (hi - lo).is_finite() {
+        (lo, hi)
+    } else if hi - lo > 0.0 {
+        // The span overflows: keep both ends within half the largest float.
+        (lo.max(-f64::MAX / 4.0), hi.min(f64::MAX / 4.0))
+    } else {
+        let d = if log { 1.0 } else { (0.5 * lo.abs()).max(1.0) };
+        (lo - d, hi + d)
+    };
+    if hi - lo > 0.0 {
+        (lo, hi)
+    } else {
+        // A value so large that ± d rounds away: fall back to a range around it by scaling.
+        (lo - lo.abs() * 0.5, hi + hi.abs() * 0.5)
+    }
+}
+
+/// How close (in steps) data may be beyond a tick and still have an automatic range end there.
+const SNAP: f64 = 1e-6;
+
+/// A "nice" step: `m · 10^k` with `m ∈ {1, 2, 5}`, in increasing order from the first one not
+/// smaller than `start`.
+fn nice_steps(start: f64) -> impl Iterator<Item = f64> {
+    let k0 = if start > 0.0 && start.is_finite() {
+        start.log10().floor() as i32 - 1
+    } else {
+        0
+    };
+    (k0..k0 + 40).flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k)))
+}
+
+/// Chooses a linear axis: a 1-2-5 step whose ticks are at least the room's spacing apart, and a
+/// range. An automatic range (`fixed == false`) is widened outwards to the nearest multiples of
+/// the step, so both ends carry a tick (data less than a millionth of a step beyond a tick counts
+/// as on it).
+pub(crate) fn linear(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
+    let (lo, hi) = usable(lo, hi, false);
+    let start = (hi - lo) / 50.0;
+    let mut fallback = None;
+    for step in nice_steps(start) {
+        let (a, b) = if fixed {
+            (lo, hi)
+        } else {
+            // Data within a millionth of a step of a tick ends on that tick (an impact at
+            // y = −1e-16 should not open a whole step below zero).
+            (
+                ((lo / step) + SNAP).floor() * step,
+                ((hi / step) - SNAP).ceil() * step,
+            )
+        };
+        let first = (a / step - 1e-9).ceil();
+        let last = (b / step + 1e-9).floor();
+        let count = last - first + 1.0;
+        if !(count.is_finite() && count <= 60.0) {
+            continue;
+        }
+        let values: Vec<f64> = (0..count as usize)
+            .map(|i| (first + i as f64) * step)
+            .collect();
+        let labels = format_linear(&values, step);
+        let spacing = room.length_px * step / (b - a);
+        let ticks: Vec<Tick> = values
+            .iter()
+            .zip(labels)
+            .map(|(&pos, label)| Tick {
+                pos,
+                label: Some(label),
+            })
+            .collect();
+        let axis = Axis {
+            log: false,
+            lo: a,
+            hi: b,
+            ticks,
+        };
+        if room.fits(spacing, axis.labels().map(|(_, l)| l)) && (count >= 2.0 || fixed) {
+            return axis;
+        }
+        fallback = Some(axis);
+        if count <= 2.0 {
+            // Larger steps only lose ticks.
+            break;
+        }
+    }
+    fallback.unwrap_or(Axis {
+        log: false,
+        lo,
+        hi,
+        ticks: Vec::new(),
+    })
+}
+
+/// Chooses a log axis (axis units are decades): labelled ticks at every `k`-th decade for the
+/// smallest `k` in 1, 2, 5, 10, ... that leaves room, with unlabelled ticks at 2…9 times each
+/// decade while those are at least 2.5 px apart. An automatic range is widened to whole decades
+/// (multiples of `k`). A fixed range spanning less than one decade boundary gets 1-2-5 ticks.
+pub(crate) fn log(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
+    let (lo, hi) = usable(lo, hi, true);
+    let mut chosen = None;
+    for k in [1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0] {
+        let (a, b) = if fixed {
+            (lo, hi)
+        } else {
+            let a = ((lo / k) + SNAP).floor() * k;
+            (a, (((hi / k) - SNAP).ceil() * k).max(a + k))
+        };
+        let first = (a / k - 1e-9).ceil();
+        let last = (b / k + 1e-9).floor();
+        let count = last - first + 1.0;
+        if !count.is_finite() || count > 400.0 {
+            continue;
+        }
+        let decades: Vec<f64> = (0..count.max(0.0) as usize)
+            .map(|i| (first + i as f64) * k)
+            .collect();
+        let spacing = room.length_px * k / (b - a);
+        let labels: Vec<String> = decades.iter().map(|&d| power_of_ten(d)).collect();
+        if room.fits(spacing, labels.iter().map(String::as_str)) || k >= 100.0 {
+            chosen = Some((a, b, k, decades, labels));
+            break;
+        }
+    }
+    let Some((a, b, k, decades, labels)) = chosen else {
+        return Axis {
+            log: true,
+            lo,
+            hi,
+            ticks: Vec::new(),
+        };
+    };
+    if decades.len() < 2 && fixed {
+        return log_narrow(a, b, room);
+    }
+    let mut ticks: Vec<Tick> = decades
+        .iter()
+        .zip(labels)
+        .map(|(&pos, label)| Tick {
+            pos,
+            label: Some(label),
+        })
+        .collect();
+    // Minor ticks at 2..9 × 10^d, if decades are labelled one by one and they fit.
+    let px_per_decade = room.length_px / (b - a);
+    if k == 1.0 && px_per_decade * (10f64.log10() - 9f64.log10()) >= 2.5 {
+        let d0 = a.floor() as i64;
+        let d1 = b.ceil() as i64;
+        for d in d0..d1 {
+            for m in 2..10 {
+                let pos = d as f64 + f64::from(m).log10();
+                if pos >= a - 1e-12 && pos <= b + 1e-12 {
+                    ticks.push(Tick { pos, label: None });
+                }
+            }
+        }
+    }
+    Axis {
+        log: true,
+        lo: a,
+        hi: b,
+        ticks,
+    }
+}
+
+/// A fixed log range inside (less than) one decade: ticks at 1-2-5 multiples of powers of ten if at
+/// least two fall inside, otherwise linear 1-2-5 ticks of the values, placed logarithmically.
+fn log_narrow(a: f64, b: f64, room: Room) -> Axis {
+    let mut ticks = Vec::new();
+    let d0 = a.floor() as i64;
+    for d in d0..=b.ceil() as i64 {
+        for m in [1.0, 2.0, 5.0] {
+            let pos = d as f64 + f64::log10(m);
+            if pos >= a - 1e-12 && pos <= b + 1e-12 {
+                let value = m * 10f64.powi(d as i32);
+                ticks.push(Tick {
+                    pos,
+                    label: Some(format_single(value, value)),
+                });
+            }
+        }
+    }
+    if ticks.len() < 2 {
+        let (lo, hi) = (10f64.powf(a), 10f64.powf(b));
+        let lin = linear(lo, hi, true, room);
+        ticks = lin
+            .ticks
+            .into_iter()
+            .filter(|t| t.pos > 0.0)
+            .map(|t| Tick {
+                pos: t.pos.log10(),
+                label: t.label,
+            })
+            .collect();
+    }
+    Axis {
+        log: true,
+        lo: a,
+        hi: b,
+        ticks,
+    }
+}
+
+const SUPERSCRIPTS: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+
+/// `10^d` written with superscript digits, e.g. `10⁻¹²`.
+pub(crate) fn power_of_ten(d: f64) -> String {
+    let d = d.round() as i64;
+    let mut s = String::from("10");
+    if d < 0 {
+        s.push('⁻');
+    }
+    for c in d.unsigned_abs().to_string().chars() {
+        let digit = c.to_digit(10).unwrap_or(0) as usize;
+        s.push(SUPERSCRIPTS[digit]);
+    }
+    s
+}
+
+/// Replaces the ASCII hyphen of a negative number by the typographic minus sign.
+fn minus(s: String) -> String {
+    if let Some(rest) = s.strip_prefix('-') {
+        format!("−{rest}")
+    } else {
+        s
+    }
+}
+
+/// Labels of equally spaced tick values `step` apart: fixed-point with as many decimals as the
+/// step needs, or, for very large or very small magnitudes, `m×10ⁿ` with one common exponent.
+pub(crate) fn format_linear(values: &[f64], step: f64) -> Vec<String> {
+    let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let step_exp = step.abs().log10().floor() as i32;
+    let scientific = largest >= 1e6 || (largest > 0.0 && largest < 1e-3);
+    values
+        .iter()
+        .map(|&v| {
+            // Snap values within rounding of zero to zero.
+            let v = if v.abs() < 1e-9 * step.abs() { 0.0 } else { v };
+            if v == 0.0 {
+                return "0".to_string();
+            }
+            if scientific {
+                let e = largest.log10().floor() as i32;
+                let decimals = (e - step_exp).clamp(0, 15) as usize;
+                let m = v / 10f64.powi(e);
+                let mantissa = minus(format!("{m:.decimals$}"));
+                format!("{mantissa}×{}", power_of_ten(f64::from(e)))
+            } else {
+                let decimals = (-step_exp).clamp(0, 15) as usize;
+                minus(format!("{v:.decimals$}"))
+            }
+        })
+        .collect()
+}
+
+/// The label of one value with the precision of `resolution`.
+fn format_single(value: f64, resolution: f64) -> String {
+    format_linear(&[value], resolution)
+        .pop()
+        .unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn room(px: f64) -> Room {
+        Room {
+            length_px: px,
+            min_spacing_px: 60.0,
+            font_size: 12.0,
+            horizontal: true,
+        }
+    }
+
+    /// Whether `step` is `m · 10^k` with `m ∈ {1, 2, 5}`.
+    fn is_nice(step: f64) -> bool {
+        let k = step.log10().floor();
+        let m = step / 10f64.powf(k);
+        [1.0, 2.0, 5.0, 10.0]
+            .iter()
+            .any(|n| (m - n).abs() < 1e-9 * n)
+    }
+
+    #[test]
+    fn linear_ticks_are_nice_and_cover_the_data() {
+        for &(lo, hi) in &[
+            (0.0, 1.085),
+            (0.0, 10.0),
+            (-0.397, 0.0),
+            (3.2e-7, 9.1e-7),
+            (-1234.5, 98765.0),
+            (1.0, 1.0),
+            (-1e300, 1e300),
+            (0.999_999, 1.000_001),
+        ] {
+            let axis = linear(lo, hi, false, room(600.0));
+            assert!(axis.lo <= lo && axis.hi >= hi, "{lo} {hi}: {axis:?}");
+            assert!(axis.ticks.len() >= 2, "{lo} {hi}: {axis:?}");
+            let pos: Vec<f64> = axis.ticks.iter().map(|t| t.pos).collect();
+            let step = pos[1] - pos[0];
+            assert!(is_nice(step), "step {step} for [{lo}, {hi}]");
+            // The exact nice step, free of the cancellation in the difference.
+            let k = step.log10().floor();
+            let step = (step / 10f64.powf(k)).round() * 10f64.powf(k);
+            for w in pos.windows(2) {
+                assert!(((w[1] - w[0]) - step).abs() <= 1e-6 * step.abs());
+            }
+            for p in &pos {
+                let r = p / step;
+                assert!(
+                    (r - r.round()).abs() < 1e-6 * r.abs().max(1.0),
+                    "{p} not a multiple of {step}"
+                );
+            }
+            // Automatic ranges end on ticks.
+            assert!(
+                (axis.lo - pos[0]).abs() <= 1e-9 * step
+                    && (axis.hi - pos[pos.len() - 1]).abs() <= 1e-9 * step
+            );
+        }
+    }
+
+    #[test]
+    fn linear_labels() {
+        let axis = linear(0.0, 1.085, false, room(600.0));
+        let labels: Vec<&str> = axis.labels().map(|(_, l)| l).collect();
+        assert_eq!(labels, ["0", "0.2", "0.4", "0.6", "0.8", "1.0", "1.2"]);
+        let axis = linear(-0.5, 0.0, false, room(300.0));
+        assert!(
+            axis.labels().all(|(_, l)| !l.contains('-')),
+            "uses the minus sign"
+        );
+        assert!(axis.labels().any(|(_, l)| l == "−0.5"));
+        assert_eq!(
+            format_linear(&[0.0, 2e-5, 4e-5], 2e-5),
+            ["0", "2×10⁻⁵", "4×10⁻⁵"]
+        );
+        assert_eq!(format_linear(&[1e6, 1.5e6], 5e5), ["1.0×10⁶", "1.5×10⁶"]);
+    }
+
+    #[test]
+    fn data_a_rounding_error_beyond_a_tick_ends_there() {
+        let axis = linear(-1e-16, 10.000000000000002, false, room(600.0));
+        assert_eq!((axis.lo, axis.hi), (0.0, 10.0));
+        let axis = log(-16.0 - 1e-12, -11.0 + 1e-12, false, room(400.0));
+        assert_eq!((axis.lo, axis.hi), (-16.0, -11.0));
+    }
+
+    #[test]
+    fn narrow_screen_gets_fewer_ticks() {
+        let wide = linear(0.0, 100.0, false, room(800.0));
+        let narrow = linear(0.0, 100.0, false, room(150.0));
+        assert!(narrow.ticks.len() < wide.ticks.len());
+        assert!(narrow.ticks.len() >= 2);
+    }
+
+    #[test]
+    fn fixed_ranges_are_kept() {
+        let axis = linear(-15.7, 15.7, true, room(600.0));
+        assert_eq!((axis.lo, axis.hi), (-15.7, 15.7));
+        assert!(axis.ticks.iter().all(|t| t.pos >= -15.7 && t.pos <= 15.7));
+        assert!(axis.labels().any(|(_, l)| l == "0"));
+    }
+
+    #[test]
+    fn log_ticks_are_decades() {
+        let axis = log(-15.3, -11.2, false, room(400.0));
+        assert_eq!((axis.lo, axis.hi), (-16.0, -11.0));
+        let labelled: Vec<(f64, &str)> = axis.labels().collect();
+        assert_eq!(labelled.len(), 6);
+        for (pos, label) in &labelled {
+            assert_eq!(pos.fract(), 0.0);
+            assert!(label.starts_with("10⁻"), "{label}");
+        }
+        assert_eq!(labelled[0].1, "10⁻¹⁶");
+        // Minor ticks at 2..9 × 10^d.
+        assert!(axis
+            .ticks
+            .iter()
+            .any(|t| t.label.is_none() && (t.pos - (-16.0 + 2f64.log10())).abs() < 1e-12));
+    }
+
+    #[test]
+    fn many_decades_are_thinned() {
+        let axis = log(-300.0, 300.0, false, room(300.0));
+        let pos: Vec<f64> = axis.labels().map(|(p, _)| p).collect();
+        let step = pos[1] - pos[0];
+        assert!(step > 1.0 && is_nice(step), "{step}");
+        assert!(
+            axis.ticks.iter().all(|t| t.label.is_some()),
+            "no minor ticks when thinned"
+        );
+    }
+
+    #[test]
+    fn narrow_fixed_log_range() {
+        let axis = log(2f64.log10(), 8f64.log10(), true, room(400.0));
+        let labels: Vec<&str> = axis.labels().map(|(_, l)| l).collect();
+        assert_eq!(labels, ["2", "5"]);
+    }
+
+    #[test]
+    fn superscripts() {
+        assert_eq!(power_of_ten(-12.0), "10⁻¹²");
+        assert_eq!(power_of_ten(0.0), "10⁰");
+        assert_eq!(power_of_ten(3.0), "10³");
+    }
+}
