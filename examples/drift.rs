@@ -43,13 +43,10 @@ fn main() -> Result<(), Error> {
             "Rk4 h=0.05 + projection",
             residuals(&problem, Rk4::new(0.05), &base.clone().project(strict))?,
         ),
-        (
-            "Rodas4 1e-10",
-            residuals(&problem, Rodas4::default(), &tight)?,
-        ),
+        ("Rodas4 1e-10", residuals(&problem, Rodas4, &tight)?),
         (
             "Rodas4 1e-10 + projection",
-            residuals(&problem, Rodas4::default(), &tight.clone().project(strict))?,
+            residuals(&problem, Rodas4, &tight.clone().project(strict))?,
         ),
     ];
     let scale = params.v0 * params.v0;

@@ -120,7 +120,7 @@ fn run_time_sizes_solve_the_paper_like_the_static_path() {
         (
             solve(
                 &stat,
-                Rodas4::default(),
+                Rodas4,
                 &Options::until(5.0)
                     .tolerances(tol, tol)
                     .event(impact())
@@ -129,7 +129,7 @@ fn run_time_sizes_solve_the_paper_like_the_static_path() {
             .expect("valid"),
             solve_dyn(
                 &dynp,
-                Rodas4::default(),
+                Rodas4,
                 &DynOptions::until(5.0)
                     .tolerances(tol, tol)
                     .project(Projection::default())

@@ -31,7 +31,7 @@ fn impact_errors(p: &Params) -> (&'static str, f64, f64) {
         None => explicit,
         Some(Error::Stiff { suggestion, .. }) => {
             assert_eq!(*suggestion, "Rodas4");
-            solve(&problem, Rodas4::default(), &options(p)).expect("valid options")
+            solve(&problem, Rodas4, &options(p)).expect("valid options")
         }
         Some(e) => panic!(
             "z = {:e}: Dop853 failed without saying it is stiff: {e}",
@@ -150,7 +150,7 @@ fn an_end_time_a_few_ulps_after_the_start() {
         };
         for sol in [
             solve(&problem, Dopri5::default(), &Options::until(t_end)).expect("valid"),
-            solve(&problem, Rodas4::default(), &Options::until(t_end)).expect("valid"),
+            solve(&problem, Rodas4, &Options::until(t_end)).expect("valid"),
             solve(&problem, Rk4::new(0.1), &Options::until(t_end)).expect("valid"),
         ] {
             assert!(sol.is_success(), "{}: {:?}", sol.method, sol.status);
@@ -170,7 +170,10 @@ fn a_long_horizon_with_projection_keeps_the_constraint() {
     let p = uniform_problem(&params).expect("valid");
     let scale = params.v0 * params.v0;
     // Tighter than the default 1e-12: this well-conditioned constraint reaches rounding level.
-    let strict = Projection { tol: 1e-14, ..Projection::default() };
+    let strict = Projection {
+        tol: 1e-14,
+        ..Projection::default()
+    };
     let opts = Options::until(1e4)
         .record(Record::Dynamics)
         .output_times((1..=10).map(|k| 1e3 * k as f64).collect());
@@ -197,28 +200,15 @@ fn a_long_horizon_with_projection_keeps_the_constraint() {
         (
             "Rk4",
             solve(&p, Rk4::new(0.05), &opts).expect("valid"),
-            solve(
-                &p,
-                Rk4::new(0.05),
-                &opts.clone().project(strict),
-            )
-            .expect("valid"),
+            solve(&p, Rk4::new(0.05), &opts.clone().project(strict)).expect("valid"),
         ),
         (
             "Rodas4",
+            solve(&p, Rodas4, &opts.clone().tolerances(1e-10, 1e-10)).expect("valid"),
             solve(
                 &p,
-                Rodas4::default(),
-                &opts.clone().tolerances(1e-10, 1e-10),
-            )
-            .expect("valid"),
-            solve(
-                &p,
-                Rodas4::default(),
-                &opts
-                    .clone()
-                    .tolerances(1e-10, 1e-10)
-                    .project(strict),
+                Rodas4,
+                &opts.clone().tolerances(1e-10, 1e-10).project(strict),
             )
             .expect("valid"),
         ),
