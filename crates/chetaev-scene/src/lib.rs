@@ -1,1 +1,61 @@
-//! Scene files.
+//! Scene files: a constrained Lagrangian system written as a TOML file, solved by `chetaev`.
+//!
+//! A scene states the coordinates, the parameters, the Lagrangian and the constraints as
+//! mathematical expressions, the initial state, the method and tolerances, the events, and the
+//! tables and pictures wanted. The `chetaev` command (`chetaev run scene.toml`) solves it and writes
+//! them; the schema and the expression language are described in `docs/scenes.md`.
+//!
+//! | step | where | what |
+//! |---|---|---|
+//! | parse | [`Scene::load`], [`scene`] | TOML with spans; every mistake located at a line and column |
+//! | expressions | [`expr`] | our parser; parameters folded; evaluated generically over `R: Real` |
+//! | model | `model.rs` | `L` and `f` as expressions implement `Lagrangian<N>` and `Constraints<N, K>` |
+//! | sizes | [`run`] | one compiled instance per supported `(N, K)`: `1 ≤ N ≤ 6`, `0 ≤ K ≤ min(N, 3)` |
+//! | solve | [`Scene::solve`] | records only what the tables and pictures need |
+//! | output | [`output`] | CSV tables, SVG pictures (`chetaev-plot`), the summary |
+//!
+//! Because the expressions are evaluated over the same dual-number types as a model written in
+//! Rust, `chetaev` differentiates them exactly as it would the Rust model: no symbolic algebra and
+//! no finite differences.
+//!
+//! ```
+//! use chetaev_scene::Scene;
+//!
+//! let scene = Scene::parse(r#"
+//!     [parameters]
+//!     g = 10.0
+//!     v0 = 10.0
+//!     [model]
+//!     coordinates = ["x", "y"]
+//!     lagrangian = "0.5*(x_dot^2 + y_dot^2) - g*y"
+//!     constraints = ["x_dot^2 + y_dot^2 - v0^2"]
+//!     [initial]
+//!     q = [0.0, 5.0]
+//!     q_dot = ["v0", 0.0]
+//!     [solve]
+//!     t_end = 10.0
+//!     rtol = 1e-10
+//!     atol = 1e-10
+//!     [[events]]
+//!     name = "impact"
+//!     expression = "y"
+//!     direction = "falling"
+//!     terminal = true
+//! "#, "projectile.toml")?;
+//! let outcome = scene.solve()?;
+//! let impact = &outcome.events[0];
+//! assert!((impact.t - 0.5f64.exp().acosh()).abs() < 1e-9); // T = (v0/g) arccosh e^(g h0/v0²)
+//! # Ok::<(), chetaev_scene::Error>(())
+//! ```
+
+pub mod error;
+pub mod expr;
+mod model;
+pub mod output;
+pub mod run;
+pub mod scene;
+pub mod source;
+
+pub use error::Error;
+pub use run::{EventRecord, Outcome};
+pub use scene::Scene;

@@ -1,0 +1,134 @@
+//! The paper's two motions as scene files reproduce the Rust versions and the closed forms.
+
+use chetaev::prelude::*;
+use chetaev_scene::{Outcome, Scene};
+use uniform_projectile::closed_form::{table, uniform, Kinematics, Params};
+use uniform_projectile::model::{classical_problem, impact, uniform_problem};
+
+fn scene(name: &str) -> (Scene, Outcome) {
+    let path = format!("{}/../../scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let outcome = scene.solve().unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        matches!(outcome.status, Status::Terminated { event: 0 }),
+        "{:?}",
+        outcome.status
+    );
+    (scene, outcome)
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// T, R, v_R and the impact angle from the scene's impact event.
+fn impact_row(o: &Outcome) -> [f64; 4] {
+    let e = &o.events[0];
+    assert_eq!(e.name, "impact");
+    let (vx, vy) = (e.qd[0], e.qd[1]);
+    [e.t, e.q[0], vx.hypot(vy), (-vy).atan2(vx).to_degrees()]
+}
+
+fn closed_row(k: &Kinematics) -> [f64; 4] {
+    [k.t_impact, k.range, k.impact_speed, k.impact_angle_deg()]
+}
+
+fn rust_row<const K: usize>(sol: &Solution<2, K>) -> [f64; 4] {
+    let e = &sol.events[0];
+    [
+        e.t,
+        e.q[0],
+        e.qd.norm(),
+        (-e.qd[1]).atan2(e.qd[0]).to_degrees(),
+    ]
+}
+
+#[test]
+fn uniform_scene_reproduces_table_42_1_and_the_rust_model() {
+    let (_, o) = scene("uniform-projectile.toml");
+    let p = Params::PAPER;
+    let got = impact_row(&o);
+    let closed = closed_row(&table(&p).uniform);
+    for i in 0..4 {
+        assert!(
+            rel(got[i], closed[i]) < 1e-10,
+            "column {i}: {} vs {}",
+            got[i],
+            closed[i]
+        );
+    }
+    // The Rust model with the same method, tolerances and event.
+    let rust = solve(
+        &uniform_problem(&p).expect("problem"),
+        Dop853::default(),
+        &Options::until(10.0)
+            .tolerances(1e-12, 1e-12)
+            .event(impact()),
+    )
+    .expect("solves");
+    let want = rust_row(&rust);
+    for i in 0..4 {
+        assert!(
+            rel(got[i], want[i]) < 1e-13,
+            "column {i}: {} vs {}",
+            got[i],
+            want[i]
+        );
+    }
+    // The multiplier along the motion against (42.40), μ = −(m g / 2 v0) tanh(g t / v0).
+    assert_eq!(o.mu.len(), o.t.len());
+    for (t, mu) in o.t.iter().zip(&o.mu) {
+        let exact = uniform::multiplier(&p, *t);
+        assert!(
+            (mu[0] - exact).abs() < 1e-10 * (p.m * p.g / (2.0 * p.v0)),
+            "t = {t}"
+        );
+    }
+    // The work of the Chetaev force is the change of potential energy, m g (y − h0).
+    let last = o.t.len() - 1;
+    assert!((o.work[last] - p.m * p.g * (o.q[last][1] - p.h0)).abs() < 1e-9);
+}
+
+#[test]
+fn classical_scene_reproduces_table_42_1_and_the_rust_model() {
+    let (scene, o) = scene("classical-projectile.toml");
+    assert_eq!(scene.k(), 0);
+    let p = Params::PAPER;
+    let got = impact_row(&o);
+    let closed = closed_row(&table(&p).classical);
+    for i in 0..4 {
+        assert!(
+            rel(got[i], closed[i]) < 1e-10,
+            "column {i}: {} vs {}",
+            got[i],
+            closed[i]
+        );
+    }
+    let rust = solve(
+        &classical_problem(&p).expect("problem"),
+        Dop853::default(),
+        &Options::until(10.0)
+            .tolerances(1e-12, 1e-12)
+            .event(impact()),
+    )
+    .expect("solves");
+    let want = rust_row(&rust);
+    for i in 0..4 {
+        assert!(
+            rel(got[i], want[i]) < 1e-13,
+            "column {i}: {} vs {}",
+            got[i],
+            want[i]
+        );
+    }
+}
+
+#[test]
+fn the_output_grid_ends_exactly_at_the_impact() {
+    let (_, o) = scene("uniform-projectile.toml");
+    assert_eq!(o.t.len(), 101);
+    assert_eq!(o.passes, 2);
+    assert_eq!(o.t[0], 0.0);
+    assert_eq!(*o.t.last().expect("points"), o.events[0].t);
+    assert!(o.t.windows(2).all(|w| w[1] > w[0]));
+}

@@ -1,0 +1,294 @@
+//! Every scene in `scenes/` runs; only what a scene asks for is computed; every supported size
+//! is dispatched and an unsupported one is a located error.
+
+use std::path::PathBuf;
+
+use chetaev::prelude::Record;
+use chetaev_scene::{output, Scene};
+
+fn scenes_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+#[test]
+fn every_scene_file_checks_runs_and_writes_what_it_asks_for() {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(scenes_dir())
+        .expect("scenes/")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 3, "{files:?}");
+    for path in files {
+        let scene =
+            Scene::load(&path).unwrap_or_else(|e| panic!("{e}\n{}", e.snippet().unwrap_or("")));
+        scene.check().unwrap_or_else(|e| panic!("{e}"));
+        let outcome = scene.solve().unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            outcome.is_success(),
+            "{}: {:?}",
+            path.display(),
+            outcome.status
+        );
+        let stem = path
+            .file_stem()
+            .expect("stem")
+            .to_string_lossy()
+            .into_owned();
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+            .join("scenes")
+            .join(&stem);
+        let _ = std::fs::remove_dir_all(&dir);
+        let written = output::write(&scene, &outcome, &dir).expect("writes");
+        assert_eq!(
+            written.len(),
+            scene.output.tables.len() + scene.output.pictures.len(),
+            "{stem}"
+        );
+        for f in &written {
+            let text = std::fs::read_to_string(f).expect("readable");
+            assert!(!text.contains("NaN"), "{}", f.display());
+            if f.extension().is_some_and(|x| x == "csv") {
+                let mut lines = text.lines();
+                let width = lines.next().expect("header").split(',').count();
+                assert!(
+                    lines.all(|l| l.split(',').count() == width),
+                    "{}",
+                    f.display()
+                );
+            } else {
+                assert!(text.contains("<svg"), "{}", f.display());
+            }
+        }
+        let summary = output::summary(&scene, &outcome);
+        assert!(summary.contains("status"), "{summary}");
+    }
+}
+
+const BASE: &str = r#"
+[parameters]
+g = 10.0
+v0 = 10.0
+[model]
+coordinates = ["x", "y"]
+lagrangian = "0.5*(x_dot^2 + y_dot^2) - g*y"
+constraints = ["x_dot^2 + y_dot^2 - v0^2"]
+[initial]
+q = [0.0, 5.0]
+q_dot = ["v0", 0.0]
+[solve]
+t_end = 0.5
+rtol = 1e-9
+atol = 1e-9
+"#;
+
+fn with_output(output: &str) -> Scene {
+    Scene::parse(&format!("{BASE}\n[output]\n{output}\n"), "base.toml")
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn only_what_is_asked_for_is_recorded() {
+    // Nothing asked: the start and the end only, no diagnostics, no output evaluations.
+    let o = Scene::parse(BASE, "base.toml")
+        .expect("parses")
+        .solve()
+        .expect("solves");
+    assert_eq!(o.t.len(), 2);
+    assert_eq!(o.record, Record::State);
+    assert!(o.mu.is_empty() && o.energy.is_empty() && o.work.is_empty());
+    assert_eq!(o.stats.output_evaluations, 0);
+
+    let s = with_output("tables = [\"state\", \"events\"]");
+    assert_eq!(s.record(), Record::State);
+    let o = s.solve().expect("solves");
+    assert!(o.t.len() > 2 && o.mu.is_empty() && o.qdd.is_empty());
+    assert_eq!(o.stats.output_evaluations, 0);
+
+    let s = with_output("tables = [\"multipliers\"]");
+    assert_eq!(s.record(), Record::Dynamics);
+    let o = s.solve().expect("solves");
+    assert_eq!(o.mu.len(), o.t.len());
+    assert!(o.work.is_empty());
+
+    let s = with_output("pictures = [\"energy\"]\ntimes = [0.1, 0.2, 0.3]");
+    assert_eq!(s.record(), Record::Energy);
+    let o = s.solve().expect("solves");
+    assert_eq!(o.t, vec![0.0, 0.1, 0.2, 0.3, 0.5]);
+    assert_eq!(o.work.len(), 5);
+
+    // An explicit grid to a time: one integration.
+    let o = with_output("tables = [\"state\"]\ntimes = { from = 0.0, to = 0.4, count = 5 }")
+        .solve()
+        .expect("solves");
+    assert_eq!(o.passes, 1);
+    assert_eq!(o.t, vec![0.0, 0.1, 0.2, 0.30000000000000004, 0.4, 0.5]);
+}
+
+#[test]
+fn tables_about_constraints_need_constraints() {
+    let text = format!(
+        "{}\n[output]\ntables = [\"state\", \"multipliers\"]\n",
+        BASE.replace("constraints = [\"x_dot^2 + y_dot^2 - v0^2\"]\n", "",)
+    );
+    let e = Scene::parse(&text, "free.toml").expect_err("no multipliers");
+    assert!(e.to_string().contains("no constraints"), "{e}");
+    let e = Scene::parse(
+        &format!("{BASE}\n[output]\npictures = [\"quantities\"]\n"),
+        "q.toml",
+    )
+    .expect_err("no quantities");
+    assert!(e.to_string().contains("[output.quantities]"), "{e}");
+}
+
+/// A scene with `n` coordinates `q1..qn` and `k` constraints `qa_dot = 1`.
+fn sized(n: usize, k: usize) -> String {
+    let names: Vec<String> = (1..=n).map(|i| format!("\"q{i}\"")).collect();
+    let kinetic: Vec<String> = (1..=n).map(|i| format!("q{i}_dot^2")).collect();
+    let constraints: Vec<String> = (1..=k).map(|a| format!("\"q{a}_dot - 1\"")).collect();
+    let ones = vec!["1.0"; n].join(", ");
+    let zeros = vec!["0.0"; n].join(", ");
+    format!(
+        "[model]\ncoordinates = [{}]\nlagrangian = \"0.5*({}) - q{n}\"\nconstraints = [{}]\n\
+         [initial]\nq = [{zeros}]\nq_dot = [{ones}]\n[solve]\nt_end = 1.0\n",
+        names.join(", "),
+        kinetic.join(" + "),
+        constraints.join(", ")
+    )
+}
+
+#[test]
+fn every_supported_size_runs() {
+    for n in 1..=chetaev_scene::scene::MAX_COORDINATES {
+        for k in 0..=n.min(chetaev_scene::scene::MAX_CONSTRAINTS) {
+            assert!(chetaev_scene::run::is_supported(n, k));
+            let scene =
+                Scene::parse(&sized(n, k), "sized.toml").unwrap_or_else(|e| panic!("{n} {k}: {e}"));
+            scene.check().unwrap_or_else(|e| panic!("{n} {k}: {e}"));
+            let o = scene.solve().unwrap_or_else(|e| panic!("{n} {k}: {e}"));
+            assert!(o.is_success());
+            // q_n falls freely unless held: q_n(1) = 1 - 1/2 when unconstrained, 1 when held.
+            let (_, q, _) = (o.t[1], &o.q[1], &o.qd[1]);
+            let want = if k >= n { 1.0 } else { 0.5 };
+            assert!((q[n - 1] - want).abs() < 1e-9, "{n} {k}: {q:?}");
+        }
+    }
+}
+
+#[test]
+fn unsupported_sizes_are_located_errors() {
+    let e = Scene::parse(&sized(7, 0), "seven.toml").expect_err("N = 7");
+    assert_eq!(e.position().map(|p| p.0), Some(2), "{e}");
+    assert!(e.to_string().contains("1 to 6 coordinates"), "{e}");
+    let e = Scene::parse(&sized(6, 4), "four.toml").expect_err("K = 4");
+    assert!(e.to_string().contains("0 to 3"), "{e}");
+    let e = Scene::parse(&sized(2, 3), "over.toml").expect_err("K > N");
+    assert!(e.to_string().contains("0 to 2"), "{e}");
+    assert!(!chetaev_scene::run::is_supported(7, 0));
+    assert!(!chetaev_scene::run::is_supported(2, 3));
+}
+
+#[test]
+fn an_inconsistent_initial_velocity_points_at_q_dot_and_says_what_to_try() {
+    let text = BASE.replace("q_dot = [\"v0\", 0.0]", "q_dot = [\"v0\", 1.0]");
+    let scene = Scene::parse(&text, "bad.toml").expect("parses");
+    let e = scene.check().expect_err("inconsistent");
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("q_dot"))
+        .expect("line")
+        + 1;
+    assert_eq!(e.position().map(|p| p.0), Some(line), "{e}");
+    assert!(e.to_string().contains("project_velocity = true"), "{e}");
+    // Opting in projects the velocity and runs.
+    let text = text.replace("[solve]", "project_velocity = true\n[solve]");
+    let o = Scene::parse(&text, "fixed.toml")
+        .expect("parses")
+        .solve()
+        .expect("solves");
+    assert!(o.is_success());
+    assert!((o.qd[0][0].hypot(o.qd[0][1]) - 10.0).abs() < 1e-12);
+}
+
+#[test]
+fn a_failed_integration_keeps_the_motion_computed() {
+    let text = BASE.replace("atol = 1e-9", "atol = 1e-9\nmax_steps = 3");
+    let scene = Scene::parse(
+        &format!("{text}\n[output]\ntables = [\"state\"]\n"),
+        "short.toml",
+    )
+    .expect("parses");
+    let o = scene.solve().expect("setup is fine");
+    assert!(!o.is_success());
+    assert_eq!(o.t.len(), 4, "{:?}", o.t);
+    assert!(output::summary(&scene, &o).contains("FAILED"));
+}
+
+#[test]
+fn every_method_solves_the_paper_scene() {
+    let uniform =
+        std::fs::read_to_string(scenes_dir().join("uniform-projectile.toml")).expect("scene");
+    let t_exact = 0.5f64.exp().acosh(); // (42.38), v0 = g
+    for (method, extra, tol) in [
+        ("dopri5", "", 1e-10),
+        ("dop853", "", 1e-10),
+        ("rodas4", "", 1e-8),
+        ("rk4", "step = 0.001", 1e-10),
+    ] {
+        let text = uniform
+            .replace(
+                "method = \"dop853\"",
+                &format!("method = \"{method}\"\n{extra}"),
+            )
+            .replace("rtol = 1e-12", "rtol = 1e-10");
+        let scene = Scene::parse(&text, "methods.toml").unwrap_or_else(|e| panic!("{method}: {e}"));
+        let o = scene.solve().unwrap_or_else(|e| panic!("{method}: {e}"));
+        assert!(o.is_success(), "{method}: {:?}", o.status);
+        assert_eq!(o.method.to_lowercase(), method);
+        assert!(
+            (o.events[0].t - t_exact).abs() < tol,
+            "{method}: {}",
+            o.events[0].t
+        );
+        if method == "rodas4" {
+            assert!(o.stats.jacobian_evaluations > 0);
+        }
+    }
+    let text = uniform.replace("method = \"dop853\"", "method = \"rk4\"");
+    let e = Scene::parse(&text, "rk4.toml").expect_err("no step");
+    assert!(e.to_string().contains("add `step = ...`"), "{e}");
+    let text = uniform.replace("method = \"dop853\"", "method = \"dopri5\"\nstep = 0.1");
+    let e = Scene::parse(&text, "step.toml").expect_err("step with dopri5");
+    assert!(e.to_string().contains("fixed step of rk4"), "{e}");
+}
+
+#[test]
+fn the_longest_expression_allowed_evaluates_with_every_dual_type() {
+    // About 1000 tokens in one sum: the deepest tree an expression can give, differentiated by
+    // the implicit method's nested dual numbers, on a test thread's stack.
+    let kinetic: Vec<String> = (1..=6).map(|i| format!("0.5*q{i}_dot^2")).collect();
+    // 6 terms of 5 tokens, 5 pluses, then 241 terms of 4 tokens: 999 tokens.
+    let terms = 241;
+    let l = format!("{}{}", kinetic.join(" + "), " - 0.001*q6".repeat(terms));
+    let names: Vec<String> = (1..=6).map(|i| format!("\"q{i}\"")).collect();
+    let text = format!(
+        "[model]\ncoordinates = [{}]\nlagrangian = \"{l}\"\nconstraints = [\"q1_dot - 1\", \"q2_dot^2 + q3_dot^2 - 1\"]\n\
+         [initial]\nq = [0, 0, 0, 0, 0, 0]\nq_dot = [1, 1, 0, 0, 0, 0]\n[solve]\nmethod = \"rodas4\"\nt_end = 1.0\n",
+        names.join(", ")
+    );
+    let scene = Scene::parse(&text, "long.toml").unwrap_or_else(|e| panic!("{e}"));
+    let o = scene.solve().expect("solves");
+    assert!(o.is_success(), "{:?}", o.status);
+    // A constant force −0.001 · terms along q6: q6(1) = −0.0005 · terms.
+    let q6 = o.q.last().expect("points")[5];
+    assert!((q6 + 0.0005 * terms as f64).abs() < 1e-12, "{q6}");
+    // One more term is too long.
+    let longer = text.replace(" - 0.001*q6\"", " - 0.001*q6 - 0.001*q6\"");
+    match Scene::parse(&longer, "longer.toml") {
+        Ok(_) => panic!("1003 tokens accepted"),
+        Err(e) => assert!(
+            e.to_string().contains("1003 numbers, names and operators"),
+            "{e}"
+        ),
+    }
+}
