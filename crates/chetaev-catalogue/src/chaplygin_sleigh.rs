@@ -1,0 +1,377 @@
+//! The Chaplygin sleigh: a rigid body on a horizontal plane, supported at one point by a knife edge
+//! that cannot move sideways.
+//!
+//! Coordinates `q = (x, y, θ)`: the contact point of the blade and the heading `θ` of the blade.
+//! The centre of mass lies on the blade's line, a distance `a` ahead of the contact point, at
+//! `(x + a cos θ, y + a sin θ)`; `m` is the mass and `I` the moment of inertia about the centre of
+//! mass.
+//!
+//! ```text
+//! L = ½ m [(ẋ − a sin θ · θ̇)² + (ẏ + a cos θ · θ̇)²] + ½ I θ̇²
+//! f = −ẋ sin θ + ẏ cos θ = 0                      (no velocity across the blade)
+//! ```
+//!
+//! Chetaev's equations in Newton form, `d/dt ∂L/∂q̇ − ∂L/∂q = μ (−sin θ, cos θ, 0)`: `μ` is the
+//! sideways force of the plane on the blade. In the body velocities `u = ẋ cos θ + ẏ sin θ`
+//! (forward speed of the contact point) and `ω = θ̇` they reduce to
+//!
+//! ```text
+//! u̇ = a ω²,    (I + m a²) ω̇ = −m a u ω,    μ = m I u ω / (I + m a²).
+//! ```
+//!
+//! **Reference** (closed form of the body velocities, energy): the energy
+//! `E = ½ m u² + ½ (I + m a²) ω²` is conserved (the constraint is linear and homogeneous), so with
+//! `V = √(2E/m)` the speed tends to its limit along a `tanh` law and the turning rate dies out
+//! along a `sech` law:
+//!
+//! ```text
+//! u(t) = V tanh(c V t + s0),                 c = m a / (I + m a²),   tanh s0 = u0 / V,
+//! ω(t) = ω0 cosh s0 / cosh(c V t + s0),
+//! θ(t) = θ0 + (ω0 cosh s0 / c V) [gd(c V t + s0) − gd(s0)]        (gd: Gudermannian),
+//! ```
+//!
+//! so the sleigh turns through a finite total angle and ends moving straight ahead at speed `V`
+//! (`a > 0`; backwards for `a < 0`). The position `(x, y)` is a quadrature of `u (cos θ, sin θ)` and
+//! is checked through `u`, `θ` and the constraint. Source: Bloch §1.7 (see [`SOURCES`]).
+
+use chetaev::prelude::*;
+
+use crate::error::{check, finite, positive, Error};
+use crate::reference::{Check, Entry, Kind, Reference, Source};
+use crate::special::gd;
+
+/// Where the reduced equations and their solution come from.
+pub const SOURCES: &[Source] = &[
+    Source {
+        work: "A. M. Bloch, Nonholonomic Mechanics and Control, Springer (2003)",
+        location: "§1.7 The Chaplygin Sleigh",
+    },
+    Source {
+        work:
+            "Ju. I. Neimark, N. A. Fufaev, Dynamics of Nonholonomic Systems, AMS Translations of \
+               Mathematical Monographs 33 (1972)",
+        location: "Chaplygin's sleigh (Chapter III)",
+    },
+];
+
+/// Parameters and initial state of the sleigh (SI units).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// Mass `m`, > 0.
+    pub m: f64,
+    /// Moment of inertia `I` about the centre of mass, > 0.
+    pub inertia: f64,
+    /// Distance `a` from the contact point to the centre of mass along the blade, non-zero
+    /// (negative: the centre of mass behind the blade).
+    pub a: f64,
+    /// Initial contact point `(x0, y0)`.
+    pub position: [f64; 2],
+    /// Initial heading `θ0`.
+    pub theta0: f64,
+    /// Initial forward speed `u0` of the contact point.
+    pub u0: f64,
+    /// Initial turning rate `ω0 = θ̇(0)`.
+    pub omega0: f64,
+}
+
+impl Default for Params {
+    /// `m = 1 kg`, `I = 0.1 kg m²`, `a = 0.5 m`, from the origin heading along `x` with
+    /// `u0 = 0.2 m/s`, `ω0 = 3 rad/s`: `V ≈ 1.79 m/s`, `c V ≈ 2.55 /s`.
+    fn default() -> Self {
+        Self {
+            m: 1.0,
+            inertia: 0.1,
+            a: 0.5,
+            position: [0.0, 0.0],
+            theta0: 0.0,
+            u0: 0.2,
+            omega0: 3.0,
+        }
+    }
+}
+
+impl Params {
+    fn validate(&self) -> Result<(), Error> {
+        positive("m", self.m)?;
+        positive("inertia", self.inertia)?;
+        check(
+            "a",
+            self.a,
+            |a| a != 0.0,
+            "must be finite and non-zero (with a = 0 the sleigh moves uniformly)",
+        )?;
+        finite("position[0]", self.position[0])?;
+        finite("position[1]", self.position[1])?;
+        finite("theta0", self.theta0)?;
+        finite("u0", self.u0)?;
+        finite("omega0", self.omega0)?;
+        Ok(())
+    }
+
+    /// `I + m a²`, the moment of inertia about the contact point.
+    fn i_contact(&self) -> f64 {
+        self.inertia + self.m * self.a * self.a
+    }
+}
+
+/// The Chaplygin sleigh as a `chetaev` model: `N = 3` coordinates `(x, y, θ)`, `K = 1` constraint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChaplyginSleigh {
+    /// Mass.
+    pub m: f64,
+    /// Moment of inertia about the centre of mass.
+    pub inertia: f64,
+    /// Distance from the contact point to the centre of mass.
+    pub a: f64,
+}
+
+impl Lagrangian<3> for ChaplyginSleigh {
+    /// `L = ½ m |v_c|² + ½ I θ̇²` with `v_c = (ẋ − a sin θ θ̇, ẏ + a cos θ θ̇)`.
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 3>, qd: &SVector<R, 3>) -> R {
+        let vx = qd[0] - q[2].sin() * qd[2] * self.a;
+        let vy = qd[1] + q[2].cos() * qd[2] * self.a;
+        (vx * vx + vy * vy) * (0.5 * self.m) + qd[2] * qd[2] * (0.5 * self.inertia)
+    }
+}
+
+impl Constraints<3, 1> for ChaplyginSleigh {
+    /// `f = −ẋ sin θ + ẏ cos θ`.
+    fn constraints<R: Real>(&self, _t: R, q: &SVector<R, 3>, qd: &SVector<R, 3>) -> SVector<R, 1> {
+        SVector::from([qd[1] * q[2].cos() - qd[0] * q[2].sin()])
+    }
+}
+
+/// The problem: the contact point at `(x0, y0)`, heading `θ0`, moving forward at `u0` and turning
+/// at `ω0`.
+pub fn problem(p: &Params) -> Result<Problem<ChaplyginSleigh, 3, 1>, Error> {
+    p.validate()?;
+    let model = ChaplyginSleigh {
+        m: p.m,
+        inertia: p.inertia,
+        a: p.a,
+    };
+    let q0 = SVector::from([p.position[0], p.position[1], p.theta0]);
+    let qd0 = SVector::from([p.u0 * p.theta0.cos(), p.u0 * p.theta0.sin(), p.omega0]);
+    Ok(Problem::new(model, 0.0, q0, qd0)?)
+}
+
+/// The problem with its closed form.
+pub fn entry(p: &Params) -> Result<Entry<ChaplyginSleigh, ClosedForm, 3, 1>, Error> {
+    Ok(Entry {
+        problem: problem(p)?,
+        reference: ClosedForm::new(p)?,
+    })
+}
+
+/// The closed form of the body velocities `u, ω`, the heading `θ` and the multiplier.
+///
+/// Evaluated without overflow or cancellation: with `β = u0 / V`, `τ = c V t`,
+/// `cosh τ + β sinh τ = ½ e^|τ| [(1 ± β) + (1 ∓ β) e^(−2|τ|)]` (upper signs for `τ ≥ 0`), and
+/// `1 ± β` formed as `(V ± u0)/V` or `(I + m a²) ω0² / (m V (V ∓ u0))`, whichever does not cancel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosedForm {
+    p: Params,
+    /// The limit speed `V = √(u0² + (I + m a²) ω0² / m)`.
+    v: f64,
+    /// `c = m a / (I + m a²)`.
+    c: f64,
+    /// `1 + β`, `1 − β` with `β = u0 / V`.
+    one_plus: f64,
+    one_minus: f64,
+}
+
+impl ClosedForm {
+    /// The closed form for these parameters.
+    pub fn new(p: &Params) -> Result<Self, Error> {
+        p.validate()?;
+        let w2 = p.i_contact() * p.omega0 * p.omega0 / p.m;
+        let v = (p.u0 * p.u0 + w2).sqrt();
+        let (one_plus, one_minus) = if v == 0.0 {
+            (1.0, 1.0)
+        } else if p.u0 >= 0.0 {
+            ((v + p.u0) / v, w2 / (v * (v + p.u0)))
+        } else {
+            (w2 / (v * (v - p.u0)), (v - p.u0) / v)
+        };
+        Ok(Self {
+            p: *p,
+            v,
+            c: p.m * p.a / p.i_contact(),
+            one_plus,
+            one_minus,
+        })
+    }
+
+    /// The limit speed `V = √(2E/m)`.
+    pub fn limit_speed(&self) -> f64 {
+        self.v
+    }
+
+    /// `(A, B, τ)` with `cosh τ + β sinh τ = ½ e^|τ| (A + B e^(−2|τ|))`.
+    fn split(&self, t: f64) -> (f64, f64, f64) {
+        let tau = self.c * self.v * t;
+        if tau >= 0.0 {
+            (self.one_plus, self.one_minus, tau)
+        } else {
+            (self.one_minus, self.one_plus, tau)
+        }
+    }
+
+    /// The forward speed `u(t) = V tanh(c V t + s0)`.
+    pub fn forward_speed(&self, t: f64) -> f64 {
+        if self.p.omega0 == 0.0 {
+            return self.p.u0;
+        }
+        let (a, b, tau) = self.split(t);
+        let e = (-2.0 * tau.abs()).exp();
+        let sign = if tau >= 0.0 { 1.0 } else { -1.0 };
+        sign * self.v * (a - b * e) / (a + b * e)
+    }
+
+    /// The turning rate `ω(t) = ω0 / (cosh τ + β sinh τ)`, `τ = c V t`.
+    pub fn turning_rate(&self, t: f64) -> f64 {
+        if self.p.omega0 == 0.0 {
+            return 0.0;
+        }
+        let (a, b, tau) = self.split(t);
+        let e = (-tau.abs()).exp();
+        2.0 * self.p.omega0 * e / (a + b * e * e)
+    }
+
+    /// The heading `θ(t) = θ0 + (ω0 cosh s0 / c V) [gd(c V t + s0) − gd(s0)]`.
+    pub fn heading(&self, t: f64) -> f64 {
+        let p = &self.p;
+        if p.omega0 == 0.0 {
+            return p.theta0;
+        }
+        // cosh s0 = 1 / √((1 + β)(1 − β)), s0 = ½ ln((1 + β)/(1 − β)).
+        let cosh_s0 = 1.0 / (self.one_plus * self.one_minus).sqrt();
+        let s0 = 0.5 * (self.one_plus / self.one_minus).ln();
+        let tau = self.c * self.v * t;
+        p.theta0 + p.omega0 * cosh_s0 / (self.c * self.v) * (gd(tau + s0) - gd(s0))
+    }
+
+    /// The body accelerations `(u̇, ω̇) = (a ω², −m a u ω / (I + m a²))` at `t` (the reduced
+    /// equations, evaluated on the closed form).
+    pub fn body_accelerations(&self, t: f64) -> (f64, f64) {
+        let p = &self.p;
+        let (u, w) = (self.forward_speed(t), self.turning_rate(t));
+        (p.a * w * w, -p.m * p.a * u * w / p.i_contact())
+    }
+
+    /// The multiplier `μ = m I u ω / (I + m a²)`: the sideways force on the blade.
+    pub fn multiplier(&self, t: f64) -> f64 {
+        let p = &self.p;
+        p.m * p.inertia * self.forward_speed(t) * self.turning_rate(t) / p.i_contact()
+    }
+
+    /// The energy `E = ½ m |v_c|² + ½ I θ̇²` of a state (the Lagrangian itself).
+    pub fn energy(&self, q: &SVector<f64, 3>, qd: &SVector<f64, 3>) -> f64 {
+        let p = &self.p;
+        let vx = qd[0] - p.a * q[2].sin() * qd[2];
+        let vy = qd[1] + p.a * q[2].cos() * qd[2];
+        0.5 * p.m * (vx * vx + vy * vy) + 0.5 * p.inertia * qd[2] * qd[2]
+    }
+}
+
+/// The body velocities `(u, ω)` of a state: `u = ẋ cos θ + ẏ sin θ`, `ω = θ̇`.
+pub fn body_velocities(q: &SVector<f64, 3>, qd: &SVector<f64, 3>) -> (f64, f64) {
+    (qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2])
+}
+
+impl Reference<3, 1> for ClosedForm {
+    fn sources(&self) -> &[Source] {
+        SOURCES
+    }
+
+    fn checks(
+        &self,
+        t: f64,
+        q: &SVector<f64, 3>,
+        qd: &SVector<f64, 3>,
+        mu: Option<&SVector<f64, 1>>,
+    ) -> Vec<Check> {
+        let p = &self.p;
+        let (u, w) = body_velocities(q, qd);
+        let e0 = 0.5 * p.m * self.v * self.v;
+        // ω is measured against its largest value, V √(m / (I + m a²)).
+        let w_scale = self.v * (p.m / p.i_contact()).sqrt();
+        let theta = self.heading(t);
+        let mut out = vec![
+            Check::new("u", Kind::Velocity, u, self.forward_speed(t), self.v),
+            Check::new("ω", Kind::Velocity, w, self.turning_rate(t), w_scale),
+            Check::new("θ", Kind::Position, q[2], theta, theta.abs().max(1.0)),
+            Check::new("E", Kind::Invariant, self.energy(q, qd), e0, e0),
+        ];
+        if let Some(mu) = mu {
+            let scale = p.m * p.inertia * self.v * w_scale / p.i_contact();
+            out.push(Check::new(
+                "μ",
+                Kind::Multiplier,
+                mu[0],
+                self.multiplier(t),
+                scale,
+            ));
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn closed_form_satisfies_the_reduced_equations_and_stays_finite() {
+        for p in [
+            Params::default(),
+            // Nearly all the energy in backward motion: 1 + β ≈ 1e-12, formed without cancellation.
+            Params {
+                u0: -1.0,
+                omega0: 1e-6,
+                ..Params::default()
+            },
+            Params {
+                a: -0.4,
+                ..Params::default()
+            },
+        ] {
+            let cf = ClosedForm::new(&p).expect("valid");
+            let (v, ic) = (cf.limit_speed(), p.i_contact());
+            for t in [0.0, 0.3, 2.0, 40.0, 1e4, -0.5] {
+                let (u, w) = (cf.forward_speed(t), cf.turning_rate(t));
+                assert!(u.is_finite() && w.is_finite() && cf.heading(t).is_finite());
+                // Energy: m u² + (I + m a²) ω² = m V².
+                let e = p.m * u * u + ic * w * w;
+                assert!(
+                    (e - p.m * v * v).abs() <= 1e-14 * p.m * v * v,
+                    "{p:?} t = {t}"
+                );
+                // u̇ = a ω² by a central difference (h = 1e-5 against |ü| ≲ 1e2: error ≲ 1e-8).
+                let h = 1e-5;
+                let du = (cf.forward_speed(t + h) - cf.forward_speed(t - h)) / (2.0 * h);
+                assert!(
+                    (du - p.a * w * w).abs() <= 1e-8 * (1.0 + v * v),
+                    "{p:?} t = {t}"
+                );
+                let dth = (cf.heading(t + h) - cf.heading(t - h)) / (2.0 * h);
+                assert!(
+                    (dth - w).abs() <= 1e-8 * (1.0 + p.omega0.abs()),
+                    "{p:?} t = {t}"
+                );
+            }
+            assert!((cf.forward_speed(0.0) - p.u0).abs() <= 2.0 * f64::EPSILON * v);
+        }
+        // Without turning the sleigh moves uniformly.
+        let p = Params {
+            omega0: 0.0,
+            u0: -0.7,
+            ..Params::default()
+        };
+        let cf = ClosedForm::new(&p).expect("valid");
+        assert_eq!(
+            (cf.forward_speed(5.0), cf.turning_rate(5.0), cf.heading(5.0)),
+            (-0.7, 0.0, 0.0)
+        );
+    }
+}

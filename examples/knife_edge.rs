@@ -1,0 +1,60 @@
+//! The knife edge (a skate) on an inclined plane against its closed form (Neimark & Fufaev;
+//! Bloch, Nonholonomic Mechanics and Control, §1.6).
+//!
+//! ```sh
+//! cargo run --release --example knife_edge
+//! ```
+
+use chetaev::prelude::*;
+use chetaev_catalogue::{compare, knife_edge, max_energy_balance, Reference};
+
+fn main() -> Result<(), chetaev_catalogue::Error> {
+    let p = knife_edge::Params::default();
+    let entry = knife_edge::entry(&p)?;
+    let cf = &entry.reference;
+    let tol = 1e-10;
+    let times: Vec<f64> = (1..=8).map(|k| 2.5 * f64::from(k)).collect();
+    let options = Options::until(20.0)
+        .tolerances(tol, tol)
+        .output_times(times);
+    let sol = solve(&entry.problem, Dop853::default(), &options)?;
+
+    println!("Knife edge on an inclined plane: L = ½m(ẋ²+ẏ²) + ½Iφ̇² + m g sin α x, f = ẋ sin φ − ẏ cos φ");
+    println!(
+        "m = {}, I = {}, g = {}, α = {:.4} rad, ω = {}; Dop853, rtol = atol = {tol:e}",
+        p.m, p.inertia, p.g, p.alpha, p.omega
+    );
+    println!("reference: {}", cf.sources()[0]);
+    println!();
+    println!(
+        "{:>5} {:>13} {:>13} {:>13} {:>13} {:>9} {:>13} {:>13} {:>9}",
+        "t", "x", "x exact", "y", "y exact", "φ", "μ", "μ exact", "error"
+    );
+    for i in 0..sol.len() {
+        let (t, q, qd) = (sol.t[i], sol.q[i], sol.qd[i]);
+        let mu = sol.mu[i];
+        let (exact, mu_exact) = (cf.position(t), cf.multiplier(t));
+        let error = cf
+            .checks(t, &q, &qd, Some(&mu))
+            .iter()
+            .fold(0.0f64, |acc, c| acc.max(c.error()));
+        println!(
+            "{t:>5.2} {:>13.9} {:>13.9} {:>13.9} {:>13.9} {:>9.5} {:>13.9} {:>13.9} {error:>9.1e}",
+            q[0], exact[0], q[1], exact[1], q[2], mu[0], mu_exact
+        );
+    }
+    println!();
+    println!(
+        "error: largest |numerical − exact| over x, y, φ, q̇, μ, E, each against its scale \
+         (g sin α/ω², g sin α/ω, m g sin α, ...): {:.2e}",
+        compare(&sol, cf).max()
+    );
+    println!(
+        "constraint residual {:.1e}, energy balance {:.1e}, {} steps, status {:?}",
+        sol.max_residual(),
+        max_energy_balance(&sol),
+        sol.stats.accepted_steps,
+        sol.status
+    );
+    Ok(())
+}
