@@ -8,7 +8,7 @@
 //!
 //! | pass | dual type | seeds | yields |
 //! |---|---|---|---|
-//! | A | `Dual2Vec<N>` | `q̇` | `L`, `p = ∂L/∂q̇`, `W = ∂²L/∂q̇²` |
+//! | A | `Dual2Vec<N>` (or `N` × `HyperDualVec<N, 1>` above 8 coordinates) | `q̇` | `L`, `p = ∂L/∂q̇`, `W = ∂²L/∂q̇²` |
 //! | B | `HyperDualVec<N, 1>` | `q̇`, and the direction `(δq, δt) = (q̇, 1)` | `g = (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t`, `∂L/∂q·q̇ + ∂L/∂t` |
 //! | C | `DualVec<N>` | `q` | `∂L/∂q` |
 //!
@@ -117,9 +117,35 @@ where
     }
 }
 
+/// Above this many coordinates `W` is taken column by column (see [`velocity_hessian`]).
+pub const DENSE_HESSIAN_MAX_N: usize = 8;
+
 /// Pass A alone: `L`, `p = ∂L/∂q̇` (shape `N`) and `W = ∂²L/∂q̇²` (shape `N × N`) at `(t, q, q̇)`.
-#[inline(always)]
+///
+/// Up to [`DENSE_HESSIAN_MAX_N`] coordinates in one pass with `Dual2Vec<N>`, whose numbers carry
+/// the whole `N × N` Hessian: `O(N³)` bytes for a vector of them, on the stack. Beyond that, `N`
+/// passes with `HyperDualVec<N, 1>`, one column of `W` each: the same `O(N²)` work per operation
+/// of `L` in all, with `O(N²)` memory, so large models do not overflow the stack.
+#[inline]
 pub fn velocity_hessian<M, T, const N: usize>(
+    model: &M,
+    t: T,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+) -> (T, SVector<T, N>, SMatrix<T, N, N>)
+where
+    M: Lagrangian<N> + ?Sized,
+    T: Real,
+{
+    if N <= DENSE_HESSIAN_MAX_N {
+        hessian_dense(model, t, q, qd)
+    } else {
+        hessian_by_columns(model, t, q, qd)
+    }
+}
+
+#[inline]
+fn hessian_dense<M, T, const N: usize>(
     model: &M,
     t: T,
     q: &SVector<T, N>,
@@ -143,6 +169,44 @@ where
         la.v1.unwrap_generic(U1, n).transpose(),
         la.v2.unwrap_generic(n, n),
     )
+}
+
+#[inline]
+fn hessian_by_columns<M, T, const N: usize>(
+    model: &M,
+    t: T,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+) -> (T, SVector<T, N>, SMatrix<T, N, N>)
+where
+    M: Lagrangian<N> + ?Sized,
+    T: Real,
+{
+    let n = Const::<N>;
+    type B<T, const N: usize> = HyperDualVec<T, f64, Const<N>, U1>;
+    let tb = B::<T, N>::from_re(t);
+    let qb: SVector<B<T, N>, N> = q.map(B::from_re);
+    let mut qdb: SVector<B<T, N>, N> = SVector::from_fn(|i, _| {
+        B::new(
+            qd[i],
+            Derivative::derivative_generic(n, U1, i),
+            Derivative::none(),
+            Derivative::none(),
+        )
+    });
+    let mut w = SMatrix::<T, N, N>::zeros();
+    let (mut l, mut p) = (T::zero(), SVector::<T, N>::zeros());
+    for j in 0..N {
+        qdb[j].eps2 = Derivative::some(SMatrix::<T, 1, 1>::new(T::one()));
+        let v = model.lagrangian(tb, &qb, &qdb);
+        qdb[j].eps2 = Derivative::none();
+        w.set_column(j, &v.eps1eps2.unwrap_generic(n, U1));
+        if j == 0 {
+            l = v.re;
+            p = v.eps1.unwrap_generic(n, U1);
+        }
+    }
+    (l, p, w)
 }
 
 /// Evaluates `f`, `J = ∂f/∂q̇` and `(∂f/∂q) q̇ + ∂f/∂t` at `(t, q, q̇)`.
