@@ -22,11 +22,11 @@ use num_dual::{Dual, Dual64, HyperDual};
 
 use crate::equations::saddle::{solve_blocks, SaddleFailure, SaddleWorkspace};
 use crate::error::Error;
-use crate::integrate::driver::{step_loop, validate, Hooks, LoopSettings};
+use crate::integrate::driver::{drive, validate, Hooks};
 use crate::integrate::events::{crosses, Direction};
 use crate::integrate::options::{Atol, Options, Record};
 use crate::integrate::projection::{constraint_scale, Projection};
-use crate::integrate::system::{OdeSystem, Stats};
+use crate::integrate::system::{locate_slices as locate, OdeSystem, Stats};
 use crate::integrate::{ErrorNorm, Method};
 use crate::model::Real;
 use crate::problem::{check_finite, INITIAL_RESIDUAL_TOLERANCE};
@@ -234,25 +234,6 @@ pub fn dynamics<M: DynModel + ?Sized, T: Real>(
         power,
         pivot_ratio,
     })
-}
-
-fn locate(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
-    let (q, qd) = (q.to_vec(), qd.to_vec());
-    match e {
-        SaddleFailure::NonFinite => Error::NonFiniteEvaluation { t, q, qd },
-        SaddleFailure::ZeroConstraintRow { row } => Error::DegenerateConstraint {
-            t,
-            index: row,
-            q,
-            qd,
-        },
-        SaddleFailure::Singular { pivot_ratio } => Error::Singular {
-            t,
-            pivot_ratio,
-            q,
-            qd,
-        },
-    }
 }
 
 /// A run-time-sized model with a consistent initial state, validated like
@@ -786,34 +767,12 @@ pub fn solve_dyn<M: DynModel, Me: Method>(
         options,
         event_evaluations: 0,
     };
-    let settings = LoopSettings {
-        output: &o.output,
-        max_steps: o.max_steps,
-        initial_step: o.initial_step,
-        max_step: o.max_step,
-    };
-    let mut counts = Stats::default();
     let norm = ErrorNorm::new(o.rtol, atol);
-    let outcome = step_loop(
-        &mut sys,
-        &mut hooks,
-        method,
-        problem.t0,
-        o.t_end,
-        &mut y,
-        &norm,
-        &settings,
-        &mut counts,
-    );
+    let (outcome, counts) = drive(&mut sys, &mut hooks, method, problem.t0, &mut y, &norm, o);
     let event_evaluations = hooks.event_evaluations;
     if let Err(e) = outcome {
         sol.status = Status::Failed(e);
     }
-    sol.stats = Stats {
-        accepted_steps: counts.accepted_steps,
-        rejected_steps: counts.rejected_steps,
-        event_evaluations,
-        ..sys.stats
-    };
+    sol.stats = counts.merged(sys.stats, event_evaluations);
     Ok(sol)
 }

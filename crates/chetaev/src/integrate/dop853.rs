@@ -20,7 +20,7 @@
 
 #![allow(clippy::excessive_precision)]
 
-use super::{combine, system::OdeSystem, ErrorNorm, Method, Stepper};
+use super::{combine, system::OdeSystem, ErrorNorm, Method, Stepper, StiffnessTest};
 use crate::error::Error;
 
 // Nodes. Stages 1, 12 and 13 sit at c = 0, 1, 1 and take t and t + h directly.
@@ -193,10 +193,6 @@ const D716: f64 = -0.14972683625798562581422125276e+03;
 
 /// `h·|λ|` above which a step counts as limited by stability rather than by accuracy.
 const STIFF_H_LAMBDA: f64 = 6.1;
-/// Consecutive stiff steps before stiffness is reported.
-const STIFF_STEPS: u32 = 15;
-/// Non-stiff steps that clear the count of stiff ones.
-const NONSTIFF_STEPS: u32 = 6;
 
 /// Dormand–Prince 8(5,3): explicit, adaptive, eighth order, with seventh-order dense output.
 ///
@@ -230,10 +226,7 @@ impl Method for Dop853 {
             err5: vec![0.0; dim],
             err3: vec![0.0; dim],
             rcont: std::array::from_fn(|_| vec![0.0; dim]),
-            detect: self.stiffness_detection,
-            stiff_steps: 0,
-            nonstiff_steps: 0,
-            h_lambda: 0.0,
+            stiffness: StiffnessTest::new(self.stiffness_detection, STIFF_H_LAMBDA),
         }
     }
 }
@@ -249,10 +242,7 @@ pub struct Dop853Stepper {
     err5: Vec<f64>,
     err3: Vec<f64>,
     rcont: [Vec<f64>; 8],
-    detect: bool,
-    stiff_steps: u32,
-    nonstiff_steps: u32,
-    h_lambda: f64,
+    stiffness: StiffnessTest,
 }
 
 impl Stepper for Dop853Stepper {
@@ -395,26 +385,8 @@ impl Stepper for Dop853Stepper {
     ) -> Result<(), Error> {
         let [k1, _, _, _, _, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16] = &mut self.k;
         sys.rhs(t + h, y_new, k13)?;
-        if self.detect {
-            // h·|λ| estimated from stages 12 and 13, which share the node t + h.
-            let (mut num, mut den) = (0.0, 0.0);
-            for i in 0..y.len() {
-                num += (k13[i] - k12[i]).powi(2);
-                den += (y_new[i] - self.ysti[i]).powi(2);
-            }
-            if den > 0.0 {
-                self.h_lambda = h.abs() * (num / den).sqrt();
-            }
-            if self.h_lambda > STIFF_H_LAMBDA {
-                self.nonstiff_steps = 0;
-                self.stiff_steps += 1;
-            } else {
-                self.nonstiff_steps += 1;
-                if self.nonstiff_steps == NONSTIFF_STEPS {
-                    self.stiff_steps = 0;
-                }
-            }
-        }
+        // h·|λ| from stages 12 and 13, which share the node t + h.
+        self.stiffness.observe(h, k13, k12, y_new, &self.ysti);
         // The three stages of the continuous extension.
         let yt = &mut self.ytmp;
         combine(
@@ -541,7 +513,7 @@ impl Stepper for Dop853Stepper {
     }
 
     fn stiffness(&self) -> Option<f64> {
-        (self.stiff_steps >= STIFF_STEPS).then_some(self.h_lambda)
+        self.stiffness.detected()
     }
 }
 

@@ -5,7 +5,7 @@
 //! S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I*, 2nd ed., Springer 1993,
 //! Sections II.5, II.6 and IV.2 (the code DOPRI5).
 
-use super::{combine, system::OdeSystem, ErrorNorm, Method, Stepper};
+use super::{combine, system::OdeSystem, ErrorNorm, Method, Stepper, StiffnessTest};
 use crate::error::Error;
 
 const C2: f64 = 1.0 / 5.0;
@@ -74,10 +74,7 @@ impl Method for Dopri5 {
             ysti: vec![0.0; dim],
             err: vec![0.0; dim],
             rcont: std::array::from_fn(|_| vec![0.0; dim]),
-            detect: self.stiffness_detection,
-            stiff_steps: 0,
-            nonstiff_steps: 0,
-            h_lambda: 0.0,
+            stiffness: StiffnessTest::new(self.stiffness_detection, 3.25),
         }
     }
 }
@@ -90,10 +87,7 @@ pub struct Dopri5Stepper {
     ysti: Vec<f64>,
     err: Vec<f64>,
     rcont: [Vec<f64>; 5],
-    detect: bool,
-    stiff_steps: u32,
-    nonstiff_steps: u32,
-    h_lambda: f64,
+    stiffness: StiffnessTest,
 }
 
 impl Stepper for Dopri5Stepper {
@@ -154,26 +148,8 @@ impl Stepper for Dopri5Stepper {
         y_new: &[f64],
     ) -> Result<(), Error> {
         let [k1, _, k3, k4, k5, k6, k7] = &self.k;
-        if self.detect {
-            // h·|λ| estimated from the last two stages, which share the node t + h.
-            let (mut num, mut den) = (0.0, 0.0);
-            for i in 0..y.len() {
-                num += (k7[i] - k6[i]).powi(2);
-                den += (y_new[i] - self.ysti[i]).powi(2);
-            }
-            if den > 0.0 {
-                self.h_lambda = h.abs() * (num / den).sqrt();
-                if self.h_lambda > 3.25 {
-                    self.nonstiff_steps = 0;
-                    self.stiff_steps += 1;
-                } else {
-                    self.nonstiff_steps += 1;
-                    if self.nonstiff_steps == 6 {
-                        self.stiff_steps = 0;
-                    }
-                }
-            }
-        }
+        // h·|λ| from the last two stages, which share the node t + h.
+        self.stiffness.observe(h, k7, k6, y_new, &self.ysti);
         let [r1, r2, r3, r4, r5] = &mut self.rcont;
         for i in 0..y.len() {
             let dy = y_new[i] - y[i];
@@ -200,6 +176,6 @@ impl Stepper for Dopri5Stepper {
     }
 
     fn stiffness(&self) -> Option<f64> {
-        (self.stiff_steps >= 15).then_some(self.h_lambda)
+        self.stiffness.detected()
     }
 }

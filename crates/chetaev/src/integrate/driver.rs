@@ -70,34 +70,12 @@ where
         options,
         event_evaluations: 0,
     };
-    let settings = LoopSettings {
-        output: &options.output,
-        max_steps: options.max_steps,
-        initial_step: options.initial_step,
-        max_step: options.max_step,
-    };
-    let mut counts = Stats::default();
-    let outcome = step_loop(
-        &mut sys,
-        &mut hooks,
-        method,
-        t0,
-        options.t_end,
-        &mut y,
-        &norm,
-        &settings,
-        &mut counts,
-    );
+    let (outcome, counts) = drive(&mut sys, &mut hooks, method, t0, &mut y, &norm, options);
     let event_evaluations = hooks.event_evaluations;
     if let Err(e) = outcome {
         sol.status = Status::Failed(e);
     }
-    sol.stats = Stats {
-        accepted_steps: counts.accepted_steps,
-        rejected_steps: counts.rejected_steps,
-        event_evaluations,
-        ..sys.stats
-    };
+    sol.stats = counts.merged(sys.stats, event_evaluations);
     Ok(sol)
 }
 
@@ -183,6 +161,38 @@ fn error_norm<const N: usize>(o: &Options<N>, n: usize) -> ErrorNorm {
         Atol::PerComponent(v) => v.clone(),
     };
     ErrorNorm::new(o.rtol, atol)
+}
+
+/// Runs the step loop with the settings of `options`; returns the outcome and the loop's counts
+/// (accepted and rejected steps).
+pub(crate) fn drive<S: OdeSystem, H: Hooks<S>, Me: Method, const N: usize>(
+    sys: &mut S,
+    hooks: &mut H,
+    method: Me,
+    t0: f64,
+    y: &mut [f64],
+    norm: &ErrorNorm,
+    options: &Options<N>,
+) -> (Result<(), Error>, Stats) {
+    let settings = LoopSettings {
+        output: &options.output,
+        max_steps: options.max_steps,
+        initial_step: options.initial_step,
+        max_step: options.max_step,
+    };
+    let mut counts = Stats::default();
+    let outcome = step_loop(
+        sys,
+        hooks,
+        method,
+        t0,
+        options.t_end,
+        y,
+        norm,
+        &settings,
+        &mut counts,
+    );
+    (outcome, counts)
 }
 
 /// What the step loop needs beyond the right-hand side: recording, event functions, projection.

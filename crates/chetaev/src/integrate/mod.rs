@@ -124,6 +124,62 @@ impl ErrorNorm {
     }
 }
 
+/// Hairer's stiffness test for explicit Runge–Kutta methods (Hairer & Wanner II, Section IV.2, and
+/// the codes DOPRI5 and DOP853): on each accepted step `h·|λ|` is estimated from two stages `k_a`,
+/// `k_b` evaluated at the same node from states `y_a`, `y_b`, as `|h|·|k_a − k_b| / |y_a − y_b|`;
+/// the problem is stiff after 15 steps above the boundary of the method's stability region, and the
+/// count restarts after 6 steps below it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StiffnessTest {
+    enabled: bool,
+    boundary: f64,
+    stiff_steps: u32,
+    nonstiff_steps: u32,
+    h_lambda: f64,
+}
+
+impl StiffnessTest {
+    /// A test against the stability boundary `boundary` (3.25 for DOPRI5, 6.1 for DOP853).
+    pub(crate) fn new(enabled: bool, boundary: f64) -> Self {
+        Self {
+            enabled,
+            boundary,
+            stiff_steps: 0,
+            nonstiff_steps: 0,
+            h_lambda: 0.0,
+        }
+    }
+
+    /// Updates the test after an accepted step of size `h`.
+    pub(crate) fn observe(&mut self, h: f64, k_a: &[f64], k_b: &[f64], y_a: &[f64], y_b: &[f64]) {
+        if !self.enabled {
+            return;
+        }
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..k_a.len() {
+            num += (k_a[i] - k_b[i]).powi(2);
+            den += (y_a[i] - y_b[i]).powi(2);
+        }
+        if den > 0.0 {
+            self.h_lambda = h.abs() * (num / den).sqrt();
+        }
+        if self.h_lambda > self.boundary {
+            self.nonstiff_steps = 0;
+            self.stiff_steps += 1;
+        } else {
+            self.nonstiff_steps += 1;
+            if self.nonstiff_steps == 6 {
+                self.stiff_steps = 0;
+            }
+        }
+    }
+
+    /// `Some(h·|λ|)` once the problem has been found stiff.
+    pub(crate) fn detected(&self) -> Option<f64> {
+        (self.stiff_steps >= 15).then_some(self.h_lambda)
+    }
+}
+
 /// `out = y + h Σ_s a_s k_s` over the stages with non-zero coefficients.
 #[inline(always)]
 pub(crate) fn combine(out: &mut [f64], y: &[f64], h: f64, terms: &[(f64, &[f64])]) {

@@ -56,6 +56,19 @@ pub struct Stats {
     pub event_evaluations: usize,
 }
 
+impl Stats {
+    /// The step loop's counts (steps) combined with the system's (evaluations, projections) and
+    /// the hooks' event evaluations.
+    pub(crate) fn merged(self, system: Stats, event_evaluations: usize) -> Stats {
+        Stats {
+            accepted_steps: self.accepted_steps,
+            rejected_steps: self.rejected_steps,
+            event_evaluations,
+            ..system
+        }
+    }
+}
+
 /// Adds `t` and the state to a failure of the block solve.
 pub(crate) fn locate<const N: usize>(
     e: SaddleFailure,
@@ -63,7 +76,12 @@ pub(crate) fn locate<const N: usize>(
     q: &SVector<f64, N>,
     qd: &SVector<f64, N>,
 ) -> Error {
-    let (q, qd) = (q.as_slice().to_vec(), qd.as_slice().to_vec());
+    locate_slices(e, t, q.as_slice(), qd.as_slice())
+}
+
+/// [`locate`] for states held as slices.
+pub(crate) fn locate_slices(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
+    let (q, qd) = (q.to_vec(), qd.to_vec());
     match e {
         SaddleFailure::NonFinite => Error::NonFiniteEvaluation { t, q, qd },
         SaddleFailure::ZeroConstraintRow { row } => Error::DegenerateConstraint {
