@@ -24,8 +24,8 @@ pub enum Error {
     },
 
     /// The scene file is not valid: TOML syntax, a missing or unknown key, a wrong value, an
-    /// expression that does not parse or names something unknown, an unsupported size, or an
-    /// initial state the model refuses.
+    /// expression that does not parse or names something unknown, more constraints than
+    /// coordinates, or an initial state the model refuses.
     #[error("{path}:{line}:{column}: {message}")]
     Scene {
         /// The file, as given.

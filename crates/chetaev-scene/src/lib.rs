@@ -9,14 +9,14 @@
 //! |---|---|---|
 //! | parse | [`Scene::load`], [`scene`] | TOML with spans; every mistake located at a line and column |
 //! | expressions | [`expr`] | our parser; parameters folded; evaluated generically over `R: Real` |
-//! | model | `model.rs` | `L` and `f` as expressions implement `Lagrangian<N>` and `Constraints<N, K>` |
-//! | sizes | [`run`] | one compiled instance per supported `(N, K)`: `1 ≤ N ≤ 6`, `0 ≤ K ≤ min(N, 3)` |
-//! | solve | [`Scene::solve`] | records only what the tables and pictures need |
+//! | model | `model.rs` | `L` and `f` as expressions implement [`chetaev::dynamic::DynModel`]: any `N ≥ 1`, `0 ≤ K ≤ N` |
+//! | solve | [`Scene::solve`], [`run`] | [`chetaev::dynamic::solve_dyn`]; records only what the tables and pictures need |
 //! | output | [`output`] | CSV tables, SVG pictures (`chetaev-plot`), the summary |
 //!
-//! Because the expressions are evaluated over the same dual-number types as a model written in
-//! Rust, `chetaev` differentiates them exactly as it would the Rust model: no symbolic algebra and
-//! no finite differences.
+//! Because the expressions are evaluated generically over `chetaev`'s scalar type, `chetaev`
+//! differentiates them with dual numbers, exactly as it does a model written in Rust: no symbolic
+//! algebra and no finite differences. The sizes `N` and `K` are read from the file, so a scene may
+//! have any number of coordinates.
 //!
 //! ```
 //! use chetaev_scene::Scene;

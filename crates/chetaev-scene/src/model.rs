@@ -1,38 +1,36 @@
-//! A scene's Lagrangian and constraints as a `chetaev` model.
+//! A scene's Lagrangian and constraints as a `chetaev` model with sizes known at run time.
 
-use chetaev::prelude::{Constraints, Lagrangian, Real, SVector};
+use chetaev::dynamic::DynModel;
+use chetaev::prelude::Real;
 
 use crate::expr::{Env, Expr};
 
-/// `L` and `f` as expressions. It implements `Lagrangian<N>` for every `N` and
-/// `Constraints<N, K>` for every `K`; the crate builds problems only with `N` equal to the number
-/// of coordinates and `K` equal to the number of constraints, the sizes the expressions were
-/// resolved with.
+/// `L` and `f` as expressions on `n` coordinates, resolved against the scene's coordinate names.
 #[derive(Clone, Debug)]
 pub(crate) struct ExprModel {
+    /// `N`, the number of coordinates the expressions were resolved with.
+    pub n: usize,
+    /// `L(t, q, q̇)`.
     pub lagrangian: Expr,
+    /// `f_a(t, q, q̇)`, `a = 1..K`.
     pub constraints: Vec<Expr>,
 }
 
-impl<const N: usize> Lagrangian<N> for ExprModel {
-    #[inline]
-    fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> R {
-        self.lagrangian.eval(&Env {
-            t,
-            q: q.as_slice(),
-            qd: qd.as_slice(),
-        })
+impl DynModel for ExprModel {
+    fn sizes(&self) -> (usize, usize) {
+        (self.n, self.constraints.len())
     }
-}
 
-impl<const N: usize, const K: usize> Constraints<N, K> for ExprModel {
     #[inline]
-    fn constraints<R: Real>(&self, t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> SVector<R, K> {
-        let env = Env {
-            t,
-            q: q.as_slice(),
-            qd: qd.as_slice(),
-        };
-        SVector::from_fn(|a, _| self.constraints[a].eval(&env))
+    fn lagrangian<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> R {
+        self.lagrangian.eval(&Env { t, q, qd })
+    }
+
+    #[inline]
+    fn constraints<R: Real>(&self, t: R, q: &[R], qd: &[R], f: &mut [R]) {
+        let env = Env { t, q, qd };
+        for (fa, c) in f.iter_mut().zip(&self.constraints) {
+            *fa = c.eval(&env);
+        }
     }
 }

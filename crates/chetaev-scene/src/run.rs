@@ -1,9 +1,14 @@
-//! From a validated scene to `chetaev`'s const-generic problem, and back to runtime-sized results.
+//! From a validated scene to `chetaev`'s run-time-sized problem ([`chetaev::dynamic`]), and back
+//! to the outcome.
 //!
-//! `chetaev` fixes the number of coordinates `N` and of constraints `K` at compile time. A scene
-//! states them at run time, so [`Scene::solve`] dispatches to one compiled instance per supported
-//! pair `(N, K)`: `1 ≤ N ≤ 6`, `0 ≤ K ≤ min(N, 3)` (21 pairs), each with the four methods.
+//! A scene states the number of coordinates `N` and of constraints `K` when it is read, so it is
+//! solved through [`chetaev::dynamic`]: the same equations, block solve, methods, step control,
+//! events and projection as a model written in Rust with `N` and `K` fixed when compiling, for any
+//! `N ≥ 1` and `0 ≤ K ≤ N`.
 
+use std::sync::Arc;
+
+use chetaev::dynamic::{solve_dyn, DynEvent, DynOptions, DynProblem, DynSolution};
 use chetaev::integrate::system::Stats;
 use chetaev::prelude::*;
 
@@ -11,33 +16,6 @@ use crate::error::Error;
 use crate::expr::Env;
 use crate::model::ExprModel;
 use crate::scene::{GridEnd, MethodSpec, Scene, Times};
-
-/// Calls `$f::<N, K>($args)` for the runtime sizes `($n, $k)`; every supported pair is listed once.
-macro_rules! dispatch {
-    ($n:expr, $k:expr, $f:ident $args:tt, $unsupported:expr) => {
-        dispatch!(@pairs $n, $k, $f $args, $unsupported;
-            (1, 0) (1, 1)
-            (2, 0) (2, 1) (2, 2)
-            (3, 0) (3, 1) (3, 2) (3, 3)
-            (4, 0) (4, 1) (4, 2) (4, 3)
-            (5, 0) (5, 1) (5, 2) (5, 3)
-            (6, 0) (6, 1) (6, 2) (6, 3))
-    };
-    (@pairs $n:expr, $k:expr, $f:ident $args:tt, $unsupported:expr; $(($N:literal, $K:literal))*) => {
-        match ($n, $k) {
-            $(($N, $K) => $f::<$N, $K> $args,)*
-            _ => $unsupported,
-        }
-    };
-}
-
-/// Whether `(n, k)` is one of the compiled sizes.
-pub fn is_supported(n: usize, k: usize) -> bool {
-    fn yes<const N: usize, const K: usize>() -> bool {
-        true
-    }
-    dispatch!(n, k, yes(), false)
-}
 
 /// A located event, with the event's name.
 #[derive(Clone, Debug, PartialEq)]
@@ -103,39 +81,72 @@ impl Outcome {
 }
 
 impl Scene {
-    /// Builds the problem and checks it as the integration would, without integrating: the sizes,
-    /// the initial state against the constraints, the block system at the start, the options, and
-    /// the events and output quantities at the initial state.
+    /// Builds the problem and checks it as the integration would, without integrating: the initial
+    /// state against the constraints, the block system at the start, the options, and the events
+    /// and output quantities at the initial state.
     pub fn check(&self) -> Result<(), Error> {
-        dispatch!(
-            self.n(),
-            self.k(),
-            check_sized(self),
-            Err(self.unsupported())
-        )
+        let problem = self.problem()?;
+        self.check_at_start()?;
+        // An integration over no time validates the options and evaluates the block system at the
+        // start, exactly as a run would.
+        let options = self
+            .options(self.t0)
+            .record(Record::Dynamics)
+            .output_final();
+        let sol = match self.solve.method {
+            MethodSpec::Dopri5 {
+                stiffness_detection,
+            } => solve_dyn(
+                &problem,
+                Dopri5 {
+                    stiffness_detection,
+                },
+                &options,
+            ),
+            MethodSpec::Dop853 {
+                stiffness_detection,
+            } => solve_dyn(
+                &problem,
+                Dop853 {
+                    stiffness_detection,
+                },
+                &options,
+            ),
+            MethodSpec::Rk4 { step } => solve_dyn(&problem, Rk4::new(step), &options),
+            MethodSpec::Rodas4 => solve_dyn(&problem, Rodas4, &options),
+        }
+        .map_err(|e| self.setup_error(e))?;
+        match sol.status {
+            Status::Failed(e) => Err(self.setup_error(e)),
+            _ => Ok(()),
+        }
     }
 
     /// Integrates the scene, recording only what its tables and pictures need. A problem found
     /// before the integration starts is an `Err`; a failure during it is the outcome's status.
     pub fn solve(&self) -> Result<Outcome, Error> {
-        dispatch!(
-            self.n(),
-            self.k(),
-            solve_sized(self),
-            Err(self.unsupported())
-        )
-    }
-
-    fn unsupported(&self) -> Error {
-        self.error_at(
-            self.spans.initial.clone(),
-            format!(
-                "N = {} coordinates with K = {} constraints is not a supported size: scenes support \
-                 1 ≤ N ≤ 6 and 0 ≤ K ≤ min(N, 3)",
-                self.n(),
-                self.k()
+        let problem = self.problem()?;
+        self.check_at_start()?;
+        match self.solve.method {
+            MethodSpec::Dopri5 {
+                stiffness_detection,
+            } => self.integrate(
+                &problem,
+                Dopri5 {
+                    stiffness_detection,
+                },
             ),
-        )
+            MethodSpec::Dop853 {
+                stiffness_detection,
+            } => self.integrate(
+                &problem,
+                Dop853 {
+                    stiffness_detection,
+                },
+            ),
+            MethodSpec::Rk4 { step } => self.integrate(&problem, Rk4::new(step)),
+            MethodSpec::Rodas4 => self.integrate(&problem, Rodas4),
+        }
     }
 
     /// A located error for a setup failure reported by `chetaev`.
@@ -210,163 +221,134 @@ impl Scene {
         Ok(())
     }
 
-    fn problem<const N: usize, const K: usize>(&self) -> Result<Problem<ExprModel, N, K>, Error> {
+    fn problem(&self) -> Result<DynProblem<ExprModel>, Error> {
         let model = ExprModel {
+            n: self.n(),
             lagrangian: self.lagrangian.clone(),
             constraints: self.constraints.clone(),
         };
-        let q0 = SVector::<f64, N>::from_iterator(self.q0.iter().copied());
-        let qd0 = SVector::<f64, N>::from_iterator(self.qd0.iter().copied());
-        let built = if self.project_velocity && K > 0 {
-            Problem::with_projected_velocity(model, self.t0, q0, qd0)
+        let (q0, qd0) = (self.q0.clone(), self.qd0.clone());
+        if self.project_velocity && self.k() > 0 {
+            DynProblem::with_projected_velocity(model, self.t0, q0, qd0)
         } else {
-            Problem::new(model, self.t0, q0, qd0)
-        };
-        built.map_err(|e| self.setup_error(e))
+            DynProblem::new(model, self.t0, q0, qd0)
+        }
+        .map_err(|e| self.setup_error(e))
     }
 
     /// The options every integration of the scene shares: end, tolerances, step bounds, events,
     /// projection.
-    fn options<const N: usize>(&self, t_end: f64) -> Options<N> {
+    fn options(&self, t_end: f64) -> DynOptions {
         let s = &self.solve;
-        let mut o = Options::until(t_end);
-        o.rtol = s.rtol;
-        o.atol = s.atol.clone();
-        o.initial_step = s.initial_step;
-        o.max_step = s.max_step;
+        let mut o = DynOptions::until(t_end);
+        o.common.rtol = s.rtol;
+        o.common.atol = s.atol.clone();
+        if let Some(h) = s.initial_step {
+            o = o.initial_step(h);
+        }
+        if let Some(h) = s.max_step {
+            o = o.max_step(h);
+        }
         if let Some(m) = s.max_steps {
-            o.max_steps = m;
+            o = o.max_steps(m);
         }
         if s.projection {
             o = o.project(Projection::default());
         }
         for e in &self.events {
             let expr = e.expr.clone();
-            let mut ev = Event::new(
-                e.name.clone(),
-                move |t, q: &SVector<f64, N>, qd: &SVector<f64, N>| {
-                    expr.eval(&Env {
-                        t,
-                        q: q.as_slice(),
-                        qd: qd.as_slice(),
-                    })
-                },
-            );
-            ev.direction = e.direction;
-            ev.terminal = e.terminal;
-            o = o.event(ev);
+            o = o.event(DynEvent {
+                name: e.name.clone(),
+                g: Arc::new(move |t, q: &[f64], qd: &[f64]| expr.eval(&Env { t, q, qd })),
+                direction: e.direction,
+                terminal: e.terminal,
+            });
         }
         o
     }
-}
 
-fn check_sized<const N: usize, const K: usize>(scene: &Scene) -> Result<(), Error> {
-    let problem = scene.problem::<N, K>()?;
-    scene.check_at_start()?;
-    // An integration over no time validates the options and evaluates the block system at the
-    // start, exactly as a run would.
-    let options = scene
-        .options::<N>(scene.t0)
-        .record(Record::Dynamics)
-        .output_final();
-    let sol = match scene.solve.method {
-        MethodSpec::Dopri5 {
-            stiffness_detection,
-        } => solve(
-            &problem,
-            Dopri5 {
-                stiffness_detection,
-            },
-            &options,
-        ),
-        MethodSpec::Dop853 {
-            stiffness_detection,
-        } => solve(
-            &problem,
-            Dop853 {
-                stiffness_detection,
-            },
-            &options,
-        ),
-        MethodSpec::Rk4 { step } => solve(&problem, Rk4::new(step), &options),
-        MethodSpec::Rodas4 => solve(&problem, Rodas4, &options),
-    }
-    .map_err(|e| scene.setup_error(e))?;
-    match sol.status {
-        Status::Failed(e) => Err(scene.setup_error(e)),
-        _ => Ok(()),
-    }
-}
-
-fn solve_sized<const N: usize, const K: usize>(scene: &Scene) -> Result<Outcome, Error> {
-    let problem = scene.problem::<N, K>()?;
-    scene.check_at_start()?;
-    match scene.solve.method {
-        MethodSpec::Dopri5 {
-            stiffness_detection,
-        } => integrate(
-            scene,
-            &problem,
-            Dopri5 {
-                stiffness_detection,
-            },
-        ),
-        MethodSpec::Dop853 {
-            stiffness_detection,
-        } => integrate(
-            scene,
-            &problem,
-            Dop853 {
-                stiffness_detection,
-            },
-        ),
-        MethodSpec::Rk4 { step } => integrate(scene, &problem, Rk4::new(step)),
-        MethodSpec::Rodas4 => integrate(scene, &problem, Rodas4),
-    }
-}
-
-fn integrate<const N: usize, const K: usize, Me: Method + Copy>(
-    scene: &Scene,
-    problem: &Problem<ExprModel, N, K>,
-    method: Me,
-) -> Result<Outcome, Error> {
-    let t_end = scene.solve.t_end;
-    let base = scene.options::<N>(t_end);
-    let mut passes = 1;
-    let options = if !scene.samples_motion() {
-        base.output_final().record(Record::State)
-    } else {
-        let record = scene.record();
-        match &scene.output.times {
-            Times::Steps => base.record(record),
-            Times::List(times) => base.output_times(times.clone()).record(record),
-            Times::Grid { from, to, count } => {
-                let to = match to {
-                    GridEnd::Time(x) => *x,
-                    GridEnd::End if scene.events.iter().any(|e| e.terminal) => {
-                        // Where does the motion stop? One cheap integration finds out.
-                        passes = 2;
-                        let first = solve(
-                            problem,
-                            method,
-                            &base.clone().output_final().record(Record::State),
-                        )
-                        .map_err(|e| scene.setup_error(e))?;
-                        // If it fails, the recording pass fails at the same place and records
-                        // the grid up to there.
-                        match first.status {
-                            Status::Terminated { .. } => first.t.last().copied().unwrap_or(t_end),
-                            _ => t_end,
+    fn integrate<Me: Method + Copy>(
+        &self,
+        problem: &DynProblem<ExprModel>,
+        method: Me,
+    ) -> Result<Outcome, Error> {
+        let t_end = self.solve.t_end;
+        let base = self.options(t_end);
+        let mut passes = 1;
+        let options = if !self.samples_motion() {
+            base.output_final().record(Record::State)
+        } else {
+            let record = self.record();
+            match &self.output.times {
+                Times::Steps => base.record(record),
+                Times::List(times) => base.output_times(times.clone()).record(record),
+                Times::Grid { from, to, count } => {
+                    let to = match to {
+                        GridEnd::Time(x) => *x,
+                        GridEnd::End if self.events.iter().any(|e| e.terminal) => {
+                            // Where does the motion stop? One cheap integration finds out.
+                            passes = 2;
+                            let first = solve_dyn(
+                                problem,
+                                method,
+                                &base.clone().output_final().record(Record::State),
+                            )
+                            .map_err(|e| self.setup_error(e))?;
+                            // If it fails, the recording pass fails at the same place and records
+                            // the grid up to there.
+                            match first.status {
+                                Status::Terminated { .. } => {
+                                    first.t.last().copied().unwrap_or(t_end)
+                                }
+                                _ => t_end,
+                            }
                         }
-                    }
-                    GridEnd::End => t_end,
-                };
-                base.output_times(grid(*from, to, *count)).record(record)
+                        GridEnd::End => t_end,
+                    };
+                    base.output_times(grid(*from, to, *count)).record(record)
+                }
             }
+        };
+        let sol = solve_dyn(problem, method, &options).map_err(|e| self.setup_error(e))?;
+        Ok(self.outcome(sol, options.common.record, passes))
+    }
+
+    fn outcome(&self, sol: DynSolution, record: Record, passes: usize) -> Outcome {
+        let balance = sol.energy_balance();
+        let events = sol
+            .events
+            .into_iter()
+            .map(|h| EventRecord {
+                name: self
+                    .events
+                    .get(h.index)
+                    .map_or_else(|| format!("event {}", h.index), |e| e.name.clone()),
+                index: h.index,
+                t: h.t,
+                q: h.q,
+                qd: h.qd,
+            })
+            .collect();
+        Outcome {
+            method: sol.method,
+            record,
+            t: sol.t,
+            q: sol.q,
+            qd: sol.qd,
+            qdd: sol.qdd,
+            mu: sol.mu,
+            phi: sol.phi,
+            residual: sol.residual,
+            energy: sol.energy,
+            work: sol.work,
+            dl_dt_integral: sol.dl_dt_integral,
+            balance,
+            events,
+            stats: sol.stats,
+            passes,
+            status: sol.status,
         }
-    };
-    let sol = solve(problem, method, &options).map_err(|e| scene.setup_error(e))?;
-    Ok(outcome(scene, sol, passes))
+    }
 }
 
 /// `count` equally spaced times from `from` to `to`, both included exactly.
@@ -381,45 +363,4 @@ pub(crate) fn grid(from: f64, to: f64, count: usize) -> Vec<f64> {
             }
         })
         .collect()
-}
-
-fn outcome<const N: usize, const K: usize>(
-    scene: &Scene,
-    sol: Solution<N, K>,
-    passes: usize,
-) -> Outcome {
-    let vecs = |v: &[SVector<f64, N>]| v.iter().map(|x| x.as_slice().to_vec()).collect();
-    let vecs_k = |v: &[SVector<f64, K>]| v.iter().map(|x| x.as_slice().to_vec()).collect();
-    Outcome {
-        method: sol.method,
-        record: sol.record,
-        t: sol.t.clone(),
-        q: vecs(&sol.q),
-        qd: vecs(&sol.qd),
-        qdd: vecs(&sol.qdd),
-        mu: vecs_k(&sol.mu),
-        phi: vecs(&sol.phi),
-        residual: vecs_k(&sol.residual),
-        energy: sol.energy.clone(),
-        work: sol.work.clone(),
-        dl_dt_integral: sol.dl_dt_integral.clone(),
-        balance: sol.energy_balance(),
-        events: sol
-            .events
-            .iter()
-            .map(|h| EventRecord {
-                name: scene
-                    .events
-                    .get(h.index)
-                    .map_or_else(|| format!("event {}", h.index), |e| e.name.clone()),
-                index: h.index,
-                t: h.t,
-                q: h.q.as_slice().to_vec(),
-                qd: h.qd.as_slice().to_vec(),
-            })
-            .collect(),
-        stats: sol.stats,
-        passes,
-        status: sol.status,
-    }
 }

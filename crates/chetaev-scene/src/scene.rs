@@ -18,12 +18,8 @@ use crate::error::{Error, SourceFile};
 use crate::expr::{is_function, parse as expr_parse, Expr, Symbols, RESERVED};
 use crate::source::string_offset;
 
-/// The largest number of coordinates `N` a scene may have.
-pub const MAX_COORDINATES: usize = 6;
 /// The most times an output grid may have.
 pub const MAX_OUTPUT_TIMES: i64 = 10_000_000;
-/// The largest number of constraints `K` a scene may have (and `K ≤ N`).
-pub const MAX_CONSTRAINTS: usize = 3;
 
 // ---------------------------------------------------------------------------------------------
 // The file as written.
@@ -693,12 +689,10 @@ impl Builder {
         let model = raw.model.get_ref();
         let coords = model.coordinates.get_ref();
         let n = coords.len();
-        if n == 0 || n > MAX_COORDINATES {
+        if n == 0 {
             return Err(self.err(
                 model.coordinates.span(),
-                format!(
-                    "{n} coordinates: scenes support 1 to {MAX_COORDINATES} coordinates (see 'Sizes' in docs/scenes.md)"
-                ),
+                "no coordinates: list at least one, as in coordinates = [\"x\", \"y\"]",
             ));
         }
         let mut seen = HashSet::new();
@@ -731,13 +725,12 @@ impl Builder {
         let mut constraint_spans = Vec::new();
         if let Some(list) = &model.constraints {
             let k = list.get_ref().len();
-            let max_k = MAX_CONSTRAINTS.min(n);
-            if k > max_k {
+            if k > n {
                 return Err(self.err(
                     list.span(),
                     format!(
-                        "{k} constraints on {n} coordinates: scenes support 0 to {max_k} here \
-                         (at most {MAX_CONSTRAINTS}, and no more than the coordinates; see 'Sizes' in docs/scenes.md)"
+                        "{k} constraints on {n} coordinates: at most {n} independent velocity constraints \
+                         can hold at once (K ≤ N; see 'Sizes' in docs/scenes.md)"
                     ),
                 ));
             }

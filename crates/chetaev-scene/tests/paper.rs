@@ -1,5 +1,6 @@
 //! The paper's two motions as scene files reproduce the Rust versions and the closed forms.
 
+use chetaev::integrate::system::Stats;
 use chetaev::prelude::*;
 use chetaev_scene::{Outcome, Scene};
 use uniform_projectile::closed_form::{table, uniform, Kinematics, Params};
@@ -27,6 +28,19 @@ fn impact_row(o: &Outcome) -> [f64; 4] {
     assert_eq!(e.name, "impact");
     let (vx, vy) = (e.qd[0], e.qd[1]);
     [e.t, e.q[0], vx.hypot(vy), (-vy).atan2(vx).to_degrees()]
+}
+
+/// The scene takes the steps the Rust model takes, with as many evaluations of the equations.
+fn same_steps(o: &Outcome, rust: &Stats) {
+    let s = &o.stats;
+    assert_eq!(
+        (s.accepted_steps, s.rejected_steps, s.rhs_evaluations),
+        (
+            rust.accepted_steps,
+            rust.rejected_steps,
+            rust.rhs_evaluations
+        )
+    );
 }
 
 fn closed_row(k: &Kinematics) -> [f64; 4] {
@@ -75,6 +89,7 @@ fn uniform_scene_reproduces_table_42_1_and_the_rust_model() {
             want[i]
         );
     }
+    same_steps(&o, &rust.stats);
     // The multiplier along the motion against (42.40), μ = −(m g / 2 v0) tanh(g t / v0).
     assert_eq!(o.mu.len(), o.t.len());
     for (t, mu) in o.t.iter().zip(&o.mu) {
@@ -121,6 +136,7 @@ fn classical_scene_reproduces_table_42_1_and_the_rust_model() {
             want[i]
         );
     }
+    same_steps(&o, &rust.stats);
 }
 
 #[test]

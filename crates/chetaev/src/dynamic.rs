@@ -25,7 +25,7 @@ use crate::error::Error;
 use crate::integrate::driver::{drive, validate, Hooks};
 use crate::integrate::events::{crosses, Direction};
 use crate::integrate::options::{Atol, Options, Record};
-use crate::integrate::projection::{constraint_scale, Projection};
+use crate::integrate::projection::{constraint_scale, newton_projection, Projection};
 use crate::integrate::system::{locate_slices as locate, OdeSystem, Stats};
 use crate::integrate::{ErrorNorm, Method};
 use crate::model::Real;
@@ -219,7 +219,8 @@ pub fn dynamics<M: DynModel + ?Sized, T: Real>(
     )?;
     let x = ws.solution();
     let qdd = x[..n].to_vec();
-    let mu = x[n..n + k].to_vec();
+    // `+ 0` turns a −0 from the elimination order into +0, as on the static path.
+    let mu: Vec<T> = x[n..n + k].iter().map(|m| *m + 0.0).collect();
     let phi: Vec<T> = (0..n)
         .map(|i| (0..k).fold(T::zero(), |acc, a| acc + j[a * n + i] * mu[a]))
         .collect();
@@ -297,6 +298,33 @@ impl<M: DynModel> DynProblem<M> {
             }
         }
         Ok(Self { model, t0, q0, qd0 })
+    }
+
+    /// Builds a problem whose initial velocity is first projected onto `f(t0, q0, ·) = 0` (the
+    /// explicit opt-in of [`Problem::with_projected_velocity`](crate::Problem::with_projected_velocity)).
+    pub fn with_projected_velocity(
+        model: M,
+        t0: f64,
+        q0: Vec<f64>,
+        mut qd0: Vec<f64>,
+    ) -> Result<Self, Error> {
+        let n = model.sizes().0;
+        if q0.len() != n || qd0.len() != n {
+            return Self::new(model, t0, q0, qd0);
+        }
+        check_finite("t0", std::slice::from_ref(&t0))?;
+        check_finite("q0", &q0)?;
+        check_finite("q̇0", &qd0)?;
+        project_velocity(
+            &model,
+            &mut SaddleWorkspace::default(),
+            t0,
+            &q0,
+            &mut qd0,
+            1e-14,
+            20,
+        )?;
+        Self::new(model, t0, q0, qd0)
     }
 
     /// The model.
@@ -415,6 +443,16 @@ impl DynOptions {
         self.common = self.common.max_steps(n);
         self
     }
+    /// Sets the first step size.
+    pub fn initial_step(mut self, h: f64) -> Self {
+        self.common = self.common.initial_step(h);
+        self
+    }
+    /// Bounds the step size.
+    pub fn max_step(mut self, h: f64) -> Self {
+        self.common = self.common.max_step(h);
+        self
+    }
     /// Adds an event function.
     pub fn event(mut self, event: DynEvent) -> Self {
         self.events.push(event);
@@ -442,6 +480,8 @@ pub struct DynEventHit {
 pub struct DynSolution {
     /// The method that produced it.
     pub method: &'static str,
+    /// What was recorded.
+    pub record: Record,
     /// Output times.
     pub t: Vec<f64>,
     /// `q` at the output times.
@@ -581,6 +621,7 @@ impl<M: DynModel> OdeSystem for DynOde<'_, M> {
 }
 
 struct DynHooks<'s> {
+    n: usize,
     sol: &'s mut DynSolution,
     options: &'s DynOptions,
     event_evaluations: usize,
@@ -618,7 +659,7 @@ impl<M: DynModel> Hooks<DynOde<'_, M>> for DynHooks<'_> {
         self.options.events.len()
     }
     fn event_value(&mut self, i: usize, t: f64, y: &[f64]) -> Result<f64, Error> {
-        let n = self.sol.q.first().map_or(y.len() / 2, Vec::len);
+        let n = self.n;
         self.event_evaluations += 1;
         let v = (self.options.events[i].g)(t, &y[..n], &y[n..2 * n]);
         if v.is_finite() {
@@ -638,7 +679,7 @@ impl<M: DynModel> Hooks<DynOde<'_, M>> for DynHooks<'_> {
         self.options.events[i].terminal
     }
     fn event_hit(&mut self, i: usize, t: f64, y: &[f64]) {
-        let n = self.sol.q.first().map_or(y.len() / 2, Vec::len);
+        let n = self.n;
         self.sol.events.push(DynEventHit {
             index: i,
             t,
@@ -653,62 +694,56 @@ impl<M: DynModel> Hooks<DynOde<'_, M>> for DynHooks<'_> {
         let Some(p) = self.options.common.projection else {
             return Ok(false);
         };
-        let (n, k) = (sys.n, sys.model.sizes().1);
-        if k == 0 {
+        if sys.model.sizes().1 == 0 {
             return Ok(false);
         }
+        let n = sys.n;
         let (q, rest) = y.split_at_mut(n);
-        let qd = &mut rest[..n];
-        let mut f = vec![0.0; k];
-        let mut j = vec![0.0; k * n];
-        let mut w = vec![0.0; n * n];
-        let mut pv = vec![0.0; n];
-        let mut previous = f64::INFINITY;
+        let iterations = project_velocity(
+            sys.model,
+            &mut sys.ws,
+            t,
+            q,
+            &mut rest[..n],
+            p.tol,
+            p.max_iterations,
+        )?;
         sys.stats.projections += 1;
-        for iteration in 0..=p.max_iterations {
-            constraint_jacobian(sys.model, t, q, qd, &mut f, &mut j);
-            let qd_norm = qd.iter().map(|v| v * v).sum::<f64>().sqrt();
-            let residual = (0..k).fold(0.0f64, |acc, a| {
-                let jn = j[a * n..(a + 1) * n]
-                    .iter()
-                    .map(|v| v * v)
-                    .sum::<f64>()
-                    .sqrt();
-                acc.max(f[a].abs() / constraint_scale(jn, qd_norm))
-            });
-            if !residual.is_finite() {
-                return Err(locate(SaddleFailure::NonFinite, t, q, qd));
-            }
-            let stagnated = iteration > 0 && residual > 0.5 * previous && residual <= 1e3 * p.tol;
-            if residual <= p.tol || stagnated {
-                return Ok(iteration > 0);
-            }
-            if iteration == p.max_iterations {
-                return Err(Error::ProjectionFailed {
-                    t,
-                    residual,
-                    iterations: iteration,
-                });
-            }
-            previous = residual;
-            velocity_hessian(sys.model, t, q, qd, &mut w, &mut pv);
-            solve_blocks(
-                &mut sys.ws,
-                n,
-                k,
-                |i, m| w[i * n + m],
-                |a, i| j[a * n + i],
-                |_| 0.0,
-                |a| -f[a],
-            )
-            .map_err(|e| locate(e, t, q, qd))?;
-            sys.stats.projection_iterations += 1;
-            for (v, dv) in qd.iter_mut().zip(sys.ws.solution()) {
-                *v += dv;
-            }
-        }
-        Ok(true)
+        sys.stats.projection_iterations += iterations;
+        Ok(iterations > 0)
     }
+}
+
+/// Projects `q̇` (in place) onto `f(t, q, ·) = 0`: the smallest change in the metric `W`, by the
+/// Newton iteration of [`project_velocity`](crate::integrate::projection::project_velocity).
+/// Returns the iterations done.
+pub fn project_velocity<M: DynModel + ?Sized>(
+    model: &M,
+    ws: &mut SaddleWorkspace<f64>,
+    t: f64,
+    q: &[f64],
+    qd: &mut [f64],
+    tol: f64,
+    max_iterations: usize,
+) -> Result<usize, Error> {
+    let (n, k) = (q.len(), model.sizes().1);
+    let mut p = vec![0.0; n];
+    newton_projection(
+        n,
+        k,
+        qd,
+        Projection {
+            tol,
+            max_iterations,
+        },
+        ws,
+        |qd, f, j| constraint_jacobian(model, t, q, qd, f, j),
+        |qd, w| {
+            velocity_hessian(model, t, q, qd, w, &mut p);
+        },
+    )
+    .map(|(iterations, _)| iterations)
+    .map_err(|e| e.locate(t, q, qd))
 }
 
 /// Integrates a run-time-sized `problem` with `method`; the counterpart of [`solve`](crate::solve).
@@ -748,6 +783,7 @@ pub fn solve_dyn<M: DynModel, Me: Method>(
     y[n..2 * n].copy_from_slice(&problem.qd0);
     let mut sol = DynSolution {
         method: method.name(),
+        record: o.record,
         t: Vec::new(),
         q: Vec::new(),
         qd: Vec::new(),
@@ -763,6 +799,7 @@ pub fn solve_dyn<M: DynModel, Me: Method>(
         status: Status::Success,
     };
     let mut hooks = DynHooks {
+        n,
         sol: &mut sol,
         options,
         event_evaluations: 0,

@@ -15,9 +15,9 @@
 use nalgebra::SVector;
 
 use crate::equations::derivatives::{constraint_derivatives, velocity_hessian};
-use crate::equations::saddle::{self, SaddleWorkspace};
+use crate::equations::saddle::{self, SaddleFailure, SaddleWorkspace};
 use crate::error::Error;
-use crate::integrate::system::locate;
+use crate::integrate::system::locate_slices;
 use crate::model::Model;
 
 /// Options of the projection onto `f = 0`. Opt-in: see [`Options::project`](super::options::Options::project).
@@ -73,61 +73,147 @@ pub fn project_velocity<M: Model<N, K>, const N: usize, const K: usize>(
     tol: f64,
     max_iterations: usize,
 ) -> Result<Projected<N>, Error> {
-    let mut qd = *qd;
+    let mut v = *qd;
+    let outcome = newton_projection(
+        N,
+        K,
+        v.as_mut_slice(),
+        Projection {
+            tol,
+            max_iterations,
+        },
+        ws,
+        |qd, f, j| {
+            let cd = constraint_derivatives::<M, f64, N, K>(
+                model,
+                t,
+                q,
+                &SVector::from_column_slice(qd),
+            );
+            f.copy_from_slice(cd.f.as_slice());
+            for a in 0..K {
+                for i in 0..N {
+                    j[a * N + i] = cd.j[(a, i)];
+                }
+            }
+        },
+        |qd, w| {
+            let (_, _, wm) = velocity_hessian(model, t, q, &SVector::from_column_slice(qd));
+            for i in 0..N {
+                for m in 0..N {
+                    w[i * N + m] = wm[(i, m)];
+                }
+            }
+        },
+    );
+    match outcome {
+        Ok((iterations, residual)) => Ok(Projected {
+            qd: v,
+            iterations,
+            residual,
+        }),
+        Err(e) => Err(e.locate(t, q.as_slice(), v.as_slice())),
+    }
+}
+
+/// Why a Newton projection stopped without converging.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum ProjectionFailure {
+    /// The block system failed (non-finite values, a degenerate or dependent constraint).
+    Saddle(SaddleFailure),
+    /// The residual did not reach the tolerance.
+    NotConverged {
+        /// Relative residual after the last iteration.
+        residual: f64,
+        /// Iterations done.
+        iterations: usize,
+    },
+}
+
+impl ProjectionFailure {
+    /// The error, with the time and state where it happened.
+    pub(crate) fn locate(self, t: f64, q: &[f64], qd: &[f64]) -> Error {
+        match self {
+            Self::Saddle(e) => locate_slices(e, t, q, qd),
+            Self::NotConverged {
+                residual,
+                iterations,
+            } => Error::ProjectionFailed {
+                t,
+                residual,
+                iterations,
+            },
+        }
+    }
+}
+
+/// The Newton iteration of the projection for any sizes: `constraints(q̇, f, J)` writes `f` (`k`)
+/// and `J` (`k × n`, row-major), `metric(q̇, W)` writes `W` (`n × n`, row-major). Corrects `qd` in
+/// place; returns the iterations done and the final relative residual.
+pub(crate) fn newton_projection(
+    n: usize,
+    k: usize,
+    qd: &mut [f64],
+    settings: Projection,
+    ws: &mut SaddleWorkspace<f64>,
+    mut constraints: impl FnMut(&[f64], &mut [f64], &mut [f64]),
+    mut metric: impl FnMut(&[f64], &mut [f64]),
+) -> Result<(usize, f64), ProjectionFailure> {
+    let Projection {
+        tol,
+        max_iterations,
+    } = settings;
+    let (mut f, mut j, mut w) = (vec![0.0; k], vec![0.0; k * n], vec![0.0; n * n]);
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let relative = |f: &[f64], j: &[f64], qd: &[f64]| {
+        let qd_norm = norm(qd);
+        (0..k).fold(0.0f64, |acc, a| {
+            acc.max(f[a].abs() / constraint_scale(norm(&j[a * n..(a + 1) * n]), qd_norm))
+        })
+    };
     let mut residual = f64::INFINITY;
     let mut previous = f64::INFINITY;
     for iteration in 0..=max_iterations {
-        let cd = constraint_derivatives::<M, f64, N, K>(model, t, q, &qd);
-        let qd_norm = qd.norm();
-        residual = (0..K).fold(0.0f64, |acc, a| {
-            acc.max(cd.f[a].abs() / constraint_scale(cd.j.row(a).norm(), qd_norm))
-        });
+        constraints(qd, &mut f, &mut j);
+        residual = relative(&f, &j, qd);
         if !residual.is_finite() {
-            return Err(locate(saddle::SaddleFailure::NonFinite, t, q, &qd));
+            return Err(ProjectionFailure::Saddle(SaddleFailure::NonFinite));
         }
         // Stagnation close to the tolerance is the rounding floor of f, not a failure to converge.
         let stagnated = iteration > 0 && residual > 0.5 * previous && residual <= 1e3 * tol;
-        if stagnated {
-            return Ok(Projected {
-                qd,
-                iterations: iteration,
-                residual,
-            });
+        if residual <= tol || stagnated {
+            return Ok((iteration, residual));
         }
-        previous = residual;
-        if residual <= tol || iteration == max_iterations {
-            if residual <= tol {
-                return Ok(Projected {
-                    qd,
-                    iterations: iteration,
-                    residual,
-                });
-            }
+        if iteration == max_iterations {
             break;
         }
-        let (_, _, w) = velocity_hessian(model, t, q, &qd);
-        let sol = saddle::solve(ws, &w, &cd.j, &SVector::zeros(), &(-cd.f))
-            .map_err(|e| locate(e, t, q, &qd))?;
-        let step = sol.qdd;
-        qd += step;
+        previous = residual;
+        metric(qd, &mut w);
+        saddle::solve_blocks(
+            ws,
+            n,
+            k,
+            |i, m| w[i * n + m],
+            |a, i| j[a * n + i],
+            |_| 0.0,
+            |a| -f[a],
+        )
+        .map_err(ProjectionFailure::Saddle)?;
+        let step = &ws.solution()[..n];
+        let step_norm = norm(step);
+        for (v, dv) in qd.iter_mut().zip(step) {
+            *v += dv;
+        }
         // Stop at the rounding floor: a correction below a few ulps of q̇ cannot reduce f further.
-        if step.norm() <= 4.0 * f64::EPSILON * qd.norm() {
-            let cd = constraint_derivatives::<M, f64, N, K>(model, t, q, &qd);
-            let qd_norm = qd.norm();
-            let r = (0..K).fold(0.0f64, |acc, a| {
-                acc.max(cd.f[a].abs() / constraint_scale(cd.j.row(a).norm(), qd_norm))
-            });
+        if step_norm <= 4.0 * f64::EPSILON * norm(qd) {
+            constraints(qd, &mut f, &mut j);
+            let r = relative(&f, &j, qd);
             if r <= 1e3 * tol.max(f64::EPSILON) {
-                return Ok(Projected {
-                    qd,
-                    iterations: iteration + 1,
-                    residual: r,
-                });
+                return Ok((iteration + 1, r));
             }
         }
     }
-    Err(Error::ProjectionFailed {
-        t,
+    Err(ProjectionFailure::NotConverged {
         residual,
         iterations: max_iterations,
     })
