@@ -1,1 +1,25 @@
-//! Work-precision study and benchmarks.
+//! Work-precision study, benchmarks and ensembles for `chetaev`.
+//!
+//! | module | what |
+//! |---|---|
+//! | [`models`] | the models of the study beyond the paper's: a 3D particle at constant speed, two particles under three constraints, a constraint that does nothing, a chain of any static size |
+//! | [`handwritten`] | the paper's model written out by hand, the limit for `chetaev` |
+//! | [`scenes`] | the five scenes with their references and error measures |
+//! | [`study`] | every method on a scene over the tolerances: error, median time, work counters |
+//! | [`measure`] | timing, and comparison of curves at equal error |
+//! | [`overhead`] | paying only for what is used: constraints and diagnostics, on whole solves |
+//! | [`report`] | CSV and Markdown |
+//! | [`criterion_results`] | criterion's results read back for the report |
+//! | [`ensemble`] | a parameter sweep of the paper's range ratio, in parallel |
+//!
+//! The binaries `work-precision`, `ensemble` and `bench-report` print; the library returns values.
+
+pub mod criterion_results;
+pub mod ensemble;
+pub mod handwritten;
+pub mod measure;
+pub mod models;
+pub mod overhead;
+pub mod report;
+pub mod scenes;
+pub mod study;

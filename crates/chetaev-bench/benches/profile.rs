@@ -1,0 +1,113 @@
+//! Where the time of one right-hand side of the paper's model goes: the three autodiff passes
+//! over `L`, the two over `f`, the block solve, the whole `dynamics`, one dual-number `dynamics`
+//! (a Rodas4 Jacobian takes `2·dim + 1 = 5` of them), and the hand-written right-hand sides and
+//! Jacobians for comparison.
+//!
+//! `cargo bench -p chetaev-bench --bench profile`
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use chetaev::equations::derivatives::{
+    constraint_derivatives, lagrangian_derivatives, velocity_hessian,
+};
+use chetaev::equations::{dynamics, saddle, saddle::SaddleWorkspace};
+use chetaev::integrate::system::OdeSystem;
+use chetaev::prelude::*;
+use chetaev_bench::handwritten::{Full, Reduced};
+use criterion::Criterion;
+use num_dual::Dual64;
+use uniform_projectile::closed_form::{uniform, Params};
+use uniform_projectile::model::uniform_problem;
+
+fn profile(c: &mut Criterion) {
+    let p = Params::PAPER;
+    let problem = uniform_problem(&p).expect("the paper's problem is valid");
+    let model = *problem.model();
+    let t = 0.5;
+    let q = SVector::from(uniform::position(&p, t));
+    let qd = SVector::from(uniform::velocity(&p, t));
+    let mut g = c.benchmark_group("profile");
+    g.warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2))
+        .sample_size(50);
+
+    let mut ws = SaddleWorkspace::default();
+    g.bench_function("dynamics", |b| {
+        b.iter(|| {
+            dynamics::<_, f64, 2, 1>(black_box(&model), &mut ws, t, black_box(&q), black_box(&qd))
+        })
+    });
+    g.bench_function("lagrangian_derivatives (passes A, B, C)", |b| {
+        b.iter(|| lagrangian_derivatives(black_box(&model), t, black_box(&q), black_box(&qd)))
+    });
+    g.bench_function("velocity_hessian (pass A)", |b| {
+        b.iter(|| velocity_hessian(black_box(&model), t, black_box(&q), black_box(&qd)))
+    });
+    g.bench_function("constraint_derivatives (two passes)", |b| {
+        b.iter(|| {
+            constraint_derivatives::<_, f64, 2, 1>(
+                black_box(&model),
+                t,
+                black_box(&q),
+                black_box(&qd),
+            )
+        })
+    });
+    let ld = lagrangian_derivatives(&model, t, &q, &qd);
+    let cd = constraint_derivatives::<_, f64, 2, 1>(&model, t, &q, &qd);
+    let r = ld.dl_dq - ld.g;
+    let s = -cd.c;
+    g.bench_function("saddle::solve (3 × 3)", |b| {
+        b.iter(|| {
+            saddle::solve(
+                &mut ws,
+                black_box(&ld.w),
+                black_box(&cd.j),
+                black_box(&r),
+                black_box(&s),
+            )
+        })
+    });
+
+    let mut wsd = SaddleWorkspace::<Dual64>::default();
+    let qd_dual = qd.map(Dual64::from_re);
+    let mut q_dual = q.map(Dual64::from_re);
+    q_dual[0].eps = 1.0;
+    g.bench_function("dynamics over Dual64 (one Jacobian column)", |b| {
+        b.iter(|| {
+            dynamics::<_, Dual64, 2, 1>(
+                black_box(&model),
+                &mut wsd,
+                Dual64::from_re(t),
+                black_box(&q_dual),
+                black_box(&qd_dual),
+            )
+        })
+    });
+
+    let y_full = [q[0], q[1], qd[0], qd[1]];
+    let mut full = Full::new(p.g);
+    let mut dy = [0.0; 4];
+    g.bench_function("hand-written full rhs", |b| {
+        b.iter(|| full.rhs(t, black_box(&y_full), &mut dy))
+    });
+    let y_red = [q[0], q[1], qd[1]];
+    let mut reduced = Reduced::new(p.g, p.v0);
+    let mut dz = [0.0; 3];
+    g.bench_function("hand-written (42.28) rhs", |b| {
+        b.iter(|| reduced.rhs(t, black_box(&y_red), &mut dz))
+    });
+    let mut jac = [0.0; 16];
+    let mut dfdt = [0.0; 4];
+    g.bench_function("hand-written full jacobian", |b| {
+        b.iter(|| full.jacobian(t, black_box(&y_full), &mut jac, &mut dfdt))
+    });
+    g.finish();
+}
+
+fn main() {
+    let mut c = Criterion::default().configure_from_args();
+    profile(&mut c);
+    c.final_summary();
+}

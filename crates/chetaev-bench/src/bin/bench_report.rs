@@ -1,0 +1,216 @@
+//! `bench-report`: turns the results of `cargo bench -p chetaev-bench` into the tables of the
+//! performance report: the cost of one right-hand side against `n` and `k` with the fitted growth
+//! exponent, where the time of one right-hand side of the paper's model goes, and the cost of an
+//! unused constraint per right-hand side.
+//!
+//! ```sh
+//! cargo bench -p chetaev-bench
+//! cargo run --release -p chetaev-bench --bin bench-report
+//! ```
+
+use std::error::Error;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use chetaev_bench::criterion_results::{parse_size, read_group, Estimate};
+use chetaev_bench::measure::log_slope;
+use chetaev_bench::report::format_seconds;
+use chetaev_plot::{Figure, Style};
+use clap::Parser;
+
+/// Tables from criterion's results.
+#[derive(Parser, Debug)]
+#[command(version)]
+struct Args {
+    /// criterion's output directory (default: the workspace's target/criterion).
+    #[arg(long)]
+    criterion: Option<PathBuf>,
+    /// Output directory (default: the workspace's docs/performance).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("bench-report: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The number of constraints of a size class as a function of `n`.
+type KOfN = fn(usize) -> usize;
+
+/// Text for a Markdown table cell.
+fn cell(s: &str) -> String {
+    s.replace('|', "\\|")
+}
+
+fn ns(e: &Estimate) -> String {
+    format_seconds(e.median_ns * 1e-9)
+}
+
+fn run() -> Result<(), Box<dyn Error>> {
+    let args = Args::parse();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let criterion = args
+        .criterion
+        .unwrap_or_else(|| root.join("target/criterion"));
+    let out = args.out.unwrap_or_else(|| root.join("docs/performance"));
+    std::fs::create_dir_all(&out)?;
+    let out = out.canonicalize().unwrap_or(out);
+    let mut md = String::new();
+
+    let stat = read_group(&criterion, "rhs_cost")?;
+    if stat.is_empty() {
+        return Err(format!(
+            "no results under {}: run `cargo bench -p chetaev-bench` first",
+            criterion.display()
+        )
+        .into());
+    }
+    let dynamic = read_group(&criterion, "rhs_cost_dyn")?;
+    let groups = [("static", &stat), ("run-time", &dynamic)];
+    let sized = |group: &[Estimate]| -> Vec<(usize, usize, Estimate)> {
+        group
+            .iter()
+            .filter_map(|e| parse_size(&e.function).map(|(n, k)| (n, k, e.clone())))
+            .collect()
+    };
+    let sizes: Vec<Vec<(usize, usize, Estimate)>> = groups.iter().map(|(_, g)| sized(g)).collect();
+    let mut ns_values: Vec<usize> = sizes.iter().flatten().map(|s| s.0).collect();
+    ns_values.sort_unstable();
+    ns_values.dedup();
+    let classes: [(&str, KOfN); 3] = [("k = 0", |_| 0), ("k = 1", |_| 1), ("k = n/2", |n| n / 2)];
+    let find =
+        |g: usize, n: usize, k: usize| sizes[g].iter().find(|s| s.0 == n && s.1 == k).map(|s| &s.2);
+    let _ = writeln!(
+        md,
+        "## Cost of one right-hand side\n\nOne evaluation of the reduced equations with `f64` on a chain of `n` \
+         unit masses with anharmonic springs and `k` pair-speed constraints: static sizes \
+         (`chetaev::equations::dynamics` on `Chain<N, K>`) and sizes known at run time \
+         (`chetaev::dynamic::dynamics` on `DynChain`). Median of criterion's samples (95 % intervals \
+         in `rhs-cost.csv`).\n\n| n | static, k = 0 | static, k = 1 | static, k = n/2 | run-time, k = 0 | \
+         run-time, k = 1 | run-time, k = n/2 |\n|---|---|---|---|---|---|---|"
+    );
+    let mut csv = String::from("sizes,n,k,median_ns,ci_low_ns,ci_high_ns\n");
+    for (g, (label, _)) in groups.iter().enumerate() {
+        for (n, k, e) in &sizes[g] {
+            let _ = writeln!(
+                csv,
+                "{label},{n},{k},{},{},{}",
+                e.median_ns, e.median_ci_ns.0, e.median_ci_ns.1
+            );
+        }
+    }
+    for &n in &ns_values {
+        let cells: Vec<String> = (0..groups.len())
+            .flat_map(|g| classes.iter().map(move |(_, k)| (g, k(n))))
+            .map(|(g, k)| find(g, n, k).map_or("–".to_string(), ns))
+            .collect();
+        let _ = writeln!(md, "| {n} | {} |", cells.join(" | "));
+    }
+    let _ = writeln!(
+        md,
+        "\nGrowth exponent `p` of time ∝ n^p (least-squares fit of log time against log n):\n\n\
+         | sizes | k | all n | n ≥ 6 |\n|---|---|---|---|"
+    );
+    let mut fig = Figure::new("One right-hand side against the number of coordinates")
+        .x_label("n (coordinates)")
+        .y_label("time per right-hand side [s]")
+        .log_x()
+        .log_y();
+    let mut exponents = Vec::new();
+    for (g, (label, _)) in groups.iter().enumerate() {
+        for (c, (name, k)) in classes.iter().enumerate() {
+            let pts: Vec<(f64, f64)> = ns_values
+                .iter()
+                .filter_map(|&n| find(g, n, k(n)).map(|e| (n as f64, e.median_ns * 1e-9)))
+                .collect();
+            if pts.len() < 2 {
+                continue;
+            }
+            let large: Vec<(f64, f64)> = pts.iter().copied().filter(|p| p.0 >= 6.0).collect();
+            let (all, big) = (log_slope(&pts), log_slope(&large));
+            let _ = writeln!(md, "| {label} | {name} | {all:.2} | {big:.2} |");
+            exponents.push((format!("{label}, {name}"), all, big));
+            fig = fig.line_styled(
+                &format!("{label}, {name}"),
+                &pts,
+                Style {
+                    markers: true,
+                    dashed: g == 1,
+                    color: Some(chetaev_plot::PALETTE[c]),
+                    ..Style::default()
+                },
+            );
+        }
+    }
+    fig.save(out.join("rhs-cost.svg"))?;
+    std::fs::write(out.join("rhs-cost.csv"), csv)?;
+    md.push_str("\n![cost of one right-hand side](rhs-cost.svg)\n");
+
+    let profile = read_group(&criterion, "profile")?;
+    if !profile.is_empty() {
+        let total = profile
+            .iter()
+            .find(|e| e.function == "dynamics")
+            .map(|e| e.median_ns);
+        let _ = writeln!(
+            md,
+            "\n## Where one right-hand side of the paper's model goes\n\n`(N, K) = (2, 1)` at the state of `t = 0.5 s`; \
+             criterion medians.\n\n| part | time | share of `dynamics` |\n|---|---|---|"
+        );
+        let order = [
+            "dynamics",
+            "lagrangian_derivatives (passes A, B, C)",
+            "velocity_hessian (pass A)",
+            "constraint_derivatives (two passes)",
+            "saddle::solve (3 × 3)",
+            "dynamics over Dual64 (one Jacobian column)",
+            "hand-written full rhs",
+            "hand-written (42.28) rhs",
+            "hand-written full jacobian",
+        ];
+        let rank = |e: &Estimate| {
+            order
+                .iter()
+                .position(|o| *o == e.function)
+                .unwrap_or(order.len())
+        };
+        let mut profile = profile.clone();
+        profile.sort_by_key(|e| rank(e));
+        for e in &profile {
+            let share = total.map_or("–".to_string(), |t| {
+                format!("{:.0} %", 100.0 * e.median_ns / t)
+            });
+            let _ = writeln!(md, "| {} | {} | {share} |", cell(&e.function), ns(e));
+        }
+    }
+
+    let overhead = read_group(&criterion, "overhead")?;
+    if !overhead.is_empty() {
+        let base = overhead
+            .iter()
+            .find(|e| e.function.starts_with("K = 0"))
+            .map(|e| e.median_ns);
+        let _ = writeln!(
+            md,
+            "\n## An unused constraint, per right-hand side\n\nThe paper's particle, one `dynamics` \
+             evaluation; ratio to `K = 0`.\n\n| model | time | ratio |\n|---|---|---|"
+        );
+        for e in &overhead {
+            let r = base.map_or("–".to_string(), |b| format!("{:.2}", e.median_ns / b));
+            let _ = writeln!(md, "| {} | {} | {r} |", cell(&e.function), ns(e));
+        }
+    }
+    std::fs::write(out.join("benchmarks.md"), &md)?;
+    for (name, all, big) in exponents {
+        println!("growth exponent, {name}: {all:.2} (all n), {big:.2} (n ≥ 6)");
+    }
+    println!("written to {}", out.join("benchmarks.md").display());
+    Ok(())
+}

@@ -1,0 +1,589 @@
+//! The work-precision study: every method on a scene over a range of tolerances, with the error
+//! at the end time, the median run time and the work counters.
+
+use chetaev::backend::{solve_with_ode_solvers, OdeSolversMethod};
+use chetaev::integrate::driver::{solve_ode, OdeOptions};
+use chetaev::integrate::system::OdeSystem;
+use chetaev::integrate::Method;
+use chetaev::prelude::*;
+
+use crate::handwritten::{Full, Reduced};
+use crate::measure::{time_interleaved, time_median, Budget, Run};
+
+/// What happened to one configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    /// Integrated to the end time; the error and timing are measured.
+    Measured,
+    /// Not run, with the reason (the configuration makes no sense, or the solver refuses it).
+    Skipped(String),
+    /// Run, and the integration failed (the counters are those of the failed run).
+    Failed(String),
+}
+
+/// One point of a work-precision curve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    /// The scene's key.
+    pub scene: String,
+    /// The method (the ode_solvers backend and the hand-written systems say so in the name).
+    pub method: String,
+    /// The tolerance asked for (`rtol`, and `atol` as the scene says); NaN for a fixed step.
+    pub tolerance: f64,
+    /// The fixed step; NaN for adaptive methods.
+    pub step: f64,
+    /// What happened.
+    pub outcome: Outcome,
+    /// The error at the end time, as the scene measures it; NaN unless measured.
+    pub error: f64,
+    /// Median wall time, seconds; NaN unless measured.
+    pub seconds: f64,
+    /// Timed runs.
+    pub repeats: usize,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: usize,
+    /// Jacobian evaluations.
+    pub jacobian_evaluations: usize,
+    /// Evaluations for recorded diagnostics.
+    pub output_evaluations: usize,
+    /// Accepted steps.
+    pub accepted_steps: usize,
+    /// Rejected steps.
+    pub rejected_steps: usize,
+}
+
+impl Point {
+    fn new(scene: &str, method: &str, tolerance: f64, step: f64, outcome: Outcome) -> Self {
+        Self {
+            scene: scene.to_string(),
+            method: method.to_string(),
+            tolerance,
+            step,
+            outcome,
+            error: f64::NAN,
+            seconds: f64::NAN,
+            repeats: 0,
+            rhs_evaluations: 0,
+            jacobian_evaluations: 0,
+            output_evaluations: 0,
+            accepted_steps: 0,
+            rejected_steps: 0,
+        }
+    }
+
+    fn with_stats(mut self, s: &chetaev::integrate::system::Stats) -> Self {
+        self.rhs_evaluations = s.rhs_evaluations;
+        self.jacobian_evaluations = s.jacobian_evaluations;
+        self.output_evaluations = s.output_evaluations;
+        self.accepted_steps = s.accepted_steps;
+        self.rejected_steps = s.rejected_steps;
+        self
+    }
+
+    /// Whether the point was measured.
+    pub fn is_measured(&self) -> bool {
+        self.outcome == Outcome::Measured
+    }
+}
+
+/// The `(error, seconds)` curve of one method, in the order of the points (tightening tolerance
+/// or shrinking step), measured points only.
+pub fn curve(points: &[Point], method: &str) -> Vec<(f64, f64)> {
+    points
+        .iter()
+        .filter(|p| p.method == method && p.is_measured())
+        .map(|p| (p.error, p.seconds))
+        .collect()
+}
+
+/// The error measure of a scene: the end state `(q, q̇)` against its reference, as one number.
+pub type ErrorFn<const N: usize> = Box<dyn Fn(&SVector<f64, N>, &SVector<f64, N>) -> f64>;
+
+/// One scene of the study.
+pub struct Scene<M, const N: usize, const K: usize> {
+    /// Short name, used for file names.
+    pub key: &'static str,
+    /// Title for tables and diagrams.
+    pub title: String,
+    /// What the error is measured against, and how it is scaled.
+    pub reference: String,
+    /// The problem.
+    pub problem: Problem<M, N, K>,
+    /// The end time.
+    pub t_end: f64,
+    /// The error of the end state.
+    pub error: ErrorFn<N>,
+    /// The options of chetaev's adaptive methods at tolerance `tol` (without output settings).
+    pub options: Box<dyn Fn(f64) -> Options<N>>,
+    /// The absolute tolerance handed to ode_solvers (one scalar) at tolerance `tol`.
+    pub ode_solvers_atol: Box<dyn Fn(f64) -> f64>,
+    /// Step counts for `Rk4`, or why it is not run.
+    pub rk4_steps: Result<Vec<usize>, String>,
+    /// Why ode_solvers is not run, if it is not.
+    pub ode_solvers_skip: Option<String>,
+}
+
+/// The settings of a study.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyConfig {
+    /// Tolerances, loosest first.
+    pub tolerances: Vec<f64>,
+    /// Timing of each configuration.
+    pub budget: Budget,
+    /// Step limit of every run (accepted plus rejected).
+    pub max_steps: usize,
+}
+
+impl Default for StudyConfig {
+    fn default() -> Self {
+        Self {
+            tolerances: (3..=14).map(|k| 10f64.powi(-k)).collect(),
+            budget: Budget::default(),
+            max_steps: 200_000,
+        }
+    }
+}
+
+/// One untimed run of `method` on `scene`: the point with its error and counters, not yet timed
+/// (a refused configuration is skipped, a failed run is reported with its counters).
+fn chetaev_evaluate<M, Me, const N: usize, const K: usize>(
+    scene: &Scene<M, N, K>,
+    method: Me,
+    tolerance: f64,
+    step: f64,
+    options: &Options<N>,
+) -> Point
+where
+    M: Model<N, K>,
+    Me: Method + Copy,
+{
+    let name = method.name();
+    match solve(&scene.problem, method, options) {
+        Err(e) => Point::new(
+            scene.key,
+            name,
+            tolerance,
+            step,
+            Outcome::Skipped(e.to_string()),
+        ),
+        Ok(sol) => end_point(scene, name, tolerance, step, &sol),
+    }
+}
+
+/// The point of a finished run: its counters, and its end-state error where it reached `t_end`.
+fn end_point<M, const N: usize, const K: usize>(
+    scene: &Scene<M, N, K>,
+    name: &str,
+    tolerance: f64,
+    step: f64,
+    sol: &Solution<N, K>,
+) -> Point {
+    let mut p =
+        Point::new(scene.key, name, tolerance, step, Outcome::Measured).with_stats(&sol.stats);
+    if let Some(e) = sol.error() {
+        p.outcome = Outcome::Failed(e.to_string());
+        return p;
+    }
+    match sol.last() {
+        Some((t, q, qd)) if (t - scene.t_end).abs() <= 1e-12 * scene.t_end.abs().max(1.0) => {
+            p.error = (scene.error)(&q, &qd);
+        }
+        Some((t, _, _)) => {
+            p.outcome =
+                Outcome::Failed(format!("stopped at t = {t} before t_end = {}", scene.t_end));
+        }
+        None => p.outcome = Outcome::Failed("nothing recorded".to_string()),
+    }
+    p
+}
+
+/// Fills in the median time of `run` when `p` was measured.
+fn timed<T, E: std::fmt::Display>(
+    mut p: Point,
+    budget: &Budget,
+    run: impl FnMut() -> Result<T, E>,
+) -> Point {
+    if !p.is_measured() {
+        return p;
+    }
+    match time_median(budget, run) {
+        Ok((_, timing)) => {
+            p.seconds = timing.median;
+            p.repeats = timing.repeats;
+        }
+        Err(e) => p.outcome = Outcome::Failed(e.to_string()),
+    }
+    p
+}
+
+/// Times `method` on `scene` with `options`, returning the point.
+fn chetaev_point<M, Me, const N: usize, const K: usize>(
+    scene: &Scene<M, N, K>,
+    method: Me,
+    tolerance: f64,
+    step: f64,
+    options: &Options<N>,
+    budget: &Budget,
+) -> Point
+where
+    M: Model<N, K>,
+    Me: Method + Copy,
+{
+    let p = chetaev_evaluate(scene, method, tolerance, step, options);
+    timed(p, budget, || solve(&scene.problem, method, options))
+}
+
+fn ode_solvers_point<M, const N: usize, const K: usize>(
+    scene: &Scene<M, N, K>,
+    method: OdeSolversMethod,
+    tolerance: f64,
+    budget: &Budget,
+) -> Point
+where
+    M: Model<N, K>,
+{
+    let name = method.name();
+    if let Some(reason) = &scene.ode_solvers_skip {
+        return Point::new(
+            scene.key,
+            name,
+            tolerance,
+            f64::NAN,
+            Outcome::Skipped(reason.clone()),
+        );
+    }
+    let atol = (scene.ode_solvers_atol)(tolerance);
+    let run = || solve_with_ode_solvers(&scene.problem, method, scene.t_end, tolerance, atol);
+    let p = match run() {
+        Err(e) => {
+            return Point::new(
+                scene.key,
+                name,
+                tolerance,
+                f64::NAN,
+                Outcome::Skipped(e.to_string()),
+            )
+        }
+        Ok(sol) => end_point(scene, name, tolerance, f64::NAN, &sol),
+    };
+    timed(p, budget, run)
+}
+
+/// The options of the adaptive methods on `scene` at `tol`: no diagnostics, output at the end.
+fn adaptive_options<M, const N: usize, const K: usize>(
+    scene: &Scene<M, N, K>,
+    config: &StudyConfig,
+    tol: f64,
+) -> Options<N> {
+    (scene.options)(tol)
+        .output_final()
+        .record(Record::State)
+        .max_steps(config.max_steps)
+}
+
+/// The options of `Rk4` with `n` steps to the end of `scene`.
+fn rk4_options<M, const N: usize, const K: usize>(
+    scene: &Scene<M, N, K>,
+    config: &StudyConfig,
+    n: usize,
+) -> Options<N> {
+    Options::until(scene.t_end)
+        .output_final()
+        .record(Record::State)
+        .max_steps(config.max_steps.max(n + 1))
+}
+
+/// Runs the whole study on one scene: chetaev's `Dopri5`, `Dop853`, `Rodas4` over the tolerances,
+/// `Rk4` over the step counts, and ode_solvers' `Dopri5`, `Dop853` over the tolerances. `progress`
+/// is told the name of each method as it starts.
+pub fn run_scene<M, const N: usize, const K: usize>(
+    scene: &Scene<M, N, K>,
+    config: &StudyConfig,
+    progress: &mut dyn FnMut(&str),
+) -> Vec<Point>
+where
+    M: Model<N, K>,
+{
+    let mut points = Vec::new();
+    let b = &config.budget;
+    progress("Dopri5");
+    for &tol in &config.tolerances {
+        let o = adaptive_options(scene, config, tol);
+        points.push(chetaev_point(
+            scene,
+            Dopri5::default(),
+            tol,
+            f64::NAN,
+            &o,
+            b,
+        ));
+    }
+    progress("Dop853");
+    for &tol in &config.tolerances {
+        let o = adaptive_options(scene, config, tol);
+        points.push(chetaev_point(
+            scene,
+            Dop853::default(),
+            tol,
+            f64::NAN,
+            &o,
+            b,
+        ));
+    }
+    progress("Rodas4");
+    for &tol in &config.tolerances {
+        let o = adaptive_options(scene, config, tol);
+        points.push(chetaev_point(scene, Rodas4, tol, f64::NAN, &o, b));
+    }
+    progress("Rk4");
+    match &scene.rk4_steps {
+        Ok(steps) => {
+            for &n in steps {
+                let h = scene.t_end / n as f64;
+                let o = rk4_options(scene, config, n);
+                points.push(chetaev_point(scene, Rk4::new(h), f64::NAN, h, &o, b));
+            }
+        }
+        Err(reason) => points.push(Point::new(
+            scene.key,
+            "Rk4",
+            f64::NAN,
+            f64::NAN,
+            Outcome::Skipped(reason.clone()),
+        )),
+    }
+    for m in [OdeSolversMethod::Dopri5, OdeSolversMethod::Dop853] {
+        progress(m.name());
+        for &tol in &config.tolerances {
+            points.push(ode_solvers_point(scene, m, tol, b));
+        }
+    }
+    points
+}
+
+/// The error of a hand-written system's end state `y` (the system is passed for what it knows,
+/// such as a velocity eliminated from the state).
+pub type StateErrorFn<S> = Box<dyn Fn(&S, &[f64]) -> f64>;
+
+/// A hand-written system with its initial state and the error of its end state.
+pub struct HandWritten<S> {
+    /// Name in tables and diagrams.
+    pub name: &'static str,
+    /// A fresh system (counters at zero).
+    pub system: Box<dyn Fn() -> S>,
+    /// The initial state.
+    pub y0: Vec<f64>,
+    /// The end time.
+    pub t_end: f64,
+    /// The error of the end state.
+    pub error: StateErrorFn<S>,
+}
+
+/// The counters a hand-written system keeps.
+pub trait Counted {
+    /// `(right-hand sides, Jacobians)` so far.
+    fn counted(&self) -> (usize, usize);
+}
+
+impl Counted for Reduced {
+    fn counted(&self) -> (usize, usize) {
+        (self.counts.rhs, self.counts.jacobians)
+    }
+}
+
+impl Counted for Full {
+    fn counted(&self) -> (usize, usize) {
+        (self.counts.rhs, self.counts.jacobians)
+    }
+}
+
+/// One untimed run of a hand-written system: the point with its error and counters.
+fn handwritten_evaluate<S, Me>(
+    scene_key: &str,
+    hw: &HandWritten<S>,
+    method: Me,
+    tolerance: f64,
+    step: f64,
+    options: &OdeOptions,
+) -> Point
+where
+    S: OdeSystem + Counted,
+    Me: Method + Copy,
+{
+    let name = format!("{} {}", method.name(), hw.name);
+    let mut sys = (hw.system)();
+    let sol = match solve_ode(&mut sys, method, 0.0, &hw.y0, options) {
+        Ok(sol) => sol,
+        Err(e) => {
+            return Point::new(
+                scene_key,
+                &name,
+                tolerance,
+                step,
+                Outcome::Skipped(e.to_string()),
+            )
+        }
+    };
+    let (rhs, jac) = sys.counted();
+    let mut p = Point::new(scene_key, &name, tolerance, step, Outcome::Measured);
+    p.rhs_evaluations = rhs;
+    p.jacobian_evaluations = jac;
+    p.accepted_steps = sol.stats.accepted_steps;
+    p.rejected_steps = sol.stats.rejected_steps;
+    if let Some(e) = sol.error {
+        p.outcome = Outcome::Failed(e.to_string());
+        return p;
+    }
+    match (sol.t.last(), sol.y.last()) {
+        (Some(&t), Some(y)) if (t - hw.t_end).abs() <= 1e-12 * hw.t_end.abs().max(1.0) => {
+            p.error = (hw.error)(&sys, y);
+        }
+        _ => p.outcome = Outcome::Failed("did not reach t_end".to_string()),
+    }
+    p
+}
+
+/// chetaev on `scene` and the two hand-written systems with the same method and setting, timed
+/// interleaved ([`time_interleaved`]) so that all three see the same background load.
+#[allow(clippy::too_many_arguments)]
+fn limit_triple<M, Me>(
+    scene: &Scene<M, 2, 1>,
+    reduced: &HandWritten<Reduced>,
+    full: &HandWritten<Full>,
+    method: Me,
+    tolerance: f64,
+    step: f64,
+    options: &Options<2>,
+    ode_options: &OdeOptions,
+    budget: &Budget,
+) -> [Point; 3]
+where
+    M: Model<2, 1>,
+    Me: Method + Copy,
+{
+    let mut points = [
+        chetaev_evaluate(scene, method, tolerance, step, options),
+        handwritten_evaluate(scene.key, reduced, method, tolerance, step, ode_options),
+        handwritten_evaluate(scene.key, full, method, tolerance, step, ode_options),
+    ];
+    let mut which = Vec::new();
+    let mut runs: Vec<Run<'_, chetaev::Error>> = Vec::new();
+    if points[0].is_measured() {
+        which.push(0);
+        runs.push(Box::new(|| {
+            solve(&scene.problem, method, options).map(|_| ())
+        }));
+    }
+    if points[1].is_measured() {
+        which.push(1);
+        runs.push(Box::new(|| {
+            let mut sys = (reduced.system)();
+            solve_ode(&mut sys, method, 0.0, &reduced.y0, ode_options).map(|_| ())
+        }));
+    }
+    if points[2].is_measured() {
+        which.push(2);
+        runs.push(Box::new(|| {
+            let mut sys = (full.system)();
+            solve_ode(&mut sys, method, 0.0, &full.y0, ode_options).map(|_| ())
+        }));
+    }
+    match time_interleaved(budget, &mut runs) {
+        Ok(timings) => {
+            for (&i, t) in which.iter().zip(timings) {
+                points[i].seconds = t.median;
+                points[i].repeats = t.repeats;
+            }
+        }
+        Err(e) => {
+            for &i in &which {
+                points[i].outcome = Outcome::Failed(e.to_string());
+            }
+        }
+    }
+    points
+}
+
+/// The limit: `Dopri5`, `Dop853`, `Rodas4` over the tolerances and `Rk4` over `rk4_steps`, each on
+/// the paper's model through chetaev (`scene`) and on the two hand-written systems through the
+/// same driver ([`solve_ode`]), the three timed interleaved at every setting.
+pub fn run_limit<M>(
+    scene: &Scene<M, 2, 1>,
+    reduced: &HandWritten<Reduced>,
+    full: &HandWritten<Full>,
+    config: &StudyConfig,
+    rk4_steps: &[usize],
+) -> Vec<Point>
+where
+    M: Model<2, 1>,
+{
+    let mut points = Vec::new();
+    let b = &config.budget;
+    let ode_options = |tol: f64| {
+        let mut o = OdeOptions::until(scene.t_end).tolerances(tol, tol);
+        o.output = Output::Final;
+        o.max_steps = config.max_steps;
+        o
+    };
+    for &tol in &config.tolerances {
+        let (o, oo) = (adaptive_options(scene, config, tol), ode_options(tol));
+        points.extend(limit_triple(
+            scene,
+            reduced,
+            full,
+            Dopri5::default(),
+            tol,
+            f64::NAN,
+            &o,
+            &oo,
+            b,
+        ));
+    }
+    for &tol in &config.tolerances {
+        let (o, oo) = (adaptive_options(scene, config, tol), ode_options(tol));
+        points.extend(limit_triple(
+            scene,
+            reduced,
+            full,
+            Dop853::default(),
+            tol,
+            f64::NAN,
+            &o,
+            &oo,
+            b,
+        ));
+    }
+    for &tol in &config.tolerances {
+        let (o, oo) = (adaptive_options(scene, config, tol), ode_options(tol));
+        points.extend(limit_triple(
+            scene,
+            reduced,
+            full,
+            Rodas4,
+            tol,
+            f64::NAN,
+            &o,
+            &oo,
+            b,
+        ));
+    }
+    for &n in rk4_steps {
+        let h = scene.t_end / n as f64;
+        let o = rk4_options(scene, config, n);
+        let mut oo = OdeOptions::until(scene.t_end);
+        oo.output = Output::Final;
+        oo.max_steps = config.max_steps.max(n + 1);
+        points.extend(limit_triple(
+            scene,
+            reduced,
+            full,
+            Rk4::new(h),
+            f64::NAN,
+            h,
+            &o,
+            &oo,
+            b,
+        ));
+    }
+    points
+}
