@@ -92,3 +92,37 @@ fn projection_work_is_counted() {
         p.model().f_calls.get() >= 2 * s.rhs_evaluations + s.projections + s.projection_iterations
     );
 }
+
+#[test]
+fn dop853_pays_for_its_dense_output_only_when_something_interpolates() {
+    // A step costs 11 new stages and the derivative at the new point; the continuous extension
+    // 3 more per accepted step, needed only for output times and events.
+    let lean = solve(
+        &problem(),
+        Dop853::default(),
+        &Options::until(1.0)
+            .tolerances(1e-10, 1e-10)
+            .record(Record::State),
+    )
+    .expect("valid");
+    let s = lean.stats;
+    assert_eq!(
+        s.rhs_evaluations,
+        11 * s.rejected_steps + 12 * s.accepted_steps + 1 + 2
+    );
+    let times = Options::until(1.0)
+        .tolerances(1e-10, 1e-10)
+        .record(Record::State)
+        .output_times(vec![0.5]);
+    let dense = solve(&problem(), Dop853::default(), &times).expect("valid");
+    let d = dense.stats;
+    assert_eq!(
+        d.rhs_evaluations,
+        11 * d.rejected_steps + 15 * d.accepted_steps + 1 + 2
+    );
+    assert_eq!(
+        lean.last().map(|l| l.1),
+        dense.last().map(|l| l.1),
+        "the motion does not change"
+    );
+}

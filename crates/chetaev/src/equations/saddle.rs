@@ -120,28 +120,6 @@ pub fn solve_blocks<T: Real>(
     s: impl Fn(usize) -> T,
 ) -> Result<f64, SaddleFailure> {
     let m = n + k;
-    let finite = |x: T| x.re().is_finite();
-    let all_finite = (0..n).all(|i| finite(r(i)) && (0..n).all(|c| finite(w(i, c))))
-        && (0..k).all(|a| finite(s(a)) && (0..n).all(|i| finite(j(a, i))));
-    if !all_finite {
-        return Err(SaddleFailure::NonFinite);
-    }
-
-    // Scale each constraint row to the magnitude of W: J̃ = D J, μ̃ = D⁻¹ μ.
-    let w_scale = (0..n)
-        .flat_map(|i| (0..n).map(move |c| (i, c)))
-        .fold(0.0f64, |acc, (i, c)| acc.max(w(i, c).re().abs()));
-    let w_scale = if w_scale > 0.0 { w_scale } else { 1.0 };
-    ws.scale.clear();
-    for a in 0..k {
-        let jmax = (0..n).fold(0.0f64, |acc, i| acc.max(j(a, i).re().abs()));
-        if jmax == 0.0 {
-            return Err(SaddleFailure::ZeroConstraintRow { row: a });
-        }
-        ws.scale.push(w_scale / jmax);
-    }
-
-    // Assemble the row-major (n+k)² matrix and the right-hand side.
     ws.a.clear();
     ws.a.resize(m * m, T::zero());
     ws.b.clear();
@@ -150,20 +128,58 @@ pub fn solve_blocks<T: Real>(
     ws.x.resize(m, T::zero());
     ws.col.clear();
     ws.col.extend(0..m);
-    let a = &mut ws.a;
+    ws.scale.clear();
+
+    // One pass over the blocks: assemble W, J and the right-hand side, check that every entry is
+    // finite, and find the magnitudes that scale the constraint rows.
+    let mut finite = true;
+    let mut w_scale = 0.0f64;
     for i in 0..n {
-        for c in 0..n {
-            a[i * m + c] = w(i, c);
+        for (c, x) in ws.a[i * m..i * m + n].iter_mut().enumerate() {
+            let v = w(i, c);
+            let re = v.re();
+            finite &= re.is_finite();
+            w_scale = w_scale.max(re.abs());
+            *x = v;
         }
-        for (c, d) in ws.scale.iter().enumerate() {
-            let jci = j(c, i) * *d;
-            a[i * m + n + c] = -jci;
-            a[(n + c) * m + i] = jci;
-        }
-        ws.b[i] = r(i);
+        let v = r(i);
+        finite &= v.re().is_finite();
+        ws.b[i] = v;
     }
-    for (c, d) in ws.scale.iter().enumerate() {
-        ws.b[n + c] = s(c) * *d;
+    for a in 0..k {
+        let mut j_max = 0.0f64;
+        for (i, x) in ws.a[(n + a) * m..(n + a) * m + n].iter_mut().enumerate() {
+            let v = j(a, i);
+            let re = v.re();
+            finite &= re.is_finite();
+            j_max = j_max.max(re.abs());
+            *x = v;
+        }
+        ws.scale.push(j_max);
+        let v = s(a);
+        finite &= v.re().is_finite();
+        ws.b[n + a] = v;
+    }
+    if !finite {
+        return Err(SaddleFailure::NonFinite);
+    }
+
+    // Scale each constraint row to the magnitude of W, J̃ = D J, μ̃ = D⁻¹ μ, and mirror it into the
+    // upper right block as −J̃ᵀ.
+    let w_scale = if w_scale > 0.0 { w_scale } else { 1.0 };
+    let a = &mut ws.a;
+    for (c, d) in ws.scale.iter_mut().enumerate() {
+        if *d == 0.0 {
+            return Err(SaddleFailure::ZeroConstraintRow { row: c });
+        }
+        *d = w_scale / *d;
+        let row = n + c;
+        for i in 0..n {
+            let v = a[row * m + i] * *d;
+            a[row * m + i] = v;
+            a[i * m + row] = -v;
+        }
+        ws.b[row] *= *d;
     }
 
     let (pivot_ratio, singular) = eliminate(a, &mut ws.b, &mut ws.col, m);

@@ -227,6 +227,7 @@ impl Method for Dop853 {
             err3: vec![0.0; dim],
             rcont: std::array::from_fn(|_| vec![0.0; dim]),
             stiffness: StiffnessTest::new(self.stiffness_detection, STIFF_H_LAMBDA),
+            dense: true,
         }
     }
 }
@@ -243,6 +244,8 @@ pub struct Dop853Stepper {
     err3: Vec<f64>,
     rcont: [Vec<f64>; 8],
     stiffness: StiffnessTest,
+    /// Whether `accept` prepares the dense output (three more stages per step).
+    dense: bool,
 }
 
 impl Stepper for Dop853Stepper {
@@ -387,6 +390,11 @@ impl Stepper for Dop853Stepper {
         sys.rhs(t + h, y_new, k13)?;
         // h·|λ| from stages 12 and 13, which share the node t + h.
         self.stiffness.observe(h, k13, k12, y_new, &self.ysti);
+        if !self.dense {
+            // Nothing will interpolate: skip the three extra stages.
+            k1.copy_from_slice(k13);
+            return Ok(());
+        }
         // The three stages of the continuous extension.
         let yt = &mut self.ytmp;
         combine(
@@ -514,6 +522,10 @@ impl Stepper for Dop853Stepper {
 
     fn stiffness(&self) -> Option<f64> {
         self.stiffness.detected()
+    }
+
+    fn set_dense_output(&mut self, needed: bool) {
+        self.dense = needed;
     }
 }
 

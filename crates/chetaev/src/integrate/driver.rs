@@ -495,6 +495,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     let dir = (t_end - t0).signum();
     let dim = y.len();
     let mut stepper = method.stepper(dim);
+    stepper.set_dense_output(hooks.n_events() > 0 || matches!(settings.output, Output::Times(_)));
     stepper.reset(sys, t0, y)?;
 
     let n_events = hooks.n_events();

@@ -71,6 +71,11 @@ pub trait Stepper {
     ) -> Result<(), Error>;
     /// The dense output `y(t + θh)`, `θ ∈ [0, 1]`, of the last accepted step.
     fn interpolate(&self, theta: f64, out: &mut [f64]);
+    /// Whether anything will call [`Stepper::interpolate`] (output at requested times, events).
+    /// A method whose dense output costs extra work may skip it when not; the default ignores it.
+    fn set_dense_output(&mut self, needed: bool) {
+        let _ = needed;
+    }
     /// `Some(h·|λ|)` when the method has detected stiffness on the last steps.
     fn stiffness(&self) -> Option<f64> {
         None
