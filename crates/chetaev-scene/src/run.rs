@@ -9,7 +9,6 @@
 use std::sync::Arc;
 
 use chetaev::dynamic::{solve_dyn, DynEvent, DynOptions, DynProblem, DynSolution};
-use chetaev::integrate::system::Stats;
 use chetaev::prelude::*;
 
 use crate::error::Error;
@@ -32,45 +31,28 @@ pub struct EventRecord {
     pub qd: Vec<f64>,
 }
 
-/// What an integration of a scene produced, sized at run time. Vectors of diagnostics are empty
-/// unless a table or picture asked for them.
+/// What an integration of a scene produced: the library's [`DynSolution`] (whose fields it
+/// dereferences to: `t`, `q`, `qd`, `qdd`, `mu`, `phi`, `residual`, `energy`, `work`, `stats`,
+/// `status`, ...), with the events named and the energy balance computed. Vectors of diagnostics are
+/// empty unless a table or picture asked for them.
 #[derive(Clone, Debug)]
 #[must_use = "an outcome carries a status that says whether the integration succeeded"]
 pub struct Outcome {
-    /// The method's name.
-    pub method: &'static str,
-    /// What was recorded at each output point.
-    pub record: Record,
-    /// Output times.
-    pub t: Vec<f64>,
-    /// Coordinates at the output times.
-    pub q: Vec<Vec<f64>>,
-    /// Velocities.
-    pub qd: Vec<Vec<f64>>,
-    /// Accelerations ([`Record::Dynamics`]).
-    pub qdd: Vec<Vec<f64>>,
-    /// Multipliers `μ` ([`Record::Dynamics`]).
-    pub mu: Vec<Vec<f64>>,
-    /// The Chetaev force `Φ = Jᵀμ` ([`Record::Dynamics`]).
-    pub phi: Vec<Vec<f64>>,
-    /// Constraint residuals `f` ([`Record::Dynamics`]).
-    pub residual: Vec<Vec<f64>>,
-    /// Energy `E = q̇·∂L/∂q̇ − L` ([`Record::Dynamics`]).
-    pub energy: Vec<f64>,
-    /// Work of the Chetaev force since the start ([`Record::Energy`]).
-    pub work: Vec<f64>,
-    /// `∫∂L/∂t dt` since the start ([`Record::Energy`]).
-    pub dl_dt_integral: Vec<f64>,
+    /// The motion and its diagnostics.
+    pub solution: DynSolution,
     /// `E − E(t0) − W_Φ + ∫∂L/∂t dt`, zero along an exact motion ([`Record::Energy`]).
     pub balance: Vec<f64>,
-    /// Located events in the order they occurred.
+    /// Located events in the order they occurred, with their names.
     pub events: Vec<EventRecord>,
-    /// Work counters of the integration that recorded the motion.
-    pub stats: Stats,
     /// Integrations run: 2 when an output grid ends at a terminal event (the first finds where).
     pub passes: usize,
-    /// Why it stopped.
-    pub status: Status,
+}
+
+impl std::ops::Deref for Outcome {
+    type Target = DynSolution;
+    fn deref(&self) -> &DynSolution {
+        &self.solution
+    }
 }
 
 impl Outcome {
@@ -310,14 +292,14 @@ impl Scene {
             }
         };
         let sol = solve_dyn(problem, method, &options).map_err(|e| self.setup_error(e))?;
-        Ok(self.outcome(sol, options.common.record, passes))
+        Ok(self.outcome(sol, passes))
     }
 
-    fn outcome(&self, sol: DynSolution, record: Record, passes: usize) -> Outcome {
+    fn outcome(&self, sol: DynSolution, passes: usize) -> Outcome {
         let balance = sol.energy_balance();
         let events = sol
             .events
-            .into_iter()
+            .iter()
             .map(|h| EventRecord {
                 name: self
                     .events
@@ -325,28 +307,15 @@ impl Scene {
                     .map_or_else(|| format!("event {}", h.index), |e| e.name.clone()),
                 index: h.index,
                 t: h.t,
-                q: h.q,
-                qd: h.qd,
+                q: h.q.clone(),
+                qd: h.qd.clone(),
             })
             .collect();
         Outcome {
-            method: sol.method,
-            record,
-            t: sol.t,
-            q: sol.q,
-            qd: sol.qd,
-            qdd: sol.qdd,
-            mu: sol.mu,
-            phi: sol.phi,
-            residual: sol.residual,
-            energy: sol.energy,
-            work: sol.work,
-            dl_dt_integral: sol.dl_dt_integral,
+            solution: sol,
             balance,
             events,
-            stats: sol.stats,
             passes,
-            status: sol.status,
         }
     }
 }
