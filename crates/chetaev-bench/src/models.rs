@@ -11,7 +11,7 @@ use uniform_projectile::model::Projectile;
 /// `f = |q̇|² − v0² = 0`: `L = ½|q̇|² − g z`, coordinates `(x, y, z)`.
 ///
 /// The motion stays in the vertical plane of the initial velocity and is the paper's uniform
-/// motion (42.29)–(42.30) shifted in time ([`Particle3d::closed_form`]).
+/// motion (42.29)–(42.30) shifted in time ([`Launch3d::closed_form`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Particle3d {
     /// Gravitational acceleration.
