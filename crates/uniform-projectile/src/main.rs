@@ -1,39 +1,88 @@
 //! Verifies `chetaev` against the closed forms of the paper "Uniform horizontal projectile motion"
-//! (Swaczyna and Volný) and prints Table 42.1 rebuilt, the errors along both motions, observed
-//! orders of convergence, and error against run time.
+//! (Swaczyna and Volný).
+//!
+//! The first line of the output is the verdict (`VERIFIED: ...` or `NOT VERIFIED: ...`), then
+//! Table 42.1 rebuilt; the errors along both motions, the observed orders of convergence and error
+//! against run time follow on request (`--errors`, `--orders`, `--timing`, or all with `--full`).
+//! `--json` prints everything as one JSON object. The exit status is 0 when verified, 1 when not
+//! (or when the verification could not run), 2 on bad arguments.
+
+use std::io::{self, Write};
+use std::process::ExitCode;
 
 use clap::Parser;
 use uniform_projectile::closed_form::Params;
-use uniform_projectile::report::{build, MotionErrors, Report, Row, TableRow};
+use uniform_projectile::report::{build, MotionErrors, Report, Row, TableRow, LIMIT_PER_TOLERANCE};
 
 /// Command-line options.
 #[derive(Parser, Debug)]
 #[command(
     version,
-    about = "Verify chetaev against the paper's closed forms (42.4)-(42.42)"
+    about = "Verify chetaev against the paper's closed forms (42.4)-(42.42)",
+    long_about = "Verify chetaev against the closed forms (42.4)-(42.42) of the paper \"Uniform \
+                  horizontal projectile motion\" (Swaczyna and Volný).\n\n\
+                  Prints one line with the verdict (VERIFIED or NOT VERIFIED, with the largest \
+                  relative error and the limit), then Table 42.1 rebuilt. The other sections \
+                  follow on request.",
+    after_help = "Exit status: 0 verified, 1 not verified (or the verification could not run), \
+                  2 bad arguments."
 )]
 struct Cli {
     /// Initial speed v0 [m/s].
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 10.0, value_parser = positive)]
     v0: f64,
     /// Gravitational acceleration g [m/s²].
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 10.0, value_parser = positive)]
     g: f64,
     /// Initial height h0 [m].
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 5.0, value_parser = positive)]
     h0: f64,
     /// Mass m [kg].
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = positive)]
     m: f64,
     /// Relative and absolute tolerance of the table and error runs.
-    #[arg(long, default_value_t = 1e-12)]
+    #[arg(long, default_value_t = 1e-12, value_parser = positive)]
     tol: f64,
-    /// Print one JSON object instead of text.
+    /// Largest relative error accepted by the verdict [default: 100 × tol].
+    #[arg(long, value_parser = positive)]
+    limit: Option<f64>,
+    /// Also print the largest errors along both motions.
     #[arg(long)]
+    errors: bool,
+    /// Also print the observed orders of convergence.
+    #[arg(long)]
+    orders: bool,
+    /// Also print error against run time (machine-dependent).
+    #[arg(long)]
+    timing: bool,
+    /// Print every section (--errors --orders --timing).
+    #[arg(long)]
+    full: bool,
+    /// Print one JSON object with everything (verdict, table, errors, orders, timing) instead of
+    /// text.
+    #[arg(long, conflicts_with_all = ["errors", "orders", "timing", "full"])]
     json: bool,
 }
 
-fn main() {
+/// A finite, strictly positive number.
+fn positive(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|e| format!("{e}"))?;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("must be a finite positive number, got {v}"))
+    }
+}
+
+/// Which optional sections to print.
+#[derive(Clone, Copy)]
+struct Sections {
+    errors: bool,
+    orders: bool,
+    timing: bool,
+}
+
+fn main() -> ExitCode {
     let cli = Cli::parse();
     let params = Params {
         v0: cli.v0,
@@ -41,135 +90,268 @@ fn main() {
         h0: cli.h0,
         m: cli.m,
     };
-    for (name, v) in [
-        ("v0", cli.v0),
-        ("g", cli.g),
-        ("h0", cli.h0),
-        ("m", cli.m),
-        ("tol", cli.tol),
-    ] {
-        if !(v.is_finite() && v > 0.0) {
-            eprintln!("error: --{name} must be a finite positive number, got {v}");
-            std::process::exit(2);
-        }
-    }
-    let report = match build(&params, cli.tol) {
+    let mut report = match build(&params, cli.tol) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("error: {e}");
-            std::process::exit(1);
+            eprintln!("error: the verification could not run: {e}");
+            return ExitCode::FAILURE;
         }
     };
-    if cli.json {
-        match serde_json::to_string_pretty(&report) {
-            Ok(s) => println!("{s}"),
-            Err(e) => {
-                eprintln!("error: {e}");
-                std::process::exit(1);
-            }
-        }
+    if let Some(limit) = cli.limit {
+        report.verdict = report.judge(limit);
+    }
+    let status = if report.verdict.verified {
+        ExitCode::SUCCESS
     } else {
-        print_text(&report);
+        ExitCode::FAILURE
+    };
+    let written = if cli.json {
+        if !report.verdict.verified {
+            eprintln!("{}", verdict_line(&report));
+        }
+        write_json(&report)
+    } else {
+        let sections = Sections {
+            errors: cli.errors || cli.full,
+            orders: cli.orders || cli.full,
+            timing: cli.timing || cli.full,
+        };
+        write_text(&mut io::stdout().lock(), &report, sections)
+    };
+    match written {
+        // A reader that stops early (`| head`) is not an error; the verdict stands.
+        Err(e) if e.kind() != io::ErrorKind::BrokenPipe => {
+            eprintln!("error: writing the output: {e}");
+            ExitCode::FAILURE
+        }
+        _ => status,
     }
 }
 
-fn row(name: &str, r: &Row) {
-    println!(
-        "  {name:<13} {:>19.12} {:>19.12} {:>19.12} {:>19.12} {:>19.12}",
+fn write_json(report: &Report) -> io::Result<()> {
+    let mut out = io::stdout().lock();
+    serde_json::to_writer_pretty(&mut out, report)?;
+    writeln!(out)?;
+    out.flush()
+}
+
+/// A relative error: `0` when exact, otherwise two significant digits (`6.7e-16`).
+fn sci(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+/// A tolerance or limit: three significant digits at most, no trailing zeros (`1e-12`, `2.5e-3`).
+fn short(v: f64) -> String {
+    let rounded: f64 = format!("{v:.2e}").parse().unwrap_or(v);
+    format!("{rounded:e}")
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map_or_else(|| "-".into(), sci)
+}
+
+/// The one-line verdict.
+fn verdict_line(r: &Report) -> String {
+    let v = &r.verdict;
+    let limit = if v.limit == LIMIT_PER_TOLERANCE * r.tolerance {
+        format!("{} = {} × tol", short(v.limit), LIMIT_PER_TOLERANCE)
+    } else {
+        short(v.limit)
+    };
+    if v.verified {
+        format!(
+            "VERIFIED: chetaev reproduces the paper's closed forms (Table 42.1, motion, μ, Φ, \
+             energy) to {} relative (limit {limit})",
+            sci(v.largest)
+        )
+    } else {
+        format!(
+            "NOT VERIFIED: the largest relative error, {} ({}), is above the limit {limit} \
+             ({} quantities compared against the closed forms)",
+            sci(v.largest),
+            v.largest_of,
+            v.compared
+        )
+    }
+}
+
+fn write_text(out: &mut impl Write, r: &Report, s: Sections) -> io::Result<()> {
+    writeln!(out, "{}", verdict_line(r))?;
+    let p = &r.params;
+    writeln!(out)?;
+    writeln!(
+        out,
+        "Table 42.1 rebuilt: v0 = {} m/s, g = {} m/s², h0 = {} m, m = {} kg;",
+        p.v0, p.g, p.h0, p.m
+    )?;
+    writeln!(
+        out,
+        "integrated by chetaev (Dop853, rtol = atol = {}), impact located as the event y = 0",
+        short(r.tolerance)
+    )?;
+    writeln!(
+        out,
+        "  {:<13} {:>16} {:>16} {:>16} {:>16} {:>16}",
+        "", "T [s]", "R [m]", "v_R [m/s]", "angle [deg]", "s [m]"
+    )?;
+    motion(out, "classical (42.4)-(42.16)", &r.table.classical)?;
+    motion(out, "uniform (42.29)-(42.38)", &r.table.uniform)?;
+    if s.errors {
+        errors_section(out, r)?;
+    }
+    if s.orders {
+        orders_section(out, r)?;
+    }
+    if s.timing {
+        timing_section(out, r)?;
+    }
+    if !(s.errors && s.orders && s.timing) {
+        writeln!(
+            out,
+            "\nMore: --errors (along the motion), --orders (convergence), --timing (error against \
+             run time), --full (all), --json."
+        )?;
+    }
+    out.flush()
+}
+
+fn row(out: &mut impl Write, name: &str, r: &Row) -> io::Result<()> {
+    writeln!(
+        out,
+        "  {name:<13} {:>16.12} {:>16.12} {:>16.12} {:>16.12} {:>16.12}",
         r.t, r.r, r.v_r, r.impact_angle_deg, r.s
-    );
+    )
 }
 
-fn err_row(r: &Row) {
-    println!(
-        "  {:<13} {:>19.1e} {:>19.1e} {:>19.1e} {:>19.1e} {:>19.1e}",
-        "rel. error", r.t, r.r, r.v_r, r.impact_angle_deg, r.s
-    );
+fn motion(out: &mut impl Write, name: &str, t: &TableRow) -> io::Result<()> {
+    writeln!(out, "{name}")?;
+    row(out, "numerical", &t.numerical)?;
+    row(out, "closed form", &t.closed_form)?;
+    let e = &t.rel_error;
+    writeln!(
+        out,
+        "  {:<13} {:>16} {:>16} {:>16} {:>16} {:>16}",
+        "rel. error",
+        sci(e.t),
+        sci(e.r),
+        sci(e.v_r),
+        sci(e.impact_angle_deg),
+        sci(e.s)
+    )
 }
 
-fn motion(name: &str, t: &TableRow) {
-    println!("{name}");
-    row("numerical", &t.numerical);
-    row("closed form", &t.closed_form);
-    err_row(&t.rel_error);
-}
-
-fn errors(name: &str, e: &MotionErrors) {
-    let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1e}"));
-    println!(
-        "  {name:<9} {:>8.1e} {:>8.1e} {:>8.1e} {:>8.1e} {:>8.1e} {:>8.1e} {:>8.1e} {:>8} {:>8} {:>8} {:>8} {:>8.1e}  ({} points)",
-        e.x,
-        e.y,
-        e.xd,
-        e.yd,
-        e.xdd,
-        e.ydd,
-        e.curvature,
+fn errors_row(out: &mut impl Write, name: &str, e: &MotionErrors) -> io::Result<()> {
+    writeln!(
+        out,
+        "  {name:<9} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>6}",
+        sci(e.x),
+        sci(e.y),
+        sci(e.xd),
+        sci(e.yd),
+        sci(e.xdd),
+        sci(e.ydd),
+        sci(e.curvature),
         opt(e.mu),
         opt(e.phi),
         opt(e.residual),
         opt(e.work_vs_potential),
-        e.energy_balance,
+        sci(e.energy_balance),
         e.points
-    );
+    )
 }
 
-fn print_text(r: &Report) {
-    let p = &r.params;
-    println!(
-        "Uniform horizontal projectile (Swaczyna and Volný): v0 = {} m/s, g = {} m/s², h0 = {} m, m = {} kg",
-        p.v0, p.g, p.h0, p.m
-    );
-    println!(
-        "Integrated by chetaev (Dop853, rtol = atol = {:e}), impact located as an event y = 0.\n",
-        r.tolerance
-    );
-    println!("Table 42.1 rebuilt");
-    println!(
-        "  {:<13} {:>19} {:>19} {:>19} {:>19} {:>19}",
-        "", "T [s]", "R [m]", "v_R [m/s]", "angle [deg]", "s [m]"
-    );
-    motion("classical (42.4)-(42.16)", &r.table.classical);
-    motion("uniform (42.29)-(42.38)", &r.table.uniform);
+fn errors_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
+    writeln!(
+        out,
+        "\nLargest error along the motion, at the accepted steps, each relative to its scale"
+    )?;
+    writeln!(
+        out,
+        "  {:<9} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>6}",
+        "motion",
+        "x",
+        "y",
+        "ẋ",
+        "ẏ",
+        "ẍ",
+        "ÿ",
+        "κ",
+        "μ",
+        "|Φ|",
+        "|f|",
+        "W_Φ−ΔV",
+        "E bal.",
+        "points"
+    )?;
+    errors_row(out, "classical", &r.classical_errors)?;
+    errors_row(out, "uniform", &r.uniform_errors)?;
+    for line in [
+        "  scales: x/R, y/h0, ẋ/v0, ẏ/v_R, ẍ/g, ÿ/g, κ/(g/v0²), μ/(m g/2v0), |Φ|/(m g), |f|/v0²,",
+        "          (W_Φ − ΔV)/(m g h0), E bal./(m v0² + m g h0); μ, Φ, f: uniform motion only",
+        "  W_Φ − ΔV: the work of the Chetaev force minus the change of potential energy m g (y − h0)",
+        "  E bal.: E − E(0) − W_Φ + ∫∂L/∂t dt, with E = q̇·∂L/∂q̇ − L",
+    ] {
+        writeln!(out, "{line}")?;
+    }
+    Ok(())
+}
 
-    println!("\nLargest error along the motion (relative: x/R, y/h0, ẋ/v0, ẏ/v_R, q̈/g, κ/(g/v0²), μ/(mg/2v0), |Φ|/(mg), |f|/v0², work/(mgh0), balance/(mv0²+mgh0))");
-    println!(
-        "  {:<9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
-        "motion", "x", "y", "ẋ", "ẏ", "ẍ", "ÿ", "κ", "μ", "|Φ|", "|f|", "W_Φ−ΔV", "E bal."
-    );
-    errors("classical", &r.classical_errors);
-    errors("uniform", &r.uniform_errors);
-    println!("  W_Φ − ΔV: the work of the Chetaev force minus the change of potential energy m g (y − h0);");
-    println!("  E bal.: E − E(0) − W_Φ + ∫∂L/∂t dt, with E = q̇·∂L/∂q̇ − L.");
-
-    println!("\nObserved order of convergence (uniform motion, end state at t = T)");
+fn orders_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
+    writeln!(
+        out,
+        "\nObserved order of convergence (uniform motion, end state at t = T)"
+    )?;
     for c in &r.convergence {
         let what = if c.against == "h" {
             "order: error vs fixed step h, halving"
         } else {
             "tolerance proportionality: error vs tol"
         };
-        println!(
-            "  {:<7} {:<48} observed {:>5.2}   expected {:.0}",
+        writeln!(
+            out,
+            "  {:<7} {:<40} observed {:>5.2}   expected {}",
             c.method, what, c.order, c.expected
-        );
+        )?;
     }
+    Ok(())
+}
 
-    println!("\nError against run time (uniform motion to t = T; state only recorded; median of repeated runs)");
-    println!(
-        "  {:<7} {:>10} {:>10} {:>12} {:>8} {:>7} {:>8}",
-        "method", "tol or h", "error", "time [µs]", "RHS", "steps", "repeats"
-    );
+fn timing_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
+    writeln!(
+        out,
+        "\nError against run time (uniform motion to t = T; median of repeated runs, machine-dependent)"
+    )?;
+    writeln!(
+        out,
+        "  {:<7} {:>6} {:>9} {:>8} {:>10} {:>6} {:>6} {:>8}",
+        "method", "tol", "h [s]", "error", "time [µs]", "RHS", "steps", "repeats"
+    )?;
     for w in &r.work_precision {
-        println!(
-            "  {:<7} {:>10.0e} {:>10.1e} {:>12.1} {:>8} {:>7} {:>8}",
+        let (tol, h) = if w.fixed_step {
+            ("-".to_string(), format!("{:.3e}", w.tolerance))
+        } else {
+            (short(w.tolerance), "-".to_string())
+        };
+        writeln!(
+            out,
+            "  {:<7} {:>6} {:>9} {:>8} {:>10.1} {:>6} {:>6} {:>8}",
             w.method,
-            w.tolerance,
-            w.error,
+            tol,
+            h,
+            sci(w.error),
             w.seconds * 1e6,
             w.rhs_evaluations,
             w.steps,
             w.repeats
-        );
+        )?;
     }
+    writeln!(
+        out,
+        "  error: the largest of |Δx|, |Δy| over max(h0, R) and |Δẋ|, |Δẏ| over v0 at t = T;\n  \
+         state only recorded"
+    )
 }

@@ -1,5 +1,6 @@
-//! The verification of `chetaev` against the paper's closed forms: Table 42.1 rebuilt, the
-//! largest errors along both motions, observed orders of convergence, and error against run time.
+//! The verification of `chetaev` against the paper's closed forms: the verdict, Table 42.1
+//! rebuilt, the largest errors along both motions, observed orders of convergence, and error
+//! against run time.
 //!
 //! Everything here returns values; the binary prints them.
 
@@ -128,6 +129,8 @@ pub struct WorkPoint {
     pub method: String,
     /// The tolerance asked for (or the step for a fixed-step method).
     pub tolerance: f64,
+    /// Whether `tolerance` is the step of a fixed-step method.
+    pub fixed_step: bool,
     /// Largest error of `(q, q̇)` at the end (positions relative to `max(h0, R)`, velocities to `v0`).
     pub error: f64,
     /// Median wall time of repeated runs, seconds.
@@ -140,9 +143,57 @@ pub struct WorkPoint {
     pub steps: usize,
 }
 
+/// The relative error accepted by default, as a multiple of the tolerance asked for.
+///
+/// Dop853 at `rtol = atol = tol` keeps every compared quantity of the paper's data within about
+/// `tol` (largest observed: 0.23 `tol`, for `y` along the uniform motion at `tol = 1e-12`); the
+/// limit leaves a margin of a hundred for other parameters and machines.
+pub const LIMIT_PER_TOLERANCE: f64 = 100.0;
+
+/// Whether the numerics agree with the closed forms, and how closely.
+#[derive(Clone, Debug, Serialize)]
+pub struct Verdict {
+    /// Every compared quantity is finite and at or below `limit`.
+    pub verified: bool,
+    /// The largest relative error over every compared quantity (NaN if one of them is NaN).
+    pub largest: f64,
+    /// Which quantity has the largest error (the first NaN if there is one), e.g.
+    /// `"uniform motion: y"`.
+    pub largest_of: String,
+    /// The largest relative error accepted.
+    pub limit: f64,
+    /// The number of quantities compared.
+    pub compared: usize,
+}
+
+impl Verdict {
+    /// Judges `(name, relative error)` pairs against `limit`: verified when every error is a
+    /// number at or below `limit` (a NaN or an infinity fails, and is reported as the largest).
+    /// No pairs at all is not verified.
+    #[must_use]
+    pub fn judge(errors: &[(String, f64)], limit: f64) -> Self {
+        let worst = errors
+            .iter()
+            .find(|(_, e)| !e.is_finite())
+            .or_else(|| errors.iter().max_by(|a, b| a.1.total_cmp(&b.1)));
+        let (largest_of, largest) =
+            worst.map_or((String::new(), f64::NAN), |(n, e)| (n.clone(), *e));
+        Self {
+            verified: !errors.is_empty() && largest.is_finite() && largest <= limit,
+            largest,
+            largest_of,
+            limit,
+            compared: errors.len(),
+        }
+    }
+}
+
 /// Everything the verification computes.
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
+    /// Every quantity below compared against its closed form, judged against
+    /// [`LIMIT_PER_TOLERANCE`] `× tolerance` (see [`Report::judge`] for another limit).
+    pub verdict: Verdict,
     /// The parameters.
     pub params: ParamsOut,
     /// The tolerance of the table and error runs (relative and absolute).
@@ -170,6 +221,61 @@ pub struct ParamsOut {
     pub h0: f64,
     /// Mass.
     pub m: f64,
+}
+
+impl Report {
+    /// Every relative error compared against a closed form (or, for the residual and the energy
+    /// balance, against zero): the five columns of both rows of Table 42.1, and the largest errors
+    /// along both motions, named as in the text output.
+    #[must_use]
+    pub fn compared(&self) -> Vec<(String, f64)> {
+        let mut v = Vec::new();
+        for (motion, row) in [
+            ("classical", &self.table.classical),
+            ("uniform", &self.table.uniform),
+        ] {
+            let e = &row.rel_error;
+            for (name, x) in [
+                ("T", e.t),
+                ("R", e.r),
+                ("v_R", e.v_r),
+                ("impact angle", e.impact_angle_deg),
+                ("s", e.s),
+            ] {
+                v.push((format!("Table 42.1, {motion}: {name}"), x));
+            }
+        }
+        for (motion, e) in [
+            ("classical", &self.classical_errors),
+            ("uniform", &self.uniform_errors),
+        ] {
+            for (name, x) in [
+                ("x", Some(e.x)),
+                ("y", Some(e.y)),
+                ("ẋ", Some(e.xd)),
+                ("ẏ", Some(e.yd)),
+                ("ẍ", Some(e.xdd)),
+                ("ÿ", Some(e.ydd)),
+                ("curvature", Some(e.curvature)),
+                ("μ", e.mu),
+                ("|Φ|", e.phi),
+                ("|f|", e.residual),
+                ("W_Φ − ΔV", e.work_vs_potential),
+                ("energy balance", Some(e.energy_balance)),
+            ] {
+                if let Some(x) = x {
+                    v.push((format!("{motion} motion: {name}"), x));
+                }
+            }
+        }
+        v
+    }
+
+    /// The verdict of [`Report::compared`] against `limit` (relative).
+    #[must_use]
+    pub fn judge(&self, limit: f64) -> Verdict {
+        Verdict::judge(&self.compared(), limit)
+    }
 }
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -389,6 +495,7 @@ fn work_precision_adaptive<Me: Method + Copy>(
         out.push(WorkPoint {
             method: method.name().to_string(),
             tolerance: tol,
+            fixed_step: false,
             error: end_error(p, &sol, t_end, range),
             seconds,
             repeats,
@@ -490,6 +597,7 @@ pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
         work_precision.push(WorkPoint {
             method: "Rk4".into(),
             tolerance: h,
+            fixed_step: true,
             error: end_error(p, &sol, t_end, range),
             seconds,
             repeats,
@@ -514,7 +622,8 @@ pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
         });
     }
 
-    Ok(Report {
+    let mut report = Report {
+        verdict: Verdict::judge(&[], 0.0),
         params: ParamsOut {
             v0: p.v0,
             g: p.g,
@@ -527,5 +636,50 @@ pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
         uniform_errors,
         convergence,
         work_precision,
-    })
+    };
+    report.verdict = report.judge(LIMIT_PER_TOLERANCE * tol);
+    Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Verdict;
+
+    fn pairs(v: &[f64]) -> Vec<(String, f64)> {
+        v.iter()
+            .enumerate()
+            .map(|(i, x)| (format!("q{i}"), *x))
+            .collect()
+    }
+
+    #[test]
+    fn verdict_names_the_largest_error_and_accepts_it_at_the_limit() {
+        let v = Verdict::judge(&pairs(&[1e-14, 3e-13, 0.0, 1e-13]), 3e-13);
+        assert!(v.verified);
+        assert_eq!(
+            (v.largest, v.largest_of.as_str(), v.compared),
+            (3e-13, "q1", 4)
+        );
+    }
+
+    #[test]
+    fn verdict_fails_above_the_limit() {
+        let v = Verdict::judge(&pairs(&[1e-14, 2e-10]), 1e-10);
+        assert!(!v.verified);
+        assert_eq!(v.largest_of, "q1");
+    }
+
+    #[test]
+    fn verdict_fails_on_nan_or_infinity_however_small_the_rest() {
+        for bad in [f64::NAN, f64::INFINITY] {
+            let v = Verdict::judge(&pairs(&[1e-14, bad, 1e-15]), 1e-10);
+            assert!(!v.verified, "{bad}");
+            assert_eq!(v.largest_of, "q1");
+        }
+    }
+
+    #[test]
+    fn verdict_without_comparisons_is_not_verified() {
+        assert!(!Verdict::judge(&[], 1.0).verified);
+    }
 }

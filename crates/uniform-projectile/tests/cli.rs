@@ -1,0 +1,217 @@
+//! The verification binary as a user meets it: the verdict first, Table 42.1 next, the longer
+//! sections on request, the JSON complete, the exit status telling the verdict, and a reader that
+//! stops early (`| head`) is no error.
+
+use std::collections::BTreeSet;
+use std::io::Read;
+use std::process::{Command, Output, Stdio};
+
+const BIN: &str = env!("CARGO_BIN_EXE_uniform-projectile");
+
+fn run(args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).expect("UTF-8 output")
+}
+
+#[test]
+fn the_first_line_is_the_verdict_then_table_42_1() {
+    let o = run(&[]);
+    assert!(o.status.success(), "{o:?}");
+    let text = stdout(&o);
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(
+        lines[0].starts_with("VERIFIED: chetaev reproduces the paper's closed forms"),
+        "{}",
+        lines[0]
+    );
+    assert!(
+        lines[0].ends_with("(limit 1e-10 = 100 × tol)"),
+        "{}",
+        lines[0]
+    );
+    assert!(lines[2].starts_with("Table 42.1 rebuilt"), "{text}");
+    for row in ["classical (42.4)-(42.16)", "uniform (42.29)-(42.38)"] {
+        assert!(lines.contains(&row), "{row} missing:\n{text}");
+    }
+    for section in [
+        "Largest error along the motion",
+        "Observed order",
+        "Error against run time",
+    ] {
+        assert!(!text.contains(section), "{section} printed by default");
+    }
+    assert!(text.lines().count() < 20, "{text}");
+    assert!(o.stderr.is_empty());
+}
+
+#[test]
+fn every_section_on_request_with_readable_numbers() {
+    let full = stdout(&run(&["--full"]));
+    for (flag, section) in [
+        ("--errors", "Largest error along the motion"),
+        ("--orders", "Observed order of convergence"),
+        ("--timing", "Error against run time"),
+    ] {
+        assert!(full.contains(section), "--full lacks {section}");
+        let one = stdout(&run(&[flag]));
+        assert!(one.contains(section), "{flag} lacks {section}");
+        assert!(one.starts_with("VERIFIED: "), "{flag}: {one}");
+    }
+    // An exact zero reads `0`, never `0.0e0`; Rk4's steps T/2^k with four significant digits.
+    assert!(!full.contains("0.0e0"), "{full}");
+    assert!(
+        full.contains(" 2.713e-1 ") && full.contains(" 6.781e-2 "),
+        "{full}"
+    );
+}
+
+#[test]
+fn a_limit_below_the_errors_is_not_verified_and_exits_with_1() {
+    let o = run(&["--limit", "1e-16"]);
+    assert_eq!(o.status.code(), Some(1), "{o:?}");
+    let text = stdout(&o);
+    let first = text.lines().next().unwrap_or_default();
+    assert!(first.starts_with("NOT VERIFIED: "), "{first}");
+    assert!(first.contains("above the limit 1e-16"), "{first}");
+
+    let o = run(&["--json", "--limit", "1e-16"]);
+    assert_eq!(o.status.code(), Some(1), "{o:?}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    assert_eq!(v["verdict"]["verified"], serde_json::Value::Bool(false));
+    assert!(String::from_utf8_lossy(&o.stderr).starts_with("NOT VERIFIED: "));
+}
+
+#[test]
+fn bad_arguments_exit_with_2() {
+    for args in [&["--tol", "0"][..], &["--v0", "nan"], &["--json", "--full"]] {
+        let o = run(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {o:?}");
+        assert!(o.stdout.is_empty(), "{args:?}");
+    }
+}
+
+/// Every path of keys in `v`, array elements written `[]`.
+fn key_paths(v: &serde_json::Value, prefix: &str, out: &mut BTreeSet<String>) {
+    match v {
+        serde_json::Value::Object(m) => {
+            for (k, x) in m {
+                let path = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                out.insert(path.clone());
+                key_paths(x, &path, out);
+            }
+        }
+        serde_json::Value::Array(a) => {
+            for x in a {
+                key_paths(x, &format!("{prefix}[]"), out);
+            }
+        }
+        _ => {}
+    }
+}
+
+#[test]
+fn json_keeps_every_key_and_adds_the_verdict() {
+    let o = run(&["--json"]);
+    assert!(o.status.success(), "{o:?}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
+    let mut have = BTreeSet::new();
+    key_paths(&v, "", &mut have);
+
+    // The keys the binary printed before the verdict was added, and the verdict's own.
+    let row = ["T", "R", "v_R", "impact_angle_deg", "s"];
+    let errors = [
+        "x",
+        "y",
+        "xd",
+        "yd",
+        "xdd",
+        "ydd",
+        "curvature",
+        "mu",
+        "phi",
+        "residual",
+        "work_vs_potential",
+        "energy_balance",
+        "points",
+    ];
+    let mut want: Vec<String> = [
+        "params.v0",
+        "params.g",
+        "params.h0",
+        "params.m",
+        "tolerance",
+    ]
+    .map(String::from)
+    .to_vec();
+    for motion in ["classical", "uniform"] {
+        for side in ["numerical", "closed_form", "rel_error"] {
+            want.extend(row.map(|k| format!("table.{motion}.{side}.{k}")));
+        }
+        want.extend(errors.map(|k| format!("{motion}_errors.{k}")));
+    }
+    want.extend(
+        ["method", "against", "points", "order", "expected"].map(|k| format!("convergence[].{k}")),
+    );
+    want.extend(
+        [
+            "method",
+            "tolerance",
+            "error",
+            "seconds",
+            "repeats",
+            "rhs_evaluations",
+            "steps",
+        ]
+        .map(|k| format!("work_precision[].{k}")),
+    );
+    want.extend(
+        ["verified", "largest", "largest_of", "limit", "compared"].map(|k| format!("verdict.{k}")),
+    );
+    let missing: Vec<&String> = want.iter().filter(|k| !have.contains(*k)).collect();
+    assert!(missing.is_empty(), "missing keys: {missing:?}");
+
+    // Complete: every convergence study and every timed run, whatever the text shows.
+    assert_eq!(v["convergence"].as_array().map(Vec::len), Some(5));
+    assert_eq!(v["work_precision"].as_array().map(Vec::len), Some(30));
+    assert_eq!(v["verdict"]["verified"], serde_json::Value::Bool(true));
+}
+
+/// Runs the binary with its output pipe closed before it writes.
+fn with_closed_pipe(args: &[&str]) -> (std::process::ExitStatus, String) {
+    let mut child = Command::new(BIN)
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary starts");
+    // The verification takes a while before its first line; the reader is gone by then.
+    drop(child.stdout.take());
+    let mut err = String::new();
+    if let Some(mut e) = child.stderr.take() {
+        e.read_to_string(&mut err).expect("stderr");
+    }
+    (child.wait().expect("the binary ends"), err)
+}
+
+#[test]
+fn a_closed_pipe_ends_the_output_quietly() {
+    for args in [&[][..], &["--full"], &["--json"]] {
+        let (status, err) = with_closed_pipe(args);
+        assert!(status.success(), "{args:?}: {status:?}, {err}");
+        assert!(err.is_empty(), "{args:?}: {err}");
+    }
+    // The verdict still sets the status.
+    let (status, err) = with_closed_pipe(&["--limit", "1e-16"]);
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
