@@ -6,11 +6,41 @@
 //! cargo run --release --example chaplygin_sleigh
 //! ```
 
+use std::io::{self, Write};
+use std::process::ExitCode;
+
 use chetaev::prelude::*;
 use chetaev_catalogue::chaplygin_sleigh::{self, body_velocities};
 use chetaev_catalogue::{compare, max_energy_balance, Reference};
+use clap::Parser;
 
-fn main() -> Result<(), chetaev_catalogue::Error> {
+/// The Chaplygin sleigh against the closed form of its body velocities (Bloch, §1.7).
+#[derive(Parser)]
+struct Cli {}
+
+fn main() -> ExitCode {
+    Cli::parse();
+    finish(run(&mut io::stdout().lock()))
+}
+
+/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
+fn finish(result: Result<(), Box<dyn std::error::Error>>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e)
+            if e.downcast_ref::<io::Error>()
+                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
+        {
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
     let p = chaplygin_sleigh::Params::default();
     let entry = chaplygin_sleigh::entry(&p)?;
     let cf = &entry.reference;
@@ -19,8 +49,9 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
     let options = Options::until(4.0).tolerances(tol, tol).output_times(times);
     let sol = solve(&entry.problem, Dop853::default(), &options)?;
 
-    println!("Chaplygin sleigh: L = ½m[(ẋ − a sin θ θ̇)² + (ẏ + a cos θ θ̇)²] + ½Iθ̇², f = −ẋ sin θ + ẏ cos θ");
-    println!(
+    writeln!(out, "Chaplygin sleigh: L = ½m[(ẋ − a sin θ θ̇)² + (ẏ + a cos θ θ̇)²] + ½Iθ̇², f = −ẋ sin θ + ẏ cos θ")?;
+    writeln!(
+        out,
         "m = {}, I = {}, a = {}, u0 = {}, ω0 = {}; limit speed V = {:.12}; Dop853, rtol = atol = {tol:e}",
         p.m,
         p.inertia,
@@ -28,13 +59,14 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
         p.u0,
         p.omega0,
         cf.limit_speed()
-    );
-    println!("reference: {}", cf.sources()[0]);
-    println!();
-    println!(
+    )?;
+    writeln!(out, "reference: {}", cf.sources()[0])?;
+    writeln!(out)?;
+    writeln!(
+        out,
         "{:>5} {:>14} {:>14} {:>14} {:>14} {:>13} {:>13} {:>9}",
         "t", "u", "u exact", "ω", "ω exact", "θ", "θ exact", "error"
-    );
+    )?;
     for i in 0..sol.len() {
         let (t, q, qd, mu) = (sol.t[i], sol.q[i], sol.qd[i], sol.mu[i]);
         let (u, w) = body_velocities(&q, &qd);
@@ -42,26 +74,29 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
             .checks(t, &q, &qd, Some(&mu))
             .iter()
             .fold(0.0f64, |acc, c| acc.max(c.error()));
-        println!(
+        writeln!(
+            out,
             "{t:>5.2} {u:>14.11} {:>14.11} {w:>14.11} {:>14.11} {:>13.10} {:>13.10} {error:>9.1e}",
             cf.forward_speed(t),
             cf.turning_rate(t),
             q[2],
             cf.heading(t)
-        );
+        )?;
     }
-    println!();
-    println!(
+    writeln!(out)?;
+    writeln!(
+        out,
         "error: largest |numerical − exact| over u, ω, θ, μ and E, each against its scale \
          (V, V √(m/(I + m a²)), ...): {:.2e}",
         compare(&sol, cf).max()
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "constraint residual {:.1e}, energy balance {:.1e}, {} steps, status {:?}",
         sol.max_residual(),
         max_energy_balance(&sol),
         sol.stats.accepted_steps,
         sol.status
-    );
+    )?;
     Ok(())
 }

@@ -7,8 +7,12 @@
 //!
 //! Run: `cargo run --release --example drift`
 
+use std::io::{self, Write};
+use std::process::ExitCode;
+
 use chetaev::integrate::system::Stats;
 use chetaev::prelude::*;
+use clap::Parser;
 use uniform_projectile::closed_form::Params;
 use uniform_projectile::model::uniform_problem;
 
@@ -24,7 +28,42 @@ fn residuals<Me: Method + Copy>(
     Ok((sol.residual.iter().map(|f| f[0].abs()).collect(), sol.stats))
 }
 
-fn main() -> Result<(), Error> {
+/// Drift off the constraint over 10^4 time units of the paper's motion, with and without projection.
+#[derive(Parser)]
+struct Cli {}
+
+fn main() -> ExitCode {
+    Cli::parse();
+    finish(run(&mut io::stdout().lock()))
+}
+
+/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
+fn finish(result: Result<(), Box<dyn std::error::Error>>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e)
+            if e.downcast_ref::<io::Error>()
+                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
+        {
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// A small error: `0` when exact, otherwise two significant digits (`3.6e-16`).
+fn sci(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
     let params = Params::PAPER;
     let problem = uniform_problem(&params)?;
     let times: Vec<f64> = (1..=10).map(|k| 1e3 * f64::from(k)).collect();
@@ -50,27 +89,28 @@ fn main() -> Result<(), Error> {
         ),
     ];
     let scale = params.v0 * params.v0;
-    print!("{:>8}", "t");
+    write!(out, "{:>8}", "t")?;
     for (name, _) in &runs {
-        print!(" {name:>26}");
+        write!(out, " {name:>26}")?;
     }
-    println!();
+    writeln!(out)?;
     for (i, t) in std::iter::once(0.0)
         .chain(times.iter().copied())
         .enumerate()
     {
-        print!("{t:>8.0}");
+        write!(out, "{t:>8.0}")?;
         for (_, (r, _)) in &runs {
-            print!(" {:>26.1e}", r[i] / scale);
+            write!(out, " {:>26}", sci(r[i] / scale))?;
         }
-        println!();
+        writeln!(out)?;
     }
-    println!("\n|f|/v0² at each time. Work:");
+    writeln!(out, "\n|f|/v0² at each time. Work:")?;
     for (name, (_, s)) in &runs {
-        println!(
+        writeln!(
+        out,
             "  {name:<26} steps {:>7}, RHS {:>8}, Jacobians {:>5}, projections {:>7}, Newton iterations {:>5}",
             s.accepted_steps, s.rhs_evaluations, s.jacobian_evaluations, s.projections, s.projection_iterations
-        );
+        )?;
     }
     Ok(())
 }

@@ -8,11 +8,41 @@
 //! cargo run --release --example isokinetic_thermostat
 //! ```
 
+use std::io::{self, Write};
+use std::process::ExitCode;
+
 use chetaev::prelude::*;
 use chetaev_catalogue::isokinetic_thermostat::{self, friction_coefficient, Params};
 use chetaev_catalogue::{compare, max_energy_balance, Reference};
+use clap::Parser;
 
-fn main() -> Result<(), chetaev_catalogue::Error> {
+/// The Gaussian isokinetic thermostat (four particles in 3D) against its closed form for constant forces.
+#[derive(Parser)]
+struct Cli {}
+
+fn main() -> ExitCode {
+    Cli::parse();
+    finish(run(&mut io::stdout().lock()))
+}
+
+/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
+fn finish(result: Result<(), Box<dyn std::error::Error>>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e)
+            if e.downcast_ref::<io::Error>()
+                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
+        {
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
     let p = Params::four_particles();
     let entry = isokinetic_thermostat::entry(&p)?;
     let cf = &entry.reference;
@@ -25,23 +55,29 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
         .output_times(times);
     let sol = solve(&entry.problem, Dop853::default(), &options)?;
 
-    println!("Gaussian isokinetic thermostat: L = Σ ½ m_k q̇_k² + Σ F_k q_k, f = Σ ½ m_k q̇_k² − K0");
-    println!(
+    writeln!(
+        out,
+        "Gaussian isokinetic thermostat: L = Σ ½ m_k q̇_k² + Σ F_k q_k, f = Σ ½ m_k q̇_k² − K0"
+    )?;
+    writeln!(
+        out,
         "4 particles in 3D (N = 12), masses 1 2 3 4, charges 1 −1 2 −½, field (0.5, 0, −1); K0 = {:.6}",
         cf.kinetic_energy()
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "a = F·q̇0/2K0 = {a:.6}, b = Σ F²/m / 2K0 = {b:.6} (time scale 1/√b = {:.4}); Dop853, rtol = atol = {tol:e}",
         1.0 / b.sqrt()
-    );
+    )?;
     for s in cf.sources() {
-        println!("reference: {s}");
+        writeln!(out, "reference: {s}")?;
     }
-    println!();
-    println!(
+    writeln!(out)?;
+    writeln!(
+        out,
         "{:>6} {:>13} {:>13} {:>13} {:>13} {:>13} {:>13} {:>9}",
         "t", "z₄", "z₄ exact", "ż₄", "ż₄ exact", "μ", "−α(q̇)", "error"
-    );
+    )?;
     for i in 0..sol.len() {
         let (t, q, qd, mu) = (sol.t[i], sol.q[i], sol.qd[i], sol.mu[i]);
         let (exact, v_exact) = (cf.position(t), cf.velocity(t));
@@ -50,24 +86,27 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
             .checks(t, &q, &qd, Some(&mu))
             .iter()
             .fold(0.0f64, |acc, c| acc.max(c.error()));
-        println!(
+        writeln!(
+            out,
             "{t:>6.3} {:>13.9} {:>13.9} {:>13.9} {:>13.9} {:>13.10} {:>13.10} {error:>9.1e}",
             q[11], exact[11], qd[11], v_exact[11], mu[0], -alpha
-        );
+        )?;
     }
-    println!();
-    println!(
+    writeln!(out)?;
+    writeln!(
+        out,
         "error: largest |numerical − exact| over all 12 positions and velocities, μ (closed form) \
          and K, each against its scale: {:.2e}",
         compare(&sol, cf).max()
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "constraint residual {:.1e}, energy balance {:.1e} (E = K − F·q changes by the work of Φ = μ M q̇), \
          {} steps, status {:?}",
         sol.max_residual(),
         max_energy_balance(&sol),
         sol.stats.accepted_steps,
         sol.status
-    );
+    )?;
     Ok(())
 }

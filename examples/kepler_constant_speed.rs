@@ -6,11 +6,50 @@
 //! cargo run --release --example kepler_constant_speed
 //! ```
 
+use std::io::{self, Write};
+use std::process::ExitCode;
+
 use chetaev::prelude::*;
 use chetaev_catalogue::kepler_constant_speed::{self, invariant, Params};
 use chetaev_catalogue::{compare, max_energy_balance, Kind};
+use clap::Parser;
 
-fn main() -> Result<(), chetaev_catalogue::Error> {
+/// A particle at constant speed in a Kepler field: its invariant and its orbit against the quadratures.
+#[derive(Parser)]
+struct Cli {}
+
+fn main() -> ExitCode {
+    Cli::parse();
+    finish(run(&mut io::stdout().lock()))
+}
+
+/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
+fn finish(result: Result<(), Box<dyn std::error::Error>>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e)
+            if e.downcast_ref::<io::Error>()
+                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
+        {
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// A small error: `0` when exact, otherwise two significant digits (`3.6e-16`).
+fn sci(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
     let p = Params::default();
     let entry = kepler_constant_speed::entry(&p)?;
     let reference = &entry.reference;
@@ -23,29 +62,39 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
         .output_times(times);
     let sol = solve(&entry.problem, Dop853::default(), &options)?;
 
-    println!("Constant speed in a Kepler field: L = ½m|q̇|² + k m/r, f = |q̇|² − v0²");
-    println!(
+    writeln!(
+        out,
+        "Constant speed in a Kepler field: L = ½m|q̇|² + k m/r, f = |q̇|² − v0²"
+    )?;
+    writeln!(
+        out,
         "m = {}, k = {}, v0 = {:.6}, λ = k/v0² = {lambda:.6}; q0 = {:.6?}, q̇0 = {:.6?}",
         p.m,
         p.k,
         p.v0(),
         p.q0,
         p.qd0
-    );
+    )?;
     if let Some(orbit) = reference.orbit() {
-        println!(
+        writeln!(
+            out,
             "scattering orbit: periapsis r_p = {:.12} at t_p = {:.9}, total turn {:.6}°",
             orbit.r_periapsis,
             orbit.t_periapsis,
             orbit.total_angle.to_degrees()
-        );
+        )?;
     }
-    println!("invariant C = (q × q̇) exp(λ/r) = {:.12?}", c0.as_slice());
-    println!();
-    println!(
+    writeln!(
+        out,
+        "invariant C = (q × q̇) exp(λ/r) = {:.12?}",
+        c0.as_slice()
+    )?;
+    writeln!(out)?;
+    writeln!(
+        out,
         "{:>6} {:>10} {:>15} {:>15} {:>15} {:>9} {:>9}",
         "t", "r", "|C|", "x", "x quadrature", "C error", "q error"
-    );
+    )?;
     for i in 0..sol.len() {
         let (t, q, qd) = (sol.t[i], sol.q[i], sol.qd[i]);
         let c = invariant(lambda, &q, &qd);
@@ -53,31 +102,35 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
             Some((qr, _)) => (qr[0], (q - qr).norm() / qr.norm()),
             None => (f64::NAN, f64::NAN),
         };
-        println!(
-            "{t:>6.1} {:>10.5} {:>15.12} {:>15.10} {:>15.10} {:>9.1e} {q_err:>9.1e}",
+        writeln!(
+            out,
+            "{t:>6.1} {:>10.5} {:>15.12} {:>15.10} {:>15.10} {:>9} {:>9}",
             q.norm(),
             c.norm(),
             q[0],
             x_ref,
-            (c - c0).norm() / c0.norm()
-        );
+            sci((c - c0).norm() / c0.norm()),
+            sci(q_err)
+        )?;
     }
     let cmp = compare(&sol, reference);
-    println!();
-    println!(
+    writeln!(out)?;
+    writeln!(
+        out,
         "error: |C − C0|/|C0| ≤ {:.1e}; q against the quadrature, relative to r: ≤ {:.1e}; \
          μ against k m ṙ/(2 v0² r²): ≤ {:.1e}",
         cmp.max_of(Kind::Invariant),
         cmp.max_of(Kind::Position),
         cmp.max_of(Kind::Multiplier)
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "constraint residual {:.1e}, energy balance {:.1e} (E = ½ m v0² − k m/r changes by the work of Φ = 2μ q̇), \
          {} steps, status {:?}",
         sol.max_residual(),
         max_energy_balance(&sol),
         sol.stats.accepted_steps,
         sol.status
-    );
+    )?;
     Ok(())
 }

@@ -5,10 +5,49 @@
 //! cargo run --release --example knife_edge
 //! ```
 
+use std::io::{self, Write};
+use std::process::ExitCode;
+
 use chetaev::prelude::*;
 use chetaev_catalogue::{compare, knife_edge, max_energy_balance, Reference};
+use clap::Parser;
 
-fn main() -> Result<(), chetaev_catalogue::Error> {
+/// The knife edge on an inclined plane against its closed form (Bloch, §1.6).
+#[derive(Parser)]
+struct Cli {}
+
+fn main() -> ExitCode {
+    Cli::parse();
+    finish(run(&mut io::stdout().lock()))
+}
+
+/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
+fn finish(result: Result<(), Box<dyn std::error::Error>>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e)
+            if e.downcast_ref::<io::Error>()
+                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
+        {
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// A small error: `0` when exact, otherwise two significant digits (`3.6e-16`).
+fn sci(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
     let p = knife_edge::Params::default();
     let entry = knife_edge::entry(&p)?;
     let cf = &entry.reference;
@@ -19,17 +58,19 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
         .output_times(times);
     let sol = solve(&entry.problem, Dop853::default(), &options)?;
 
-    println!("Knife edge on an inclined plane: L = ½m(ẋ²+ẏ²) + ½Iφ̇² + m g sin α x, f = ẋ sin φ − ẏ cos φ");
-    println!(
+    writeln!(out, "Knife edge on an inclined plane: L = ½m(ẋ²+ẏ²) + ½Iφ̇² + m g sin α x, f = ẋ sin φ − ẏ cos φ")?;
+    writeln!(
+        out,
         "m = {}, I = {}, g = {}, α = {:.4} rad, ω = {}; Dop853, rtol = atol = {tol:e}",
         p.m, p.inertia, p.g, p.alpha, p.omega
-    );
-    println!("reference: {}", cf.sources()[0]);
-    println!();
-    println!(
+    )?;
+    writeln!(out, "reference: {}", cf.sources()[0])?;
+    writeln!(out)?;
+    writeln!(
+        out,
         "{:>5} {:>13} {:>13} {:>13} {:>13} {:>9} {:>13} {:>13} {:>9}",
         "t", "x", "x exact", "y", "y exact", "φ", "μ", "μ exact", "error"
-    );
+    )?;
     for i in 0..sol.len() {
         let (t, q, qd) = (sol.t[i], sol.q[i], sol.qd[i]);
         let mu = sol.mu[i];
@@ -38,23 +79,33 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
             .checks(t, &q, &qd, Some(&mu))
             .iter()
             .fold(0.0f64, |acc, c| acc.max(c.error()));
-        println!(
-            "{t:>5.2} {:>13.9} {:>13.9} {:>13.9} {:>13.9} {:>9.5} {:>13.9} {:>13.9} {error:>9.1e}",
-            q[0], exact[0], q[1], exact[1], q[2], mu[0], mu_exact
-        );
+        writeln!(
+            out,
+            "{t:>5.2} {:>13.9} {:>13.9} {:>13.9} {:>13.9} {:>9.5} {:>13.9} {:>13.9} {:>9}",
+            q[0],
+            exact[0],
+            q[1],
+            exact[1],
+            q[2],
+            mu[0],
+            mu_exact,
+            sci(error)
+        )?;
     }
-    println!();
-    println!(
+    writeln!(out)?;
+    writeln!(
+        out,
         "error: largest |numerical − exact| over x, y, φ, q̇, μ, E, each against its scale \
          (g sin α/ω², g sin α/ω, m g sin α, ...): {:.2e}",
         compare(&sol, cf).max()
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "constraint residual {:.1e}, energy balance {:.1e}, {} steps, status {:?}",
         sol.max_residual(),
         max_energy_balance(&sol),
         sol.stats.accepted_steps,
         sol.status
-    );
+    )?;
     Ok(())
 }

@@ -20,10 +20,13 @@
 
 use std::error::Error;
 use std::f64::consts::FRAC_PI_2;
+use std::io::{self, Write};
 use std::path::PathBuf;
+use std::process::ExitCode;
 
 use chetaev::prelude::*;
 use chetaev_plot::{Figure, Legend, Style};
+use clap::Parser;
 use uniform_projectile::closed_form::{classical, table, uniform, Params};
 use uniform_projectile::model::{classical_problem, impact, uniform_problem};
 
@@ -45,10 +48,39 @@ const UNIFORM: &str = "#0072B2";
 const CLASSICAL: &str = "#D55E00";
 const GUIDE: &str = "#777777";
 
-fn main() -> Result<(), Box<dyn Error>> {
-    let out = std::env::args_os()
-        .nth(1)
-        .map_or_else(|| PathBuf::from("docs/figures"), PathBuf::from);
+/// The figures of "Uniform horizontal projectile motion" (Swaczyna and Volný), redrawn from
+/// chetaev's solutions over the paper's closed forms, as SVG files.
+#[derive(Parser)]
+struct Cli {
+    /// The folder the figures are written to (created if missing).
+    #[arg(value_name = "OUTDIR", default_value = "docs/figures")]
+    out: PathBuf,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    finish(run(&cli, &mut io::stdout().lock()))
+}
+
+/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
+fn finish(result: Result<(), Box<dyn Error>>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e)
+            if e.downcast_ref::<io::Error>()
+                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
+        {
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: &Cli, stdout: &mut impl Write) -> Result<(), Box<dyn Error>> {
+    let out = &cli.out;
     let p = Params::PAPER;
     let kin = table(&p);
 
@@ -70,9 +102,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     chetaev_force_figure(&p, &uni, t_u).save(out.join("chetaev_force.svg"))?;
     residual_figure(&p)?.save(out.join("residual.svg"))?;
     energy_figure(&p, &uni).save(out.join("energy_balance.svg"))?;
-    println!("wrote 6 figures to {}", out.display());
-    println!("uniform:   T = {t_u:.12} s, R = {r_u:.12} m");
-    println!("classical: T = {t_c:.12} s, R = {r_c:.12} m");
+    writeln!(stdout, "wrote 6 figures to {}", out.display())?;
+    writeln!(stdout, "uniform:   T = {t_u:.12} s, R = {r_u:.12} m")?;
+    writeln!(stdout, "classical: T = {t_c:.12} s, R = {r_c:.12} m")?;
     // What the markers show, in numbers: the largest distance from the closed forms.
     let largest = |f: &dyn Fn(usize) -> f64| (0..uni.len()).map(f).fold(0.0f64, f64::max);
     let position = largest(&|i| {
@@ -82,9 +114,10 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mu = largest(&|i| (uni.mu[i][0] - uniform::multiplier(&p, uni.t[i])).abs());
     let phi =
         largest(&|i| (uni.phi[i].norm() - uniform::chetaev_force_magnitude(&p, uni.t[i])).abs());
-    println!(
+    writeln!(
+        stdout,
         "uniform, largest deviation from (42.29): {position:.1e} m, from (42.40): {mu:.1e} kg/s, from (42.42): {phi:.1e} N"
-    );
+    )?;
     Ok(())
 }
 

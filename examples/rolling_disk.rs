@@ -5,10 +5,49 @@
 //! cargo run --release --example rolling_disk
 //! ```
 
+use std::io::{self, Write};
+use std::process::ExitCode;
+
 use chetaev::prelude::*;
 use chetaev_catalogue::{compare, max_energy_balance, rolling_disk, Reference};
+use clap::Parser;
 
-fn main() -> Result<(), chetaev_catalogue::Error> {
+/// The vertical rolling disk against its closed form (Bloch, §1.4).
+#[derive(Parser)]
+struct Cli {}
+
+fn main() -> ExitCode {
+    Cli::parse();
+    finish(run(&mut io::stdout().lock()))
+}
+
+/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
+fn finish(result: Result<(), Box<dyn std::error::Error>>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e)
+            if e.downcast_ref::<io::Error>()
+                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
+        {
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// A small error: `0` when exact, otherwise two significant digits (`3.6e-16`).
+fn sci(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
     let p = rolling_disk::Params::default();
     let entry = rolling_disk::entry(&p)?;
     let cf = &entry.reference;
@@ -17,25 +56,29 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
     let options = Options::until(6.4).tolerances(tol, tol).output_times(times);
     let sol = solve(&entry.problem, Dop853::default(), &options)?;
 
-    println!(
+    writeln!(
+        out,
         "Vertical rolling disk: L = ½m(ẋ²+ẏ²) + ½Iθ̇² + ½Jφ̇², f = (ẋ − R cos φ θ̇, ẏ − R sin φ θ̇)"
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "m = {}, R = {}, I = {}, J = {}, ω = θ̇ = {}, Ω = φ̇ = {}; Dop853, rtol = atol = {tol:e}",
         p.m, p.radius, p.i_roll, p.i_spin, p.omega, p.spin
-    );
+    )?;
     if let Some((centre, rho)) = cf.circle() {
-        println!(
+        writeln!(
+        out,
             "the contact point runs on the circle of centre ({}, {}) and radius ρ = R ω / Ω = {rho}",
             centre[0], centre[1]
-        );
+        )?;
     }
-    println!("reference: {}", cf.sources()[0]);
-    println!();
-    println!(
+    writeln!(out, "reference: {}", cf.sources()[0])?;
+    writeln!(out)?;
+    writeln!(
+        out,
         "{:>5} {:>13} {:>13} {:>13} {:>13} {:>11} {:>13} {:>13} {:>9}",
         "t", "x", "x exact", "y", "y exact", "θ", "μ2", "μ2 exact", "error"
-    );
+    )?;
     for i in 0..sol.len() {
         let (t, q, qd, mu) = (sol.t[i], sol.q[i], sol.qd[i], sol.mu[i]);
         let (exact, mu_exact) = (cf.position(t), cf.multiplier(t));
@@ -43,23 +86,33 @@ fn main() -> Result<(), chetaev_catalogue::Error> {
             .checks(t, &q, &qd, Some(&mu))
             .iter()
             .fold(0.0f64, |acc, c| acc.max(c.error()));
-        println!(
-            "{t:>5.2} {:>13.9} {:>13.9} {:>13.9} {:>13.9} {:>11.7} {:>13.9} {:>13.9} {error:>9.1e}",
-            q[0], exact[0], q[1], exact[1], q[2], mu[1], mu_exact[1]
-        );
+        writeln!(
+            out,
+            "{t:>5.2} {:>13.9} {:>13.9} {:>13.9} {:>13.9} {:>11.7} {:>13.9} {:>13.9} {:>9}",
+            q[0],
+            exact[0],
+            q[1],
+            exact[1],
+            q[2],
+            mu[1],
+            mu_exact[1],
+            sci(error)
+        )?;
     }
-    println!();
-    println!(
+    writeln!(out)?;
+    writeln!(
+        out,
         "error: largest |numerical − exact| over x, y, θ, φ, q̇, μ, E, each against its scale \
          (ρ, R ω, m R ω Ω, E, ...): {:.2e}",
         compare(&sol, cf).max()
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "constraint residual {:.1e}, energy balance {:.1e}, {} steps, status {:?}",
         sol.max_residual(),
         max_energy_balance(&sol),
         sol.stats.accepted_steps,
         sol.status
-    );
+    )?;
     Ok(())
 }
