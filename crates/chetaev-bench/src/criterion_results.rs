@@ -1,7 +1,8 @@
 //! Reading criterion's results (`target/criterion/<group>/<bench>/new/`) back, for the tables of
 //! the performance report.
 
-use std::path::Path;
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
 
 /// One benchmark's result.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,6 +74,42 @@ pub fn read_group(root: &Path, group: &str) -> Result<Vec<Estimate>, ReadError> 
     Ok(out)
 }
 
+/// Where criterion writes its results, looked up as criterion 0.7 does: `$CRITERION_HOME`, else
+/// `$CARGO_TARGET_DIR/criterion`, else the target directory that `cargo_metadata` reports (when
+/// run by cargo), else `./target/criterion`.
+pub fn criterion_dir(
+    criterion_home: Option<OsString>,
+    cargo_target_dir: Option<OsString>,
+    cargo_metadata: impl FnOnce() -> Option<PathBuf>,
+) -> PathBuf {
+    if let Some(home) = criterion_home.filter(|h| !h.is_empty()) {
+        return PathBuf::from(home);
+    }
+    cargo_target_dir
+        .filter(|d| !d.is_empty())
+        .map(PathBuf::from)
+        .or_else(cargo_metadata)
+        .unwrap_or_else(|| PathBuf::from("target"))
+        .join("criterion")
+}
+
+/// [`criterion_dir`] from this process's environment; `cargo metadata` is asked only when cargo
+/// started the process (`$CARGO` set), as criterion does.
+pub fn default_criterion_dir() -> PathBuf {
+    criterion_dir(
+        std::env::var_os("CRITERION_HOME"),
+        std::env::var_os("CARGO_TARGET_DIR"),
+        || {
+            let output = std::process::Command::new(std::env::var_os("CARGO")?)
+                .args(["metadata", "--format-version", "1", "--no-deps"])
+                .output()
+                .ok()?;
+            let v: serde_json::Value = serde_json::from_slice(&output.stdout).ok()?;
+            v["target_directory"].as_str().map(PathBuf::from)
+        },
+    )
+}
+
 /// `(n, k)` from a right-hand-side benchmark name `nNN_kKK`.
 pub fn parse_size(name: &str) -> Option<(usize, usize)> {
     let (n, k) = name.strip_prefix('n')?.split_once("_k")?;
@@ -88,6 +125,27 @@ mod tests {
         assert_eq!(parse_size("n06_k03"), Some((6, 3)));
         assert_eq!(parse_size("n24_k12"), Some((24, 12)));
         assert_eq!(parse_size("dynamics"), None);
+    }
+
+    #[test]
+    fn criterion_is_looked_for_where_it_writes() {
+        let never = || -> Option<PathBuf> { panic!("cargo metadata asked needlessly") };
+        assert_eq!(
+            criterion_dir(Some("/c".into()), Some("/t".into()), never),
+            PathBuf::from("/c")
+        );
+        assert_eq!(
+            criterion_dir(None, Some("/shared/target".into()), never),
+            PathBuf::from("/shared/target/criterion")
+        );
+        assert_eq!(
+            criterion_dir(None, None, || Some(PathBuf::from("/ws/target"))),
+            PathBuf::from("/ws/target/criterion")
+        );
+        assert_eq!(
+            criterion_dir(Some("".into()), Some("".into()), || None),
+            PathBuf::from("target/criterion")
+        );
     }
 
     #[test]

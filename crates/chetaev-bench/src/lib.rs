@@ -11,15 +11,19 @@
 //! | [`report`] | CSV and Markdown |
 //! | [`criterion_results`] | criterion's results read back for the report |
 //! | [`ensemble`] | a parameter sweep of the paper's range ratio, in parallel |
+//! | [`parts`] | sweeps split into shards (`--shard k/n`), and the parts joined again |
+//! | [`cli`] | what the binaries share: default output folder, a closed standard output |
 //!
 //! The binaries `work-precision`, `ensemble` and `bench-report` print; the library returns values.
 
+pub mod cli;
 pub mod criterion_results;
 pub mod ensemble;
 pub mod handwritten;
 pub mod measure;
 pub mod models;
 pub mod overhead;
+pub mod parts;
 pub mod report;
 pub mod scenes;
 pub mod study;

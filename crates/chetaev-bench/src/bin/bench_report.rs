@@ -3,17 +3,24 @@
 //! exponent, where the time of one right-hand side of the paper's model goes, and the cost of an
 //! unused constraint per right-hand side.
 //!
+//! Reads criterion's results where criterion writes them (`$CRITERION_HOME`, else
+//! `$CARGO_TARGET_DIR/criterion`, else the workspace's `target/criterion` when run by cargo, else
+//! `./target/criterion`) and writes `benchmarks.md`, `rhs-cost.csv` and `rhs-cost.svg` into
+//! `--out` (default `./chetaev-bench-out/bench-report`).
+//!
 //! ```sh
 //! cargo bench -p chetaev-bench
-//! cargo run --release -p chetaev-bench --bin bench-report
+//! cargo run --release -p chetaev-bench --bin bench-report -- --out docs/performance
 //! ```
 
 use std::error::Error;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::io::Write as _;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
-use chetaev_bench::criterion_results::{parse_size, read_group, Estimate};
+use chetaev_bench::cli::{default_out, is_broken_pipe};
+use chetaev_bench::criterion_results::{default_criterion_dir, parse_size, read_group, Estimate};
 use chetaev_bench::measure::log_slope;
 use chetaev_bench::report::format_seconds;
 use chetaev_plot::{Figure, Style};
@@ -23,10 +30,11 @@ use clap::Parser;
 #[derive(Parser, Debug)]
 #[command(version)]
 struct Args {
-    /// criterion's output directory (default: the workspace's target/criterion).
+    /// criterion's output directory [default: $CRITERION_HOME, else $CARGO_TARGET_DIR/criterion,
+    /// else cargo's target/criterion].
     #[arg(long)]
     criterion: Option<PathBuf>,
-    /// Output directory (default: the workspace's docs/performance).
+    /// Output directory [default: ./chetaev-bench-out/bench-report].
     #[arg(long)]
     out: Option<PathBuf>,
 }
@@ -34,8 +42,9 @@ struct Args {
 fn main() -> ExitCode {
     match run() {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if is_broken_pipe(e.as_ref()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("bench-report: {e}");
+            let _ = writeln!(std::io::stderr(), "bench-report: {e}");
             ExitCode::FAILURE
         }
     }
@@ -55,19 +64,18 @@ fn ns(e: &Estimate) -> String {
 
 fn run() -> Result<(), Box<dyn Error>> {
     let args = Args::parse();
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let criterion = args
-        .criterion
-        .unwrap_or_else(|| root.join("target/criterion"));
-    let out = args.out.unwrap_or_else(|| root.join("docs/performance"));
-    std::fs::create_dir_all(&out)?;
+    let criterion = args.criterion.unwrap_or_else(default_criterion_dir);
+    let out = args.out.unwrap_or_else(|| default_out("bench-report"));
+    std::fs::create_dir_all(&out)
+        .map_err(|e| format!("cannot create the output directory {}: {e}", out.display()))?;
     let out = out.canonicalize().unwrap_or(out);
     let mut md = String::new();
 
     let stat = read_group(&criterion, "rhs_cost")?;
     if stat.is_empty() {
         return Err(format!(
-            "no results under {}: run `cargo bench -p chetaev-bench` first",
+            "no results under {}: run `cargo bench -p chetaev-bench` first (with the same \
+             CARGO_TARGET_DIR), or pass --criterion DIR",
             criterion.display()
         )
         .into());
@@ -208,9 +216,15 @@ fn run() -> Result<(), Box<dyn Error>> {
         }
     }
     std::fs::write(out.join("benchmarks.md"), &md)?;
+    // The files are written; a reader that leaves early only shortens this summary.
+    let mut stdout = std::io::stdout().lock();
     for (name, all, big) in exponents {
-        println!("growth exponent, {name}: {all:.2} (all n), {big:.2} (n ≥ 6)");
+        writeln!(
+            stdout,
+            "growth exponent, {name}: {all:.2} (all n), {big:.2} (n ≥ 6)"
+        )?;
     }
-    println!("written to {}", out.join("benchmarks.md").display());
+    writeln!(stdout, "written to {}", out.join("benchmarks.md").display())?;
+    stdout.flush()?;
     Ok(())
 }

@@ -8,22 +8,59 @@
 //! cargo run --release -p chetaev-bench --bin ensemble -- --n 20 --out /tmp/ensemble
 //! ```
 
+//! `ensemble`: the ratio of the uniform to the classical range over a log-spaced grid of
+//! `(v0, h0)`, every point solved by `chetaev` to the impact and compared with the closed forms,
+//! in parallel with rayon. Runs the sweep on 1 thread and on the requested number (default 2) and
+//! reports the speed-up. A progress bar is drawn when stdout is a terminal.
+//!
+//! Writes `ensemble.md`, `ensemble.csv`, two SVG diagrams and `ensemble.json` (every point, from
+//! which `merge` writes the rest again) into `--out` (default `./chetaev-bench-out/ensemble`).
+//! With `--shard k/n` only the grid points `i` with `i mod n = k − 1` are solved and written to
+//! `ensemble.part-k-of-n.json`; `ensemble merge` joins the `n` parts into the files of the whole
+//! run (see `docs/sweeps.md`).
+//!
+//! ```sh
+//! cargo run --release -p chetaev-bench --bin ensemble -- --out docs/performance
+//! cargo run --release -p chetaev-bench --bin ensemble -- --n 20 --out /tmp/ensemble
+//! cargo run --release -p chetaev-bench --bin ensemble -- --shard 2/8 --out parts
+//! cargo run --release -p chetaev-bench --bin ensemble -- merge --out results parts/ensemble.part-*-of-8.json
+//! ```
+
 use std::error::Error;
 use std::fmt::Write as _;
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use chetaev_bench::cli::{default_out, is_broken_pipe};
 use chetaev_bench::ensemble::{grid, sweep, SweepPoint};
+use chetaev_bench::parts::{
+    merge, number, sweep_point_from_json, sweep_point_to_json, Fields, Part, Shard,
+};
 use chetaev_bench::report::{csv_field, format_seconds};
 use chetaev_plot::{Figure, Style};
-use clap::Parser;
+use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::{json, Value};
 
 /// The range ratio R_uniform / R_classical over a grid of (v0, h0), solved in parallel.
 #[derive(Parser, Debug)]
-#[command(version)]
-struct Args {
+#[command(version, args_conflicts_with_subcommands = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Join the part files of `--shard k/n` runs into the output of the whole sweep.
+    Merge(MergeArgs),
+}
+
+#[derive(Args, Debug)]
+struct RunArgs {
     /// Points per axis (the grid has n² points).
     #[arg(long, default_value_t = 100)]
     n: usize,
@@ -42,16 +79,68 @@ struct Args {
     /// Threads of the parallel run (compared with one thread).
     #[arg(long, default_value_t = 2)]
     threads: usize,
-    /// Output directory (default: the workspace's docs/performance).
+    /// Solve only shard K of N (K from 1 to N): the grid points i, counted from 0 in the order of
+    /// ensemble.csv, with i mod N = K − 1; writes ensemble.part-K-of-N.json for `merge`.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<Shard>,
+    /// Output directory [default: ./chetaev-bench-out/ensemble].
     #[arg(long)]
     out: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+struct MergeArgs {
+    /// Output directory [default: ./chetaev-bench-out/ensemble].
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// The part files of all N shards (ensemble.part-K-of-N.json); a merged ensemble.json also
+    /// counts as all of its shards.
+    #[arg(required = true)]
+    parts: Vec<PathBuf>,
+}
+
+/// The settings that define the sweep, equal in all its parts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Settings {
+    n: usize,
+    lo: f64,
+    hi: f64,
+    g: f64,
+    tol: f64,
+    threads: usize,
+}
+
+impl Settings {
+    fn to_json(self) -> Value {
+        json!({
+            "n": self.n,
+            "lo": number(self.lo),
+            "hi": number(self.hi),
+            "g": number(self.g),
+            "tol": number(self.tol),
+            "threads": self.threads,
+        })
+    }
+
+    fn from_json(v: &Value) -> Result<Self, Box<dyn Error>> {
+        let f = Fields::of(v, "settings")?;
+        Ok(Self {
+            n: f.usize("n")?,
+            lo: f.f64("lo")?,
+            hi: f.f64("hi")?,
+            g: f.f64("g")?,
+            tol: f.f64("tol")?,
+            threads: f.usize("threads")?,
+        })
+    }
 }
 
 fn main() -> ExitCode {
     match run() {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if is_broken_pipe(e.as_ref()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("ensemble: {e}");
+            let _ = writeln!(std::io::stderr(), "ensemble: {e}");
             ExitCode::FAILURE
         }
     }
@@ -73,16 +162,60 @@ fn bar(len: usize, label: &str) -> ProgressBar {
 }
 
 fn run() -> Result<(), Box<dyn Error>> {
-    let args = Args::parse();
+    let cli = Cli::parse();
+    let (out, summary) = match cli.command {
+        Some(Command::Merge(m)) => {
+            let out = prepare(m.out)?;
+            let summary = merge_parts(&m.parts, &out)?;
+            (out, summary)
+        }
+        None => {
+            let out = prepare(cli.run.out.clone())?;
+            let summary = solve_sweep(&cli.run, &out)?;
+            (out, summary)
+        }
+    };
+    // The files are written; a reader that leaves early only shortens this summary.
+    let mut stdout = std::io::stdout().lock();
+    write!(stdout, "{summary}")?;
+    writeln!(stdout, "written to {}", out.display())?;
+    stdout.flush()?;
+    Ok(())
+}
+
+/// The output directory, created.
+fn prepare(out: Option<PathBuf>) -> Result<PathBuf, Box<dyn Error>> {
+    let out = out.unwrap_or_else(|| default_out("ensemble"));
+    std::fs::create_dir_all(&out)
+        .map_err(|e| format!("cannot create the output directory {}: {e}", out.display()))?;
+    Ok(out.canonicalize().unwrap_or(out))
+}
+
+fn write_part(part: &Part, out: &Path) -> Result<(), Box<dyn Error>> {
+    let path = out.join(part.file_name());
+    std::fs::write(&path, part.to_json())
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    Ok(())
+}
+
+/// Solves the sweep (or one shard of it); writes the part file, and for the whole sweep the
+/// report. Returns the summary for stdout.
+fn solve_sweep(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
     if !(args.lo > 0.0 && args.hi > args.lo && args.n >= 2 && args.threads >= 1) {
         return Err("need 0 < lo < hi, n ≥ 2 and threads ≥ 1".into());
     }
-    let out = args
-        .out
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/performance"));
-    std::fs::create_dir_all(&out)?;
-    let out = out.canonicalize().unwrap_or(out);
-    let points = grid(args.lo, args.hi, args.n);
+    let settings = Settings {
+        n: args.n,
+        lo: args.lo,
+        hi: args.hi,
+        g: args.g,
+        tol: args.tol,
+        threads: args.threads,
+    };
+    let shard = args.shard.unwrap_or(Shard::WHOLE);
+    let all = grid(args.lo, args.hi, args.n);
+    let mine: Vec<usize> = shard.items(all.len()).collect();
+    let points: Vec<(f64, f64)> = mine.iter().map(|&i| all[i]).collect();
 
     let mut runs = Vec::new();
     for threads in [1, args.threads] {
@@ -93,15 +226,10 @@ fn run() -> Result<(), Box<dyn Error>> {
         let tick = || pb.inc(1);
         let (solved, seconds) = sweep(&points, args.g, args.tol, threads, &tick)?;
         pb.finish_and_clear();
-        println!(
-            "{} points on {threads} thread(s): {seconds:.2} s",
-            solved.len()
-        );
-        runs.push((threads, solved, seconds));
+        runs.push((solved, seconds));
     }
-    let (_, solved, t1) = &runs[0];
-    let (threads, solved_n, tn) = &runs[runs.len() - 1];
-    let speedup = t1 / tn;
+    let (solved, t1) = &runs[0];
+    let (solved_n, tn) = &runs[runs.len() - 1];
     let same = solved.len() == solved_n.len()
         && solved.iter().zip(solved_n.iter()).all(|(a, b)| {
             a.ratio.to_bits() == b.ratio.to_bits() && a.failure == b.failure && a.steps == b.steps
@@ -109,7 +237,71 @@ fn run() -> Result<(), Box<dyn Error>> {
     if !same {
         return Err("the parallel run differs from the serial one".into());
     }
+    let part = Part::new(
+        "ensemble",
+        settings.to_json(),
+        all.len(),
+        shard,
+        json!({ "serial_seconds": number(*t1), "parallel_seconds": number(*tn) }),
+        mine.iter()
+            .zip(solved)
+            .map(|(&i, p)| (i, sweep_point_to_json(p)))
+            .collect(),
+    );
+    write_part(&part, out)?;
+    if shard == Shard::WHOLE {
+        return report(&settings, solved, *t1, *tn, 1, out);
+    }
+    Ok(format!(
+        "shard {shard}: {} of {} points, {t1:.2} s on 1 thread, {tn:.2} s on {} threads, in {}\n",
+        points.len(),
+        all.len(),
+        args.threads,
+        part.file_name()
+    ))
+}
 
+/// Joins the parts and writes the report of the whole sweep.
+fn merge_parts(files: &[PathBuf], out: &Path) -> Result<String, Box<dyn Error>> {
+    let mut parts = Vec::new();
+    for f in files {
+        let text =
+            std::fs::read_to_string(f).map_err(|e| format!("cannot read {}: {e}", f.display()))?;
+        parts.push(Part::from_json(&text).map_err(|e| format!("{}: {e}", f.display()))?);
+    }
+    let whole = merge(parts)?;
+    if whole.sweep != "ensemble" {
+        return Err(format!("a part of `{}`, not of `ensemble`", whole.sweep).into());
+    }
+    let settings = Settings::from_json(&whole.settings)?;
+    let points = whole
+        .items
+        .iter()
+        .map(|(_, v)| sweep_point_from_json(v))
+        .collect::<Result<Vec<_>, _>>()?;
+    let (mut t1, mut tn) = (0.0, 0.0);
+    for r in &whole.runs {
+        let about = Fields::of(&r.about, "shard's measurements")?;
+        t1 += about.f64("serial_seconds")?;
+        tn += about.f64("parallel_seconds")?;
+    }
+    write_part(&whole, out)?;
+    report(&settings, &points, t1, tn, whole.runs.len(), out)
+}
+
+/// Writes `ensemble.csv`, the diagrams and `ensemble.md` from the solved points of the whole grid
+/// (in grid order) and the wall times of the serial and the parallel sweep (sums over the shards
+/// of a merged run). Returns the summary for stdout.
+fn report(
+    args: &Settings,
+    solved: &[SweepPoint],
+    t1: f64,
+    tn: f64,
+    shards: usize,
+    out: &Path,
+) -> Result<String, Box<dyn Error>> {
+    let threads = args.threads;
+    let speedup = t1 / tn;
     let failures: Vec<&SweepPoint> = solved.iter().filter(|p| p.failure.is_some()).collect();
     let ok: Vec<&SweepPoint> = solved.iter().filter(|p| p.failure.is_none()).collect();
     let max_of = |f: &dyn Fn(&SweepPoint) -> f64| ok.iter().map(|p| f(p)).fold(0.0f64, f64::max);
@@ -206,8 +398,8 @@ fn run() -> Result<(), Box<dyn Error>> {
         args.n,
         args.g,
         args.tol,
-        format_seconds(*t1),
-        format_seconds(*tn),
+        format_seconds(t1),
+        format_seconds(tn),
         ok.len(),
         failures.len(),
     );
@@ -221,12 +413,23 @@ fn run() -> Result<(), Box<dyn Error>> {
         );
     }
     std::fs::write(out.join("ensemble.md"), &md)?;
-    println!(
+    let mut summary = String::new();
+    let over = if shards > 1 {
+        format!(" (sums over {shards} shards)")
+    } else {
+        String::new()
+    };
+    let _ = writeln!(
+        summary,
+        "{} points on 1 thread: {t1:.2} s, on {threads} threads: {tn:.2} s{over}",
+        solved.len()
+    );
+    let _ = writeln!(
+        summary,
         "speed-up {speedup:.2} on {threads} threads; {} solved, {} failed, {rodas} by Rodas4; \
-         largest ratio error {ratio_err:.1e}; written to {}",
+         largest ratio error {ratio_err:.1e}",
         ok.len(),
         failures.len(),
-        out.display()
     );
-    Ok(())
+    Ok(summary)
 }
