@@ -14,9 +14,12 @@
 //!             sinh cosh tanh asinh acosh atanh abs
 //! ```
 //!
-//! A constant integer exponent (`x^2`, `x^-1`, `x^(n+1)` with a parameter `n`) is evaluated by
-//! `powi`, any other constant exponent by `powf`, and a variable exponent by `exp(b ln a)`
-//! (`a > 0`).
+//! A constant integer exponent with `|n| ≤ 32` (`x^2`, `x^-1`, `x^(n+1)` with a parameter `n`) is
+//! evaluated by repeated multiplication (`powi`), any other constant exponent by `powf` (an
+//! integer-valued one keeps the sign of a negative base), and a variable exponent by
+//! `exp(b ln a)` (`a > 0`). A constant exponent of a variable may be as large as
+//! [`MAX_EXPONENT`] `= 2^52` in size; its derivatives `n x^(n−1)`, `n (n−1) x^(n−2)`, ... are formed
+//! in floating point, so no integer product overflows.
 //!
 //! ```
 //! use chetaev_scene::expr::{Env, Expr, Symbols};
@@ -294,9 +297,9 @@ enum Node {
     DivC(Box<Node>, f64),
     /// `c / a`.
     CDiv(f64, Box<Node>),
-    /// `a^n`, integer `n`.
+    /// `a^n`, integer `n`, `|n| ≤ POWI_MAX`.
     PowI(Box<Node>, i32),
-    /// `a^p`, real constant `p`.
+    /// `a^p`, any other constant `p` (an integer-valued `p` keeps the sign of a negative `a`).
     PowF(Box<Node>, f64),
     /// `a^b`, variable `b`: `exp(b ln a)`.
     Pow(Box<Node>, Box<Node>),
@@ -386,7 +389,20 @@ fn resolve(ast: &Ast, sym: &Symbols) -> Result<Node, ExprError> {
             a => Node::Neg(Box::new(a)),
         },
         Ast::Bin(op, a, b, span) => {
+            let exponent_span = b.span();
             let (a, b) = (resolve(a, sym)?, resolve(b, sym)?);
+            if let (BinOp::Pow, Node::Const(p)) = (op, &b) {
+                if !matches!(a, Node::Const(_)) && p.abs() > MAX_EXPONENT {
+                    return Err(ExprError::at(
+                        exponent_span,
+                        format!(
+                            "the exponent {p:e} is too large: a power of a variable takes exponents up to \
+                             2^52 ≈ 4.5e15 in size, where the exponents n−1, n−2 of its derivatives are \
+                             still exact in floating point"
+                        ),
+                    ));
+                }
+            }
             binary(*op, a, b, *span)?
         }
         Ast::Call(name, span, args) => call(name, *span, args, sym)?,
@@ -438,23 +454,37 @@ fn binary(op: BinOp, a: Node, b: Node, span: Span) -> Result<Node, ExprError> {
         (BinOp::Add | BinOp::Sub, a, b) => Node::Sum(bx(a), vec![(op == BinOp::Sub, b)]),
         (BinOp::Mul | BinOp::Div, a, b) => Node::Product(bx(a), vec![(op == BinOp::Div, b)]),
         (BinOp::Pow, Const(x), Const(y)) => Const(power(x, y)),
-        (BinOp::Pow, a, Const(p)) => {
-            if p.fract() == 0.0 && p.abs() <= f64::from(i32::MAX) {
-                Node::PowI(bx(a), p as i32)
-            } else {
-                Node::PowF(bx(a), p)
-            }
-        }
+        (BinOp::Pow, a, Const(p)) => match small_integer(p) {
+            Some(n) => Node::PowI(bx(a), n),
+            None => Node::PowF(bx(a), p),
+        },
         (BinOp::Pow, a, b) => Node::Pow(bx(a), bx(b)),
     })
 }
 
+/// The largest `|n|` of an integer exponent evaluated by `powi`.
+///
+/// num-dual's `powi` forms the factors of its derivatives, `n (n−1)` and `n (n−1) (n−2)`, in `i32`,
+/// which overflows from `|n| ≈ 1290` on (third derivatives) and `|n| ≈ 46 341` (second); and
+/// repeated multiplication loses about one ulp per factor. Beyond this bound `powf` is both exact
+/// to an ulp and free of integer arithmetic: its derivative factors are `f64`.
+pub const POWI_MAX: i32 = 32;
+
+/// The largest `|p|` of a constant exponent of a variable base, `2^52`: up to there `p − 1`,
+/// `p − 2`, `p − 3` are exact in `f64`, so the derivatives keep the parity (the sign of a negative
+/// base) of an integer exponent.
+pub const MAX_EXPONENT: f64 = 4_503_599_627_370_496.0;
+
+/// `p` as an `i32` if it is an integer with `|p| ≤ POWI_MAX`.
+fn small_integer(p: f64) -> Option<i32> {
+    (p.fract() == 0.0 && p.abs() <= f64::from(POWI_MAX)).then_some(p as i32)
+}
+
 /// `x^y` on constants, with the same choice of `powi`/`powf` as at run time.
 fn power(x: f64, y: f64) -> f64 {
-    if y.fract() == 0.0 && y.abs() <= f64::from(i32::MAX) {
-        x.powi(y as i32)
-    } else {
-        x.powf(y)
+    match small_integer(y) {
+        Some(n) => x.powi(n),
+        None => x.powf(y),
     }
 }
 
