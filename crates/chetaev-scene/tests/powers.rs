@@ -121,7 +121,11 @@ fn the_whole_i32_range_and_beyond_differentiates_without_overflow() {
         (1 << 52) - 1,
         1 << 52,
     ];
-    for n in edges.iter().flat_map(|n| [*n, -*n]).chain([i64::from(i32::MIN)]) {
+    for n in edges
+        .iter()
+        .flat_map(|n| [*n, -*n])
+        .chain([i64::from(i32::MIN)])
+    {
         for x in points(n) {
             check(n, x, 1e-12);
         }
@@ -152,7 +156,12 @@ proptest! {
 fn exponents_beyond_2_to_the_52_are_located_errors() {
     assert_eq!(MAX_EXPONENT, 2f64.powi(52));
     let s = Symbols::motion(&[("big", 1e16)], &["x"]);
-    for (src, at) in [("x^4503599627370497", 2), ("1 + x^-1e16", 6), ("x^big", 2), ("x^(big/2)", 3)] {
+    for (src, at) in [
+        ("x^4503599627370497", 2),
+        ("1 + x^-1e16", 6),
+        ("x^big", 2),
+        ("x^(big/2)", 3),
+    ] {
         let e = Expr::parse(src, &s).expect_err(src);
         assert_eq!(e.start, at, "{src}: {e}");
         assert!(e.message.contains("too large"), "{src}: {e}");
