@@ -529,6 +529,12 @@ fn resolve_name(name: &str, span: Span, sym: &Symbols) -> Result<Node, ExprError
     Err(ExprError::at(span, unknown_name(name, sym)))
 }
 
+/// `Ok` if `name` has a value in an expression with `symbols`, or the error
+/// [`Expr::parse`] would give for it (what the name is, or the names it is close to).
+pub(crate) fn check_name(name: &str, span: Span, sym: &Symbols) -> Result<(), ExprError> {
+    resolve_name(name, span, sym).map(|_| ())
+}
+
 fn unknown_name(name: &str, sym: &Symbols) -> String {
     let mut known: Vec<String> = sym.parameters.keys().cloned().collect();
     known.extend(["pi".to_string(), "e".to_string()]);
@@ -567,23 +573,61 @@ fn unknown_name(name: &str, sym: &Symbols) -> String {
         None if known.is_empty() => format!("unknown name '{name}': not {what}"),
         None => format!(
             "unknown name '{name}': not {what} (the names here are {})",
-            known.join(", ")
+            listing(&known)
         ),
     }
 }
 
+/// The most names a message lists.
+const NAMES_LISTED: usize = 20;
+
+/// `a, b, c`, or the first [`NAMES_LISTED`] names and how many more there are.
+fn listing(names: &[String]) -> String {
+    let shown: Vec<&str> = names
+        .iter()
+        .take(NAMES_LISTED)
+        .map(String::as_str)
+        .collect();
+    if names.len() > NAMES_LISTED {
+        format!(
+            "{}, and {} more",
+            shown.join(", "),
+            names.len() - NAMES_LISTED
+        )
+    } else {
+        shown.join(", ")
+    }
+}
+
+/// The longest name, in characters, for which a near name is looked for.
+const SUGGEST_MAX_LEN: usize = 64;
+
+/// The most known names compared with an unknown one.
+const SUGGEST_MAX_CANDIDATES: usize = 10_000;
+
 /// The known name nearest to `name` by edit distance, if it is near enough to be a typo.
+///
+/// Bounded whatever the scene: names longer than [`SUGGEST_MAX_LEN`] get no suggestion, only names
+/// whose length is within the distance allowed are compared, at most [`SUGGEST_MAX_CANDIDATES`]
+/// of them, and each comparison stops once the distance allowed is exceeded.
 fn closest<'a>(name: &str, known: &'a [String]) -> Option<&'a str> {
-    let limit = if name.len() <= 3 { 1 } else { 2 };
+    let len = name.chars().count();
+    if len > SUGGEST_MAX_LEN {
+        return None;
+    }
+    let limit = if len <= 3 { 1 } else { 2 };
     known
         .iter()
-        .map(|k| (edit_distance(name, k), k))
-        .filter(|(d, _)| *d <= limit)
+        .filter(|k| k.len().abs_diff(name.len()) <= 4 * limit)
+        .filter(|k| k.chars().count().abs_diff(len) <= limit)
+        .take(SUGGEST_MAX_CANDIDATES)
+        .filter_map(|k| edit_distance_within(name, k, limit).map(|d| (d, k)))
         .min_by_key(|(d, _)| *d)
         .map(|(_, k)| k.as_str())
 }
 
-fn edit_distance(a: &str, b: &str) -> usize {
+/// The Levenshtein distance between `a` and `b` if it is at most `limit`.
+fn edit_distance_within(a: &str, b: &str, limit: usize) -> Option<usize> {
     let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
     let mut row: Vec<usize> = (0..=b.len()).collect();
     for i in 1..=a.len() {
@@ -596,8 +640,12 @@ fn edit_distance(a: &str, b: &str) -> usize {
                 .min(prev + usize::from(a[i - 1] != b[j - 1]));
             prev = cur;
         }
+        // Every later row is at least the smallest entry of this one.
+        if row.iter().min().is_some_and(|m| *m > limit) {
+            return None;
+        }
     }
-    row[b.len()]
+    Some(row[b.len()]).filter(|d| *d <= limit)
 }
 
 fn call(name: &str, span: Span, args: &[Ast], sym: &Symbols) -> Result<Node, ExprError> {
@@ -671,9 +719,21 @@ mod tests {
     }
 
     #[test]
-    fn edit_distance_counts_edits() {
-        assert_eq!(edit_distance("x_dto", "x_dot"), 2);
-        assert_eq!(edit_distance("sine", "sin"), 1);
-        assert_eq!(edit_distance("", "ab"), 2);
+    fn edit_distance_counts_edits_up_to_the_limit() {
+        assert_eq!(edit_distance_within("x_dto", "x_dot", 2), Some(2));
+        assert_eq!(edit_distance_within("x_dto", "x_dot", 1), None);
+        assert_eq!(edit_distance_within("sine", "sin", 2), Some(1));
+        assert_eq!(edit_distance_within("", "ab", 2), Some(2));
+        assert_eq!(edit_distance_within("abcdef", "uvwxyz", 2), None);
+    }
+
+    #[test]
+    fn suggestions_are_bounded_and_listings_short() {
+        let known: Vec<String> = (0..30).map(|i| format!("p{i}")).collect();
+        assert_eq!(closest("p29x", &known), Some("p29"));
+        let long = "a".repeat(SUGGEST_MAX_LEN + 1);
+        assert_eq!(closest(&long, &[format!("{long}b")]), None);
+        assert_eq!(listing(&known).matches(", ").count(), NAMES_LISTED);
+        assert!(listing(&known).ends_with("and 10 more"));
     }
 }

@@ -8,7 +8,9 @@
 //! | `schema.rs` | the file as written: serde structures, every value with its span |
 //! | `spec.rs` | the scene as validated: [`Scene`], [`SolveSpec`], [`EventSpec`], [`OutputSpec`], ... |
 //! | `validate.rs` | from one to the other, every mistake located |
+//! | `parameters.rs` | `[parameters]` resolved in dependency order, in linear time |
 
+mod parameters;
 mod schema;
 mod spec;
 mod validate;

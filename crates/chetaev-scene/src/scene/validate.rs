@@ -16,7 +16,7 @@ use super::spec::{
 };
 use super::MAX_OUTPUT_TIMES;
 use crate::error::{Error, SourceFile};
-use crate::expr::{is_function, parse as expr_parse, Expr, Symbols, RESERVED};
+use crate::expr::{is_function, Expr, Symbols, RESERVED};
 use crate::source::string_offset;
 
 /// toml's messages, with a hint for the commonest mistakes.
@@ -41,7 +41,7 @@ fn is_identifier(s: &str) -> bool {
 }
 
 impl Builder {
-    fn err(&self, range: Range<usize>, message: impl Into<String>) -> Error {
+    pub(super) fn err(&self, range: Range<usize>, message: impl Into<String>) -> Error {
         self.file.error(range, message)
     }
 
@@ -50,7 +50,7 @@ impl Builder {
         Expr::parse(s.get_ref(), symbols).map_err(|e| self.expr_error(s, e))
     }
 
-    fn expr_error(&self, s: &Spanned<String>, e: crate::expr::ExprError) -> Error {
+    pub(super) fn expr_error(&self, s: &Spanned<String>, e: crate::expr::ExprError) -> Error {
         let span = s.span();
         let start = string_offset(&self.file.text, &span, s.get_ref(), e.start);
         let end = string_offset(&self.file.text, &span, s.get_ref(), e.end).max(start + 1);
@@ -58,7 +58,12 @@ impl Builder {
     }
 
     /// A constant: a number, or an expression of the parameters.
-    fn number(&self, n: &Spanned<Number>, symbols: &Symbols, what: &str) -> Result<f64, Error> {
+    pub(super) fn number(
+        &self,
+        n: &Spanned<Number>,
+        symbols: &Symbols,
+        what: &str,
+    ) -> Result<f64, Error> {
         let v = match n.get_ref() {
             Number::Value(v) => *v,
             Number::Expr(s) => {
@@ -78,7 +83,7 @@ impl Builder {
         Ok(v)
     }
 
-    fn name_check(&self, name: &Spanned<String>, what: &str) -> Result<(), Error> {
+    pub(super) fn name_check(&self, name: &Spanned<String>, what: &str) -> Result<(), Error> {
         let n = name.get_ref();
         if !is_identifier(n) {
             return Err(self.err(
@@ -266,83 +271,6 @@ impl Builder {
                 quantities: quantity_spans,
             },
         })
-    }
-
-    /// The parameters in the order of the file; a value may be an expression of other parameters.
-    fn parameters(
-        &self,
-        raw: &BTreeMap<Spanned<String>, Spanned<Number>>,
-    ) -> Result<Vec<(String, f64)>, Error> {
-        let mut entries: Vec<(&Spanned<String>, &Spanned<Number>)> = raw.iter().collect();
-        entries.sort_by_key(|(k, _)| k.span().start);
-        let all: HashSet<&str> = entries.iter().map(|(k, _)| k.get_ref().as_str()).collect();
-        let mut values: BTreeMap<String, f64> = BTreeMap::new();
-        let mut pending = Vec::new();
-        for (k, v) in &entries {
-            self.name_check(k, "parameter")?;
-            match v.get_ref() {
-                Number::Value(x) => {
-                    if !x.is_finite() {
-                        return Err(self.err(
-                            v.span(),
-                            format!("parameter '{}' is {x}; give a finite number", k.get_ref()),
-                        ));
-                    }
-                    values.insert(k.get_ref().clone(), *x);
-                }
-                Number::Expr(s) => {
-                    let spanned = Spanned::new(v.span(), s.clone());
-                    let ast = expr_parse::parse(s).map_err(|e| self.expr_error(&spanned, e))?;
-                    pending.push((k, spanned, ast));
-                }
-            }
-        }
-        // Resolve expressions once everything they name is known.
-        while !pending.is_empty() {
-            let mut progress = false;
-            let mut i = 0;
-            while i < pending.len() {
-                let (k, s, ast) = &pending[i];
-                let mut used = Vec::new();
-                ast.names(&mut used);
-                let waiting = used
-                    .iter()
-                    .any(|(n, _)| all.contains(n.as_str()) && !values.contains_key(n));
-                if waiting {
-                    i += 1;
-                    continue;
-                }
-                let e = Expr::from_ast(s.get_ref(), ast, &Symbols::constants(&values))
-                    .map_err(|e| self.expr_error(s, e))?;
-                let value = e.constant().ok_or_else(|| {
-                    self.err(s.span(), "a parameter must be a constant expression")
-                })?;
-                values.insert(k.get_ref().clone(), value);
-                pending.remove(i);
-                progress = true;
-            }
-            if !progress {
-                let names: Vec<&str> = pending
-                    .iter()
-                    .map(|(k, _, _)| k.get_ref().as_str())
-                    .collect();
-                return Err(self.err(
-                    pending[0].1.span(),
-                    format!(
-                        "the parameters {} are defined in terms of each other in a cycle; give one of them a number",
-                        names.join(", ")
-                    ),
-                ));
-            }
-        }
-        Ok(entries
-            .iter()
-            .map(|(k, _)| {
-                let name = k.get_ref().clone();
-                let v = values.get(&name).copied().unwrap_or(f64::NAN);
-                (name, v)
-            })
-            .collect())
     }
 
     fn vector(
