@@ -15,6 +15,7 @@ mod schema;
 mod spec;
 mod validate;
 
+use std::io::Read as _;
 use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
@@ -30,20 +31,52 @@ pub use spec::{
 /// The most times an output grid may have.
 pub const MAX_OUTPUT_TIMES: i64 = 10_000_000;
 
+/// The largest scene file read, 16 MiB: far more than any scene needs (20 000 parameters take
+/// about 400 KiB), and a bound on what a wrong path can make the command read.
+pub const MAX_SCENE_BYTES: u64 = 16 * 1024 * 1024;
+
 impl Scene {
-    /// Reads and validates the scene file at `path`.
+    /// Reads and validates the scene file at `path`. At most [`MAX_SCENE_BYTES`] are read, so a
+    /// path to an endless stream (`/dev/zero`, a pipe) is refused instead of filling the memory.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, Error> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-            path: path.display().to_string(),
+        let name = path.display().to_string();
+        let read_error = |source| Error::Read {
+            path: name.clone(),
             source,
+        };
+        let file = std::fs::File::open(path).map_err(read_error)?;
+        let mut bytes = Vec::new();
+        file.take(MAX_SCENE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(read_error)?;
+        if bytes.len() as u64 > MAX_SCENE_BYTES {
+            return Err(Error::TooLarge {
+                path: name,
+                limit: MAX_SCENE_BYTES,
+            });
+        }
+        let text = String::from_utf8(bytes).map_err(|e| {
+            read_error(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!(
+                    "byte {} is not UTF-8 text; a scene file is TOML, which is UTF-8",
+                    e.utf8_error().valid_up_to()
+                ),
+            ))
         })?;
-        Self::parse(&text, &path.display().to_string())
+        Self::parse(&text, &name)
     }
 
     /// Validates a scene given as text; `path` names it in messages and gives the default output
-    /// directory `out/<file stem>`.
+    /// directory `out/<file stem>`. A text longer than [`MAX_SCENE_BYTES`] is refused.
     pub fn parse(text: &str, path: &str) -> Result<Self, Error> {
+        if text.len() as u64 > MAX_SCENE_BYTES {
+            return Err(Error::TooLarge {
+                path: path.to_string(),
+                limit: MAX_SCENE_BYTES,
+            });
+        }
         let file = SourceFile {
             path: path.to_string(),
             text: Arc::from(text),
