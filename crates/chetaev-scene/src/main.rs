@@ -218,11 +218,14 @@ fn run(scene: &Path, out: Option<PathBuf>, force: bool, quiet: bool) -> ExitCode
     let code = if let Status::Failed(e) = &outcome.status {
         if quiet {
             let f = output::failure(&loaded, e);
-            eprint(&format!(
-                "error: the integration failed: {}\n  advice: {}\n",
-                output::status_text(&loaded, &outcome),
-                f.advice
-            ));
+            let at = f.t.map_or_else(String::new, |t| {
+                format!(" at t = {}", output::summary_number(t))
+            });
+            let mut text = format!("error: the integration failed{at}: {}\n", f.what);
+            if !f.advice.is_empty() {
+                text.push_str(&format!("  advice: {}\n", f.advice));
+            }
+            eprint(&text);
         }
         1
     } else if !non_finite.is_empty() {

@@ -189,6 +189,23 @@ fn a_failed_integration_exits_with_1_and_still_writes() {
         printed.parse().expect("number"),
     );
     assert!(printed > last, "failure at {printed}, last row at {last}");
+
+    // Quiet: the same, on standard error only.
+    let o = chetaev(&[
+        "run",
+        "--quiet",
+        &path,
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(o.stdout.is_empty());
+    assert!(
+        stderr.starts_with("error: the integration failed at t = ")
+            && stderr.contains("the step limit of 4 steps was reached\n  advice: raise max_steps"),
+        "{stderr}"
+    );
 }
 
 /// Runs the command with standard output a pipe that is closed before anything is printed.
