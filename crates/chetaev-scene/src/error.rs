@@ -40,12 +40,31 @@ pub enum Error {
         snippet: String,
     },
 
+    /// The scene file is larger than [`MAX_SCENE_BYTES`](crate::scene::MAX_SCENE_BYTES).
+    #[error("the scene file {path} is larger than {limit} bytes; a scene is a short text file (is this the right file?)")]
+    TooLarge {
+        /// The file, as given.
+        path: String,
+        /// The largest size read.
+        limit: u64,
+    },
+
     /// An output file could not be written.
     #[error("cannot write {path}: {reason}; check that the output directory can be created and written (or choose another with --out)")]
     Write {
         /// The file.
         path: String,
         /// What went wrong.
+        reason: String,
+    },
+
+    /// The output directory cannot be used: it cannot be created or written, it is a file, or it
+    /// holds files this run would leave beside its own or overwrite without having written them.
+    #[error("output directory {path}: {reason}")]
+    OutputDirectory {
+        /// The directory, as resolved.
+        path: String,
+        /// What is wrong, and what to do.
         reason: String,
     },
 }

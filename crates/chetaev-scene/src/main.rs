@@ -1,15 +1,21 @@
 //! `chetaev`: solve a scene file and write the tables and pictures it asks for.
 //!
-//! Exit codes: 0 success (the end time or a terminal event was reached), 1 the integration failed
-//! (what was computed up to the failure is still written), 2 the scene cannot be run as written
-//! (or its output cannot be written).
+//! Exit codes: 0 success (the end time or a terminal event was reached, and every value written is
+//! finite), 1 the integration failed or wrote a value that is not finite (what was computed is
+//! still written), 2 the scene cannot be run as written, or its output cannot be written.
+//!
+//! Standard output closed early (`chetaev run scene.toml | head`) ends the printing quietly; the
+//! run still writes its files and exits with its own code.
 
-use std::path::PathBuf;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use chetaev_scene::{output, Error, Scene};
+use chetaev::prelude::Status;
+use chetaev_scene::output::{self, count, Plan, MANIFEST};
+use chetaev_scene::{Error, Scene};
 
 #[derive(Parser)]
 #[command(
@@ -28,99 +34,227 @@ enum Command {
     Run {
         /// The scene file (TOML).
         scene: PathBuf,
-        /// Write into this directory instead of the scene's `output.directory`.
+        /// Write into this directory instead of the scene's `output.directory` (both relative to
+        /// the working directory).
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
+        /// Write even where an earlier run left files this run would not write (they are removed)
+        /// or files no earlier run's manifest lists (they are overwritten).
+        #[arg(long, alias = "overwrite")]
+        force: bool,
         /// Print nothing but errors.
         #[arg(long)]
         quiet: bool,
     },
-    /// Parse and validate a scene without integrating it.
+    /// Parse and validate a scene, and check its output directory, without integrating it.
     Check {
         /// The scene file (TOML).
         scene: PathBuf,
+        /// Check this directory instead of the scene's `output.directory`.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Check as `run --force` would.
+        #[arg(long, alias = "overwrite")]
+        force: bool,
     },
 }
 
-fn report(e: &Error) {
-    eprintln!("error: {e}");
-    if let Some(snippet) = e.snippet() {
-        eprintln!("{snippet}");
+/// Standard output that stops quietly when it is closed (a broken pipe), and remembers any other
+/// failure to write.
+struct Stdout {
+    closed: bool,
+    failure: Option<io::Error>,
+}
+
+impl Stdout {
+    fn new() -> Self {
+        Self {
+            closed: false,
+            failure: None,
+        }
     }
+
+    fn print(&mut self, text: &str) {
+        if self.closed {
+            return;
+        }
+        let mut out = io::stdout().lock();
+        if let Err(e) = out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+            self.closed = true;
+            if e.kind() != io::ErrorKind::BrokenPipe {
+                self.failure = Some(e);
+            }
+        }
+    }
+
+    /// `code`, or 2 if the summary could not be written for another reason than a closed pipe.
+    fn finish(self, code: u8) -> ExitCode {
+        match self.failure {
+            Some(e) => {
+                eprint(&format!("error: cannot write to standard output: {e}\n"));
+                ExitCode::from(code.max(2))
+            }
+            None => ExitCode::from(code),
+        }
+    }
+}
+
+/// Writes to standard error; a closed standard error is not worth a panic.
+fn eprint(text: &str) {
+    let _ = io::stderr().lock().write_all(text.as_bytes());
+}
+
+fn report(e: &Error) {
+    let mut text = format!("error: {e}\n");
+    if let Some(snippet) = e.snippet() {
+        text.push_str(snippet);
+        text.push('\n');
+    }
+    eprint(&text);
+}
+
+fn fail(e: &Error) -> ExitCode {
+    report(e);
+    ExitCode::from(2)
+}
+
+/// The plan for the scene's output directory (or `out`), checked for writing.
+fn plan(scene: &Scene, out: Option<PathBuf>, force: bool) -> Result<Plan, Error> {
+    let dir = out.unwrap_or_else(|| scene.output.directory.clone());
+    let plan = Plan::new(scene, &dir, force)?;
+    plan.check_writable()?;
+    Ok(plan)
+}
+
+fn check(scene: &Path, out: Option<PathBuf>, force: bool) -> ExitCode {
+    let s = match Scene::load(scene).and_then(|s| s.check().map(|()| s)) {
+        Ok(s) => s,
+        Err(e) => return fail(&e),
+    };
+    let plan = match plan(&s, out, force) {
+        Ok(p) => p,
+        Err(e) => return fail(&e),
+    };
+    let mut stdout = Stdout::new();
+    stdout.print(&format!(
+        "{}: ok ({}, {}, {}, method {}, {}, {})\n",
+        scene.display(),
+        count(s.n(), "coordinate", "coordinates"),
+        count(s.k(), "constraint", "constraints"),
+        count(s.events.len(), "event", "events"),
+        s.solve.method.name(),
+        count(s.output.tables.len(), "table", "tables"),
+        count(s.output.pictures.len(), "picture", "pictures"),
+    ));
+    if !plan.is_empty() {
+        let mut line = format!(
+            "  output   would write {} and {MANIFEST} into {}",
+            plan.files.join(", "),
+            plan.resolved.display()
+        );
+        if !plan.stale.is_empty() {
+            line.push_str(&format!(
+                "; would remove {} of an earlier run ({})",
+                plan.stale.join(", "),
+                count(plan.stale.len(), "file", "files")
+            ));
+        }
+        if !plan.foreign.is_empty() {
+            line.push_str(&format!("; would overwrite {}", plan.foreign.join(", ")));
+        }
+        line.push('\n');
+        stdout.print(&line);
+    }
+    stdout.finish(0)
+}
+
+fn run(scene: &Path, out: Option<PathBuf>, force: bool, quiet: bool) -> ExitCode {
+    let loaded = match Scene::load(scene) {
+        Ok(s) => s,
+        Err(e) => return fail(&e),
+    };
+    // Before integrating: a run that cannot write its results should not take the time.
+    let plan = match plan(&loaded, out, force) {
+        Ok(p) => p,
+        Err(e) => return fail(&e),
+    };
+    let outcome = match loaded.solve() {
+        Ok(o) => o,
+        Err(e) => return fail(&e),
+    };
+    let mut stdout = Stdout::new();
+    if !quiet {
+        stdout.print(&output::summary(&loaded, &outcome));
+    }
+    match plan.write(&loaded, &outcome) {
+        Ok(written) => {
+            if !quiet && !written.files.is_empty() {
+                let names: Vec<String> = written
+                    .files
+                    .iter()
+                    .filter_map(|f| f.file_name())
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .collect();
+                let mut text = format!(
+                    "  wrote    {} and {MANIFEST} into {}\n",
+                    names.join(", "),
+                    written.dir.display()
+                );
+                if !written.removed.is_empty() {
+                    text.push_str(&format!(
+                        "  removed  {} of an earlier run, which this run does not write (--force)\n",
+                        written.removed.join(", ")
+                    ));
+                }
+                stdout.print(&text);
+            }
+        }
+        Err(e) => {
+            report(&e);
+            return stdout.finish(2);
+        }
+    }
+    let non_finite = output::non_finite(&loaded, &outcome);
+    let code = if let Status::Failed(e) = &outcome.status {
+        if quiet {
+            let f = output::failure(&loaded, e);
+            let at = f.t.map_or_else(String::new, |t| {
+                format!(" at t = {}", output::summary_number(t))
+            });
+            let mut text = format!("error: the integration failed{at}: {}\n", f.what);
+            if !f.advice.is_empty() {
+                text.push_str(&format!("  advice: {}\n", f.advice));
+            }
+            eprint(&text);
+        }
+        1
+    } else if !non_finite.is_empty() {
+        if quiet {
+            for bad in &non_finite {
+                eprint(&format!(
+                    "error: {} is NaN or infinite at {} of {}\n",
+                    bad.what,
+                    bad.count,
+                    count(bad.of, "output point", "output points")
+                ));
+            }
+        }
+        1
+    } else {
+        0
+    };
+    stdout.finish(code)
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Check { scene } => {
-            let checked = Scene::load(&scene).and_then(|s| s.check().map(|()| s));
-            match checked {
-                Ok(s) => {
-                    println!(
-                        "{}: ok ({} coordinates, {} constraints, {} events, method {}, {} tables, {} pictures)",
-                        scene.display(),
-                        s.n(),
-                        s.k(),
-                        s.events.len(),
-                        s.solve.method.name(),
-                        s.output.tables.len(),
-                        s.output.pictures.len()
-                    );
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    report(&e);
-                    ExitCode::from(2)
-                }
-            }
-        }
-        Command::Run { scene, out, quiet } => {
-            let loaded = match Scene::load(&scene) {
-                Ok(s) => s,
-                Err(e) => {
-                    report(&e);
-                    return ExitCode::from(2);
-                }
-            };
-            let outcome = match loaded.solve() {
-                Ok(o) => o,
-                Err(e) => {
-                    report(&e);
-                    return ExitCode::from(2);
-                }
-            };
-            if !quiet {
-                print!("{}", output::summary(&loaded, &outcome));
-            }
-            let dir = out.unwrap_or_else(|| loaded.output.directory.clone());
-            match output::write(&loaded, &outcome, &dir) {
-                Ok(files) => {
-                    if !quiet && !files.is_empty() {
-                        let names: Vec<String> = files
-                            .iter()
-                            .map(|f| {
-                                f.file_name()
-                                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
-                            })
-                            .collect();
-                        println!("  wrote    {} in {}", names.join(", "), dir.display());
-                    }
-                }
-                Err(e) => {
-                    report(&e);
-                    return ExitCode::from(2);
-                }
-            }
-            if outcome.is_success() {
-                ExitCode::SUCCESS
-            } else {
-                if quiet {
-                    if let chetaev::Status::Failed(e) = &outcome.status {
-                        eprintln!("error: the integration failed: {e}");
-                    }
-                }
-                ExitCode::from(1)
-            }
-        }
+        Command::Check { scene, out, force } => check(&scene, out, force),
+        Command::Run {
+            scene,
+            out,
+            force,
+            quiet,
+        } => run(&scene, out, force, quiet),
     }
 }

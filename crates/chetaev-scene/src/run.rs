@@ -153,10 +153,11 @@ impl Scene {
                         .map_or("?", |c| c.source())
                 ),
             ),
-            E::InvalidOption { name, .. } => {
+            E::InvalidOption { name, value, hint } => {
+                // The option by its key in the scene file.
                 let key = if name == "Rk4::h" { "step" } else { name };
                 let span = s.options.get(key).cloned().unwrap_or(s.solve.clone());
-                self.error_at(span, e.to_string())
+                self.error_at(span, format!("invalid {key} = {value} under [solve]: {hint}"))
             }
             E::DegenerateConstraint { index, .. } => {
                 let span = s.constraints.get(index).cloned().unwrap_or(s.initial.clone());

@@ -2,7 +2,7 @@
 //! 2 (bad scene).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 
 fn chetaev(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_chetaev"))
@@ -163,6 +163,333 @@ fn a_failed_integration_exits_with_1_and_still_writes() {
     assert_eq!(o.status.code(), Some(1), "{stdout}");
     assert!(stdout.contains("FAILED at t = "), "{stdout}");
     assert!(stdout.contains("step limit of 4"), "{stdout}");
+    // Advice in the scene's keys, not the library's names.
+    assert!(
+        stdout.contains("raise max_steps under [solve] (now 4)"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("Options::"), "{stdout}");
     let state = std::fs::read_to_string(out.join("state.csv")).expect("written");
     assert!(state.lines().count() > 2, "{state}");
+    // The time printed is where the step limit was met, after the last row written.
+    let last = state
+        .lines()
+        .last()
+        .expect("row")
+        .split(',')
+        .next()
+        .expect("t");
+    let printed = stdout
+        .split("FAILED at t = ")
+        .nth(1)
+        .and_then(|r| r.split(':').next())
+        .expect("t");
+    let (last, printed): (f64, f64) = (
+        last.parse().expect("number"),
+        printed.parse().expect("number"),
+    );
+    assert!(printed > last, "failure at {printed}, last row at {last}");
+
+    // Quiet: the same, on standard error only.
+    let o = chetaev(&[
+        "run",
+        "--quiet",
+        &path,
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(o.stdout.is_empty());
+    assert!(
+        stderr.starts_with("error: the integration failed at t = ")
+            && stderr.contains("the step limit of 4 steps was reached\n  advice: raise max_steps"),
+        "{stderr}"
+    );
+}
+
+/// Runs the command with standard output a pipe that is closed before anything is printed.
+fn with_stdout_closed(args: &[&str], dir: &Path) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_chetaev"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    drop(child.stdout.take());
+    child.wait_with_output().expect("it ends")
+}
+
+#[test]
+fn a_closed_standard_output_ends_the_printing_quietly() {
+    let dir = tmp("pipe");
+    let scene = scene_path("uniform-projectile.toml");
+    for args in [
+        vec!["run", scene.as_str(), "--out", "out"],
+        vec!["check", scene.as_str(), "--out", "out"],
+    ] {
+        let o = with_stdout_closed(&args, &dir);
+        let stderr = text(&o.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {stderr}");
+    }
+    // The run still wrote its files.
+    assert!(dir.join("out/state.csv").is_file());
+    assert!(dir.join("out/manifest.toml").is_file());
+}
+
+fn short_scene(dir: &Path) -> String {
+    let uniform = std::fs::read_to_string(scene_path("uniform-projectile.toml")).expect("scene");
+    write_scene(
+        dir,
+        "short.toml",
+        &uniform.replace("atol = 1e-12", "atol = 1e-12\nmax_steps = 4"),
+    )
+}
+
+#[test]
+fn an_output_directory_that_cannot_be_made_is_refused_before_integrating() {
+    let dir = tmp("unwritable");
+    let path = short_scene(&dir);
+    std::fs::write(dir.join("a-file"), "not a directory").expect("write");
+    for (out, says) in [
+        ("a-file", "it is a file"),
+        ("a-file/sub", "a-file is a file"),
+    ] {
+        let out = dir.join(out);
+        for command in ["run", "check"] {
+            let o = chetaev(&[command, &path, "--out", out.to_str().expect("utf-8")]);
+            let stderr = text(&o.stderr);
+            // 2, not the 1 of the integration that would have failed: nothing was integrated.
+            assert_eq!(o.status.code(), Some(2), "{command} {out:?}: {stderr}");
+            assert!(o.stdout.is_empty(), "{command}: {}", text(&o.stdout));
+            assert!(stderr.contains("output directory"), "{stderr}");
+            assert!(stderr.contains(says), "{stderr}");
+        }
+    }
+    // `check` leaves nothing behind, not even the directory it would create.
+    let fresh = dir.join("fresh/deeper");
+    let o = chetaev(&["check", &path, "--out", fresh.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains(&format!("into {}", fresh.display())));
+    assert!(!dir.join("fresh").exists());
+    assert_eq!(std::fs::read_dir(&dir).expect("dir").count(), 2);
+}
+
+fn manifest_files(dir: &Path) -> Vec<String> {
+    let m = std::fs::read_to_string(dir.join("manifest.toml")).expect("manifest");
+    let line = m
+        .lines()
+        .find(|l| l.starts_with("files = "))
+        .expect("files");
+    line.trim_start_matches("files = [")
+        .trim_end_matches(']')
+        .split(", ")
+        .map(|f| f.trim_matches('"').to_string())
+        .collect()
+}
+
+#[test]
+fn a_run_lists_its_files_and_refuses_to_mix_them_with_another_runs() {
+    let dir = tmp("manifest");
+    let out = dir.join("out");
+    let out_s = out.to_str().expect("utf-8");
+    std::fs::create_dir_all(&out).expect("dir");
+    std::fs::write(out.join("notes.txt"), "mine").expect("write");
+    let uniform = scene_path("uniform-projectile.toml");
+    let classical = scene_path("classical-projectile.toml");
+
+    let o = chetaev(&["run", &uniform, "--out", out_s]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let first = manifest_files(&out);
+    assert_eq!(first.len(), 7, "{first:?}");
+    assert!(first.contains(&"multipliers.csv".to_string()));
+    // The same scene again: it replaces its own files, no flag needed.
+    let o = chetaev(&["run", &uniform, "--out", out_s]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+
+    // Another scene writes no multipliers: the earlier ones would be left beside its files.
+    let o = chetaev(&["run", &classical, "--out", out_s]);
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(o.stdout.is_empty(), "refused before integrating");
+    assert!(
+        stderr.contains("multipliers.csv, multipliers.svg"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("--force"), "{stderr}");
+    let o = chetaev(&["check", &classical, "--out", out_s]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+
+    let o = chetaev(&["run", &classical, "--out", out_s, "--force"]);
+    let stdout = text(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", text(&o.stderr));
+    assert!(
+        stdout.contains("removed  multipliers.csv, multipliers.svg"),
+        "{stdout}"
+    );
+    assert!(!out.join("multipliers.csv").exists());
+    assert_eq!(manifest_files(&out).len(), 5);
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt"))
+            .ok()
+            .as_deref(),
+        Some("mine")
+    );
+
+    // A file no run wrote is not overwritten without --force.
+    let other = dir.join("other");
+    std::fs::create_dir_all(&other).expect("dir");
+    std::fs::write(other.join("state.csv"), "precious").expect("write");
+    let o = chetaev(&["run", &classical, "--out", other.to_str().expect("utf-8")]);
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("would overwrite 1 file"), "{stderr}");
+    assert_eq!(
+        std::fs::read_to_string(other.join("state.csv"))
+            .ok()
+            .as_deref(),
+        Some("precious")
+    );
+    let o = chetaev(&[
+        "run",
+        &classical,
+        "--out",
+        other.to_str().expect("utf-8"),
+        "--overwrite",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert!(std::fs::read_to_string(other.join("state.csv"))
+        .expect("csv")
+        .starts_with("t,x,y"));
+}
+
+#[test]
+fn the_output_directory_is_relative_to_the_working_directory_and_printed_resolved() {
+    let dir = tmp("relative");
+    let work = dir.join("work");
+    std::fs::create_dir_all(&work).expect("dir");
+    let classical =
+        std::fs::read_to_string(scene_path("classical-projectile.toml")).expect("scene");
+    let scenes = dir.join("scenes");
+    std::fs::create_dir_all(&scenes).expect("dir");
+    let path = write_scene(
+        &scenes,
+        "up.toml",
+        &classical.replace(
+            "directory = \"out/classical-projectile\"",
+            "directory = \"../elsewhere/./out\"",
+        ),
+    );
+    let o = Command::new(env!("CARGO_BIN_EXE_chetaev"))
+        .args(["run", &path])
+        .current_dir(&work)
+        .output()
+        .expect("runs");
+    let stdout = text(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", text(&o.stderr));
+    let want = std::fs::canonicalize(dir.join("elsewhere/out")).expect("written");
+    assert!(want.join("state.csv").is_file());
+    assert!(
+        stdout.contains(&format!("into {}\n", want.display())),
+        "{stdout}"
+    );
+    assert!(!scenes.join("../elsewhere/out").join("x").exists());
+}
+
+#[test]
+fn an_endless_or_huge_scene_file_is_refused() {
+    let o = chetaev(&["check", "/dev/zero"]);
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("larger than 16777216 bytes"), "{stderr}");
+    let dir = tmp("huge");
+    let path = dir.join("huge.toml");
+    let mut text_ = String::from("# ");
+    text_.push_str(&"x".repeat(17 << 20));
+    std::fs::write(&path, text_).expect("write");
+    let o = chetaev(&["run", path.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("larger than"),
+        "{}",
+        text(&o.stderr)
+    );
+    std::fs::write(&path, [b'#', 0xff, b'\n']).expect("write");
+    let o = chetaev(&["check", path.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o.stderr).contains("not UTF-8"), "{}", text(&o.stderr));
+}
+
+#[test]
+fn a_nan_written_makes_the_exit_code_1_and_the_summary_says_where() {
+    let dir = tmp("nan");
+    let classical =
+        std::fs::read_to_string(scene_path("classical-projectile.toml")).expect("scene");
+    // sqrt(y - 2) is NaN once the projectile is below y = 2: y = 5 − 5t², so for t > √0.6 ≈ 0.775,
+    // at 23 of the 101 output times from 0 to the impact at t = 1.
+    let path = write_scene(
+        &dir,
+        "nan.toml",
+        &format!(
+            "{}\n[output.quantities]\nroot = \"sqrt(y - 2)\"\n",
+            classical.replace(
+                "tables = [\"state\", \"energy\", \"events\"]",
+                "tables = [\"state\", \"quantities\"]",
+            )
+        ),
+    );
+    let out = dir.join("out");
+    for quiet in [false, true] {
+        let mut args = vec!["run", &path, "--out", out.to_str().expect("utf-8")];
+        if quiet {
+            args.push("--quiet");
+        }
+        let o = chetaev(&args);
+        let (stdout, stderr) = (text(&o.stdout), text(&o.stderr));
+        assert_eq!(o.status.code(), Some(1), "{stdout}{stderr}");
+        let said = if quiet { &stderr } else { &stdout };
+        assert!(
+            said.contains("the quantity 'root' is NaN or infinite at 23 of 101 output points"),
+            "{said}"
+        );
+    }
+    assert!(std::fs::read_to_string(out.join("quantities.csv"))
+        .expect("csv")
+        .contains("NaN"));
+}
+
+#[test]
+fn check_counts_agree_with_their_nouns() {
+    let dir = tmp("nouns");
+    let classical =
+        std::fs::read_to_string(scene_path("classical-projectile.toml")).expect("scene");
+    let path = write_scene(
+        &dir,
+        "one.toml",
+        &classical
+            .replace(
+                "tables = [\"state\", \"energy\", \"events\"]",
+                "tables = [\"state\"]",
+            )
+            .replace(
+                "pictures = [\"trajectory\", \"energy\"]",
+                "pictures = [\"trajectory\"]",
+            ),
+    );
+    let o = chetaev(&[
+        "check",
+        &path,
+        "--out",
+        dir.join("o").to_str().expect("utf-8"),
+    ]);
+    let stdout = text(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert!(
+        stdout.contains(
+            ": ok (2 coordinates, 0 constraints, 1 event, method Dop853, 1 table, 1 picture)"
+        ),
+        "{stdout}"
+    );
 }

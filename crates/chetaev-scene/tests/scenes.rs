@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use chetaev::prelude::Record;
+use chetaev::prelude::{Record, Status};
 use chetaev_scene::{output, Scene};
 
 fn scenes_dir() -> PathBuf {
@@ -214,6 +214,21 @@ fn an_inconsistent_initial_velocity_points_at_q_dot_and_says_what_to_try() {
         .expect("solves");
     assert!(o.is_success());
     assert!((o.qd[0][0].hypot(o.qd[0][1]) - 10.0).abs() < 1e-12);
+    // The summary says from what to what.
+    let scene = Scene::parse(&text, "fixed.toml").expect("parses");
+    let summary = output::summary(&scene, &o);
+    let n = output::summary_number;
+    let want = format!(
+        "  initial  q_dot projected onto f = 0 (project_velocity = true): x_dot 10 → {}, y_dot 1 → {}\n",
+        n(o.qd[0][0]),
+        n(o.qd[0][1])
+    );
+    assert!(summary.contains(&want), "{summary}");
+    // A consistent velocity is left as it is, and the summary says so.
+    let consistent = BASE.replace("[solve]", "project_velocity = true\n[solve]");
+    let scene = Scene::parse(&consistent, "kept.toml").expect("parses");
+    let o = scene.solve().expect("solves");
+    assert!(output::summary(&scene, &o).contains("changed nothing"));
 }
 
 #[test]
@@ -227,7 +242,44 @@ fn a_failed_integration_keeps_the_motion_computed() {
     let o = scene.solve().expect("setup is fine");
     assert!(!o.is_success());
     assert_eq!(o.t.len(), 4, "{:?}", o.t);
-    assert!(output::summary(&scene, &o).contains("FAILED"));
+    let summary = output::summary(&scene, &o);
+    let Status::Failed(chetaev::Error::MaxSteps { t, .. }) = &o.status else {
+        panic!("{:?}", o.status)
+    };
+    assert!(
+        summary.contains(&format!(
+            "  status   FAILED at t = {}: the step limit of 3 steps was reached\n",
+            output::summary_number(*t)
+        )),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("  advice   raise max_steps under [solve] (now 3)"),
+        "{summary}"
+    );
+
+    // Stiffness is told as the method key to write.
+    let stiff = output::failure(
+        &scene,
+        &chetaev::Error::Stiff {
+            t: 0.25,
+            h_lambda: 3.3,
+            suggestion: "Rodas4",
+        },
+    );
+    assert_eq!(stiff.t, Some(0.25));
+    assert!(
+        stiff
+            .advice
+            .starts_with("set method = \"rodas4\" under [solve]"),
+        "{stiff:?}"
+    );
+    assert!(
+        stiff
+            .advice
+            .contains("method = \"dop853\" with stiffness_detection = false"),
+        "{stiff:?}"
+    );
 }
 
 #[test]

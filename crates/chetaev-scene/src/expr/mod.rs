@@ -14,9 +14,12 @@
 //!             sinh cosh tanh asinh acosh atanh abs
 //! ```
 //!
-//! A constant integer exponent (`x^2`, `x^-1`, `x^(n+1)` with a parameter `n`) is evaluated by
-//! `powi`, any other constant exponent by `powf`, and a variable exponent by `exp(b ln a)`
-//! (`a > 0`).
+//! A constant integer exponent with `|n| ≤ 32` (`x^2`, `x^-1`, `x^(n+1)` with a parameter `n`) is
+//! evaluated by repeated multiplication (`powi`), any other constant exponent by `powf` (an
+//! integer-valued one keeps the sign of a negative base), and a variable exponent by
+//! `exp(b ln a)` (`a > 0`). A constant exponent of a variable may be as large as
+//! [`MAX_EXPONENT`] `= 2^52` in size; its derivatives `n x^(n−1)`, `n (n−1) x^(n−2)`, ... are formed
+//! in floating point, so no integer product overflows.
 //!
 //! ```
 //! use chetaev_scene::expr::{Env, Expr, Symbols};
@@ -294,9 +297,9 @@ enum Node {
     DivC(Box<Node>, f64),
     /// `c / a`.
     CDiv(f64, Box<Node>),
-    /// `a^n`, integer `n`.
+    /// `a^n`, integer `n`, `|n| ≤ POWI_MAX`.
     PowI(Box<Node>, i32),
-    /// `a^p`, real constant `p`.
+    /// `a^p`, any other constant `p` (an integer-valued `p` keeps the sign of a negative `a`).
     PowF(Box<Node>, f64),
     /// `a^b`, variable `b`: `exp(b ln a)`.
     Pow(Box<Node>, Box<Node>),
@@ -386,7 +389,20 @@ fn resolve(ast: &Ast, sym: &Symbols) -> Result<Node, ExprError> {
             a => Node::Neg(Box::new(a)),
         },
         Ast::Bin(op, a, b, span) => {
+            let exponent_span = b.span();
             let (a, b) = (resolve(a, sym)?, resolve(b, sym)?);
+            if let (BinOp::Pow, Node::Const(p)) = (op, &b) {
+                if !matches!(a, Node::Const(_)) && p.abs() > MAX_EXPONENT {
+                    return Err(ExprError::at(
+                        exponent_span,
+                        format!(
+                            "the exponent {p:e} is too large: a power of a variable takes exponents up to \
+                             2^52 ≈ 4.5e15 in size, where the exponents n−1, n−2 of its derivatives are \
+                             still exact in floating point"
+                        ),
+                    ));
+                }
+            }
             binary(*op, a, b, *span)?
         }
         Ast::Call(name, span, args) => call(name, *span, args, sym)?,
@@ -438,23 +454,37 @@ fn binary(op: BinOp, a: Node, b: Node, span: Span) -> Result<Node, ExprError> {
         (BinOp::Add | BinOp::Sub, a, b) => Node::Sum(bx(a), vec![(op == BinOp::Sub, b)]),
         (BinOp::Mul | BinOp::Div, a, b) => Node::Product(bx(a), vec![(op == BinOp::Div, b)]),
         (BinOp::Pow, Const(x), Const(y)) => Const(power(x, y)),
-        (BinOp::Pow, a, Const(p)) => {
-            if p.fract() == 0.0 && p.abs() <= f64::from(i32::MAX) {
-                Node::PowI(bx(a), p as i32)
-            } else {
-                Node::PowF(bx(a), p)
-            }
-        }
+        (BinOp::Pow, a, Const(p)) => match small_integer(p) {
+            Some(n) => Node::PowI(bx(a), n),
+            None => Node::PowF(bx(a), p),
+        },
         (BinOp::Pow, a, b) => Node::Pow(bx(a), bx(b)),
     })
 }
 
+/// The largest `|n|` of an integer exponent evaluated by `powi`.
+///
+/// num-dual's `powi` forms the factors of its derivatives, `n (n−1)` and `n (n−1) (n−2)`, in `i32`,
+/// which overflows from `|n| ≈ 1290` on (third derivatives) and `|n| ≈ 46 341` (second); and
+/// repeated multiplication loses about one ulp per factor. Beyond this bound `powf` is both exact
+/// to an ulp and free of integer arithmetic: its derivative factors are `f64`.
+pub const POWI_MAX: i32 = 32;
+
+/// The largest `|p|` of a constant exponent of a variable base, `2^52`: up to there `p − 1`,
+/// `p − 2`, `p − 3` are exact in `f64`, so the derivatives keep the parity (the sign of a negative
+/// base) of an integer exponent.
+pub const MAX_EXPONENT: f64 = 4_503_599_627_370_496.0;
+
+/// `p` as an `i32` if it is an integer with `|p| ≤ POWI_MAX`.
+fn small_integer(p: f64) -> Option<i32> {
+    (p.fract() == 0.0 && p.abs() <= f64::from(POWI_MAX)).then_some(p as i32)
+}
+
 /// `x^y` on constants, with the same choice of `powi`/`powf` as at run time.
 fn power(x: f64, y: f64) -> f64 {
-    if y.fract() == 0.0 && y.abs() <= f64::from(i32::MAX) {
-        x.powi(y as i32)
-    } else {
-        x.powf(y)
+    match small_integer(y) {
+        Some(n) => x.powi(n),
+        None => x.powf(y),
     }
 }
 
@@ -499,6 +529,12 @@ fn resolve_name(name: &str, span: Span, sym: &Symbols) -> Result<Node, ExprError
     Err(ExprError::at(span, unknown_name(name, sym)))
 }
 
+/// `Ok` if `name` has a value in an expression with `symbols`, or the error
+/// [`Expr::parse`] would give for it (what the name is, or the names it is close to).
+pub(crate) fn check_name(name: &str, span: Span, sym: &Symbols) -> Result<(), ExprError> {
+    resolve_name(name, span, sym).map(|_| ())
+}
+
 fn unknown_name(name: &str, sym: &Symbols) -> String {
     let mut known: Vec<String> = sym.parameters.keys().cloned().collect();
     known.extend(["pi".to_string(), "e".to_string()]);
@@ -537,23 +573,61 @@ fn unknown_name(name: &str, sym: &Symbols) -> String {
         None if known.is_empty() => format!("unknown name '{name}': not {what}"),
         None => format!(
             "unknown name '{name}': not {what} (the names here are {})",
-            known.join(", ")
+            listing(&known)
         ),
     }
 }
 
+/// The most names a message lists.
+const NAMES_LISTED: usize = 20;
+
+/// `a, b, c`, or the first [`NAMES_LISTED`] names and how many more there are.
+fn listing(names: &[String]) -> String {
+    let shown: Vec<&str> = names
+        .iter()
+        .take(NAMES_LISTED)
+        .map(String::as_str)
+        .collect();
+    if names.len() > NAMES_LISTED {
+        format!(
+            "{}, and {} more",
+            shown.join(", "),
+            names.len() - NAMES_LISTED
+        )
+    } else {
+        shown.join(", ")
+    }
+}
+
+/// The longest name, in characters, for which a near name is looked for.
+const SUGGEST_MAX_LEN: usize = 64;
+
+/// The most known names compared with an unknown one.
+const SUGGEST_MAX_CANDIDATES: usize = 10_000;
+
 /// The known name nearest to `name` by edit distance, if it is near enough to be a typo.
+///
+/// Bounded whatever the scene: names longer than [`SUGGEST_MAX_LEN`] get no suggestion, only names
+/// whose length is within the distance allowed are compared, at most [`SUGGEST_MAX_CANDIDATES`]
+/// of them, and each comparison stops once the distance allowed is exceeded.
 fn closest<'a>(name: &str, known: &'a [String]) -> Option<&'a str> {
-    let limit = if name.len() <= 3 { 1 } else { 2 };
+    let len = name.chars().count();
+    if len > SUGGEST_MAX_LEN {
+        return None;
+    }
+    let limit = if len <= 3 { 1 } else { 2 };
     known
         .iter()
-        .map(|k| (edit_distance(name, k), k))
-        .filter(|(d, _)| *d <= limit)
+        .filter(|k| k.len().abs_diff(name.len()) <= 4 * limit)
+        .filter(|k| k.chars().count().abs_diff(len) <= limit)
+        .take(SUGGEST_MAX_CANDIDATES)
+        .filter_map(|k| edit_distance_within(name, k, limit).map(|d| (d, k)))
         .min_by_key(|(d, _)| *d)
         .map(|(_, k)| k.as_str())
 }
 
-fn edit_distance(a: &str, b: &str) -> usize {
+/// The Levenshtein distance between `a` and `b` if it is at most `limit`.
+fn edit_distance_within(a: &str, b: &str, limit: usize) -> Option<usize> {
     let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
     let mut row: Vec<usize> = (0..=b.len()).collect();
     for i in 1..=a.len() {
@@ -566,8 +640,12 @@ fn edit_distance(a: &str, b: &str) -> usize {
                 .min(prev + usize::from(a[i - 1] != b[j - 1]));
             prev = cur;
         }
+        // Every later row is at least the smallest entry of this one.
+        if row.iter().min().is_some_and(|m| *m > limit) {
+            return None;
+        }
     }
-    row[b.len()]
+    Some(row[b.len()]).filter(|d| *d <= limit)
 }
 
 fn call(name: &str, span: Span, args: &[Ast], sym: &Symbols) -> Result<Node, ExprError> {
@@ -641,9 +719,21 @@ mod tests {
     }
 
     #[test]
-    fn edit_distance_counts_edits() {
-        assert_eq!(edit_distance("x_dto", "x_dot"), 2);
-        assert_eq!(edit_distance("sine", "sin"), 1);
-        assert_eq!(edit_distance("", "ab"), 2);
+    fn edit_distance_counts_edits_up_to_the_limit() {
+        assert_eq!(edit_distance_within("x_dto", "x_dot", 2), Some(2));
+        assert_eq!(edit_distance_within("x_dto", "x_dot", 1), None);
+        assert_eq!(edit_distance_within("sine", "sin", 2), Some(1));
+        assert_eq!(edit_distance_within("", "ab", 2), Some(2));
+        assert_eq!(edit_distance_within("abcdef", "uvwxyz", 2), None);
+    }
+
+    #[test]
+    fn suggestions_are_bounded_and_listings_short() {
+        let known: Vec<String> = (0..30).map(|i| format!("p{i}")).collect();
+        assert_eq!(closest("p29x", &known), Some("p29"));
+        let long = "a".repeat(SUGGEST_MAX_LEN + 1);
+        assert_eq!(closest(&long, &[format!("{long}b")]), None);
+        assert_eq!(listing(&known).matches(", ").count(), NAMES_LISTED);
+        assert!(listing(&known).ends_with("and 10 more"));
     }
 }

@@ -1,595 +1,26 @@
-//! The scene file: its TOML schema, and its validation into a [`Scene`] ready to solve.
-//!
-//! The schema is described in `docs/scenes.md`. Every table rejects unknown keys, every value
-//! keeps its place in the file, and every mistake is reported at that place.
+//! From the file as written ([`schema`](super::schema)) to the validated [`Scene`]: names,
+//! expressions, sizes, numbers and options, each mistake located in the file.
 
 use std::collections::{BTreeMap, HashSet};
-use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
-use chetaev::prelude::{Atol, Direction, Record};
-use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
-use serde::Deserialize;
+use chetaev::prelude::{Atol, Direction};
 use toml::Spanned;
 
+use super::schema::{
+    MethodName, Number, RawAtol, RawDirection, RawOutput, RawScene, RawSolve, RawTimes,
+};
+use super::spec::{
+    EventSpec, GridEnd, MethodSpec, OutputSpec, Picture, Scene, SolveSpec, Spans, Table, Times,
+};
+use super::MAX_OUTPUT_TIMES;
 use crate::error::{Error, SourceFile};
-use crate::expr::{is_function, parse as expr_parse, Expr, Symbols, RESERVED};
+use crate::expr::{is_function, Expr, Symbols, RESERVED};
 use crate::source::string_offset;
 
-/// The most times an output grid may have.
-pub const MAX_OUTPUT_TIMES: i64 = 10_000_000;
-
-// ---------------------------------------------------------------------------------------------
-// The file as written.
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawScene {
-    scene: Option<RawMeta>,
-    #[serde(default)]
-    parameters: BTreeMap<Spanned<String>, Spanned<Number>>,
-    model: Spanned<RawModel>,
-    initial: Spanned<RawInitial>,
-    solve: Spanned<RawSolve>,
-    #[serde(default)]
-    events: Vec<Spanned<RawEvent>>,
-    output: Option<RawOutput>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawMeta {
-    name: Option<String>,
-    description: Option<String>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawModel {
-    coordinates: Spanned<Vec<Spanned<String>>>,
-    lagrangian: Spanned<String>,
-    constraints: Option<Spanned<Vec<Spanned<String>>>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawInitial {
-    t: Option<Spanned<Number>>,
-    q: Spanned<Vec<Spanned<Number>>>,
-    q_dot: Spanned<Vec<Spanned<Number>>>,
-    #[serde(default)]
-    project_velocity: bool,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawSolve {
-    method: Option<Spanned<MethodName>>,
-    t_end: Spanned<Number>,
-    rtol: Option<Spanned<f64>>,
-    atol: Option<Spanned<RawAtol>>,
-    step: Option<Spanned<Number>>,
-    initial_step: Option<Spanned<Number>>,
-    max_step: Option<Spanned<Number>>,
-    max_steps: Option<Spanned<i64>>,
-    #[serde(default)]
-    projection: bool,
-    stiffness_detection: Option<Spanned<bool>>,
-}
-
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-enum MethodName {
-    Dopri5,
-    Dop853,
-    Rk4,
-    Rodas4,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawEvent {
-    name: Spanned<String>,
-    expression: Spanned<String>,
-    direction: Option<RawDirection>,
-    #[serde(default)]
-    terminal: bool,
-}
-
-#[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(rename_all = "lowercase")]
-enum RawDirection {
-    Either,
-    Rising,
-    Falling,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawOutput {
-    directory: Option<String>,
-    times: Option<Spanned<RawTimes>>,
-    #[serde(default)]
-    tables: Vec<Spanned<Table>>,
-    #[serde(default)]
-    pictures: Vec<Spanned<Picture>>,
-    #[serde(default)]
-    quantities: BTreeMap<Spanned<String>, Spanned<String>>,
-}
-
-/// A number, or an expression of the parameters in quotes.
-#[derive(Clone, Debug)]
-enum Number {
-    Value(f64),
-    Expr(String),
-}
-
-impl<'de> Deserialize<'de> for Number {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl Visitor<'_> for V {
-            type Value = Number;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number or an expression in quotes, such as 5.0 or \"2*h0\"")
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Number, E> {
-                Ok(Number::Value(v))
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Number, E> {
-                Ok(Number::Value(v as f64))
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Number, E> {
-                Ok(Number::Value(v as f64))
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<Number, E> {
-                Ok(Number::Expr(v.to_string()))
-            }
-        }
-        d.deserialize_any(V)
-    }
-}
-
-/// `atol`: one number, or one per component of `(q, q̇)`.
-enum RawAtol {
-    Scalar(f64),
-    List(Vec<f64>),
-}
-
-impl<'de> Deserialize<'de> for RawAtol {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl<'de> Visitor<'de> for V {
-            type Value = RawAtol;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str(
-                    "a number, or a list of 2N numbers (the coordinates' absolute tolerances, then the velocities')",
-                )
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawAtol, E> {
-                Ok(RawAtol::Scalar(v))
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawAtol, E> {
-                Ok(RawAtol::Scalar(v as f64))
-            }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawAtol, A::Error> {
-                let mut v = Vec::new();
-                while let Some(x) = seq.next_element::<f64>()? {
-                    v.push(x);
-                }
-                Ok(RawAtol::List(v))
-            }
-        }
-        d.deserialize_any(V)
-    }
-}
-
-/// `output.times`.
-enum RawTimes {
-    Steps,
-    List(Vec<f64>),
-    Grid {
-        from: Option<Number>,
-        to: Option<Number>,
-        count: i64,
-    },
-}
-
-impl<'de> Deserialize<'de> for RawTimes {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl<'de> Visitor<'de> for V {
-            type Value = RawTimes;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str(
-                    "\"steps\", a list of times, or a grid { from = 0.0, to = \"end\", count = 101 }",
-                )
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<RawTimes, E> {
-                match v {
-                    "steps" => Ok(RawTimes::Steps),
-                    other => Err(E::custom(format!(
-                        "unknown output times \"{other}\": expected \"steps\", a list of times, or a grid \
-                         {{ from = 0.0, to = \"end\", count = 101 }}"
-                    ))),
-                }
-            }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawTimes, A::Error> {
-                let mut v = Vec::new();
-                while let Some(x) = seq.next_element::<f64>()? {
-                    v.push(x);
-                }
-                Ok(RawTimes::List(v))
-            }
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<RawTimes, A::Error> {
-                let (mut from, mut to, mut count) = (None, None, None);
-                while let Some(key) = map.next_key::<String>()? {
-                    match key.as_str() {
-                        "from" => from = Some(map.next_value::<Number>()?),
-                        "to" => to = Some(map.next_value::<Number>()?),
-                        "count" => count = Some(map.next_value::<i64>()?),
-                        other => {
-                            return Err(de::Error::custom(format!(
-                                "unknown key `{other}` in the output grid: expected `from`, `to`, `count`"
-                            )))
-                        }
-                    }
-                }
-                let count = count.ok_or_else(|| {
-                    de::Error::custom(
-                        "the output grid needs `count`, the number of times (at least 2), as in \
-                         { from = 0.0, to = \"end\", count = 101 }",
-                    )
-                })?;
-                Ok(RawTimes::Grid { from, to, count })
-            }
-        }
-        d.deserialize_any(V)
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// The scene as validated.
-
-/// A validated scene: every expression parsed and resolved, every number checked.
-#[derive(Clone, Debug)]
-pub struct Scene {
-    /// The scene's name (`[scene] name`, or the file name).
-    pub name: String,
-    /// Its description, if any.
-    pub description: Option<String>,
-    /// The file, for locating errors found later (at the initial state).
-    pub file: SourceFile,
-    /// Parameters and their values, in the order of the file.
-    pub parameters: Vec<(String, f64)>,
-    /// Coordinate names.
-    pub coordinates: Vec<String>,
-    /// `L(t, q, q̇)`.
-    pub lagrangian: Expr,
-    /// `f_a(t, q, q̇)`, `a = 1..K`.
-    pub constraints: Vec<Expr>,
-    /// Initial time.
-    pub t0: f64,
-    /// Initial coordinates.
-    pub q0: Vec<f64>,
-    /// Initial velocities.
-    pub qd0: Vec<f64>,
-    /// Whether the initial velocity is projected onto `f = 0` first.
-    pub project_velocity: bool,
-    /// Method, end time, tolerances.
-    pub solve: SolveSpec,
-    /// Events, in the order of the file.
-    pub events: Vec<EventSpec>,
-    /// What to write.
-    pub output: OutputSpec,
-    pub(crate) spans: Spans,
-}
-
-/// Places in the file that errors found after validation point at.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Spans {
-    pub initial: Range<usize>,
-    pub q_dot: Range<usize>,
-    pub constraints: Vec<Range<usize>>,
-    pub lagrangian: Range<usize>,
-    pub solve: Range<usize>,
-    pub options: BTreeMap<&'static str, Range<usize>>,
-    pub events: Vec<Range<usize>>,
-    pub quantities: Vec<Range<usize>>,
-}
-
-/// The integration method and its options.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MethodSpec {
-    /// Dormand–Prince 5(4).
-    Dopri5 {
-        /// Stop with a stiffness error when the test fires.
-        stiffness_detection: bool,
-    },
-    /// Dormand–Prince 8(5,3).
-    Dop853 {
-        /// Stop with a stiffness error when the test fires.
-        stiffness_detection: bool,
-    },
-    /// Classical Runge–Kutta with a fixed step.
-    Rk4 {
-        /// The step size.
-        step: f64,
-    },
-    /// Hairer and Wanner's Rosenbrock method RODAS (implicit, for stiff problems).
-    Rodas4,
-}
-
-impl MethodSpec {
-    /// The method's name as in the literature.
-    pub fn name(&self) -> &'static str {
-        match self {
-            MethodSpec::Dopri5 { .. } => "Dopri5",
-            MethodSpec::Dop853 { .. } => "Dop853",
-            MethodSpec::Rk4 { .. } => "Rk4",
-            MethodSpec::Rodas4 => "Rodas4",
-        }
-    }
-}
-
-/// `[solve]`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SolveSpec {
-    /// The method.
-    pub method: MethodSpec,
-    /// The end time.
-    pub t_end: f64,
-    /// Relative tolerance.
-    pub rtol: f64,
-    /// Absolute tolerance.
-    pub atol: Atol,
-    /// First step size.
-    pub initial_step: Option<f64>,
-    /// Largest step size.
-    pub max_step: Option<f64>,
-    /// Step limit.
-    pub max_steps: Option<usize>,
-    /// Projection onto `f = 0` after each step.
-    pub projection: bool,
-}
-
-/// One `[[events]]` entry.
-#[derive(Clone, Debug)]
-pub struct EventSpec {
-    /// Its name.
-    pub name: String,
-    /// `g(t, q, q̇)`, whose zeros are located.
-    pub expr: Expr,
-    /// Which crossings count.
-    pub direction: Direction,
-    /// Whether the first crossing stops the integration.
-    pub terminal: bool,
-}
-
-/// A CSV table a scene can ask for.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, PartialOrd, Ord)]
-#[serde(rename_all = "lowercase")]
-pub enum Table {
-    /// `t`, the coordinates and the velocities.
-    State,
-    /// `t` and the accelerations `q̈`.
-    Acceleration,
-    /// `t` and the multipliers `μ_a`.
-    Multipliers,
-    /// `t` and the Chetaev force `Φ = Jᵀμ`, one column per coordinate.
-    Force,
-    /// `t` and the constraint residuals `f_a`.
-    Residual,
-    /// `t`, the energy `E`, the work `W_Φ`, `∫∂L/∂t dt` and the balance.
-    Energy,
-    /// One row per located event: its name, `t`, the coordinates and the velocities.
-    Events,
-    /// `t` and the scene's `[output.quantities]`.
-    Quantities,
-}
-
-/// An SVG picture a scene can ask for.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, PartialOrd, Ord)]
-#[serde(rename_all = "lowercase")]
-pub enum Picture {
-    /// The second coordinate against the first (equal scales); the coordinate against `t` if `N = 1`.
-    Trajectory,
-    /// Every coordinate against `t`.
-    State,
-    /// Every velocity against `t`.
-    Velocity,
-    /// Every acceleration against `t`.
-    Acceleration,
-    /// Every multiplier against `t`.
-    Multipliers,
-    /// Every component of the Chetaev force against `t`.
-    Force,
-    /// `|f_a|` against `t`, logarithmic.
-    Residual,
-    /// `E − E(t0)`, `W_Φ`, `∫∂L/∂t dt` and the balance against `t`.
-    Energy,
-    /// Every output quantity against `t`.
-    Quantities,
-}
-
-impl Table {
-    /// Every table, in the order of the documentation.
-    pub const ALL: [Table; 8] = [
-        Table::State,
-        Table::Acceleration,
-        Table::Multipliers,
-        Table::Force,
-        Table::Residual,
-        Table::Energy,
-        Table::Events,
-        Table::Quantities,
-    ];
-
-    /// The file name without extension.
-    pub fn name(self) -> &'static str {
-        match self {
-            Table::State => "state",
-            Table::Acceleration => "acceleration",
-            Table::Multipliers => "multipliers",
-            Table::Force => "force",
-            Table::Residual => "residual",
-            Table::Energy => "energy",
-            Table::Events => "events",
-            Table::Quantities => "quantities",
-        }
-    }
-
-    /// What has to be recorded along the motion for it.
-    pub fn record(self) -> Record {
-        match self {
-            Table::State | Table::Events | Table::Quantities => Record::State,
-            Table::Acceleration | Table::Multipliers | Table::Force | Table::Residual => {
-                Record::Dynamics
-            }
-            Table::Energy => Record::Energy,
-        }
-    }
-
-    fn needs_constraints(self) -> bool {
-        matches!(self, Table::Multipliers | Table::Force | Table::Residual)
-    }
-}
-
-impl Picture {
-    /// The file name without extension.
-    pub fn name(self) -> &'static str {
-        match self {
-            Picture::Trajectory => "trajectory",
-            Picture::State => "state",
-            Picture::Velocity => "velocity",
-            Picture::Acceleration => "acceleration",
-            Picture::Multipliers => "multipliers",
-            Picture::Force => "force",
-            Picture::Residual => "residual",
-            Picture::Energy => "energy",
-            Picture::Quantities => "quantities",
-        }
-    }
-
-    /// What has to be recorded along the motion for it.
-    pub fn record(self) -> Record {
-        match self {
-            Picture::Trajectory | Picture::State | Picture::Velocity | Picture::Quantities => {
-                Record::State
-            }
-            Picture::Acceleration | Picture::Multipliers | Picture::Force | Picture::Residual => {
-                Record::Dynamics
-            }
-            Picture::Energy => Record::Energy,
-        }
-    }
-
-    fn needs_constraints(self) -> bool {
-        matches!(
-            self,
-            Picture::Multipliers | Picture::Force | Picture::Residual
-        )
-    }
-}
-
-/// Where along the motion the tables and pictures are sampled.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Times {
-    /// At every accepted step.
-    Steps,
-    /// At these times (by dense output), plus the start and the end.
-    List(Vec<f64>),
-    /// `count` equally spaced times from `from` to `to`.
-    Grid {
-        /// First time.
-        from: f64,
-        /// Last time.
-        to: GridEnd,
-        /// Number of times, at least 2.
-        count: usize,
-    },
-}
-
-/// The last time of an output grid.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum GridEnd {
-    /// A given time.
-    Time(f64),
-    /// Where the motion stops: at a terminal event, or at `t_end`.
-    End,
-}
-
-/// `[output]`.
-#[derive(Clone, Debug)]
-pub struct OutputSpec {
-    /// Where the files go.
-    pub directory: PathBuf,
-    /// Where the motion is sampled.
-    pub times: Times,
-    /// CSV tables, without repetitions, in the order asked.
-    pub tables: Vec<Table>,
-    /// SVG pictures, without repetitions, in the order asked.
-    pub pictures: Vec<Picture>,
-    /// Named expressions of `t`, the coordinates and the velocities, in the order of the file.
-    pub quantities: Vec<(String, Expr)>,
-}
-
-impl Scene {
-    /// Reads and validates the scene file at `path`.
-    pub fn load(path: impl AsRef<Path>) -> Result<Self, Error> {
-        let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::parse(&text, &path.display().to_string())
-    }
-
-    /// Validates a scene given as text; `path` names it in messages and gives the default output
-    /// directory `out/<file stem>`.
-    pub fn parse(text: &str, path: &str) -> Result<Self, Error> {
-        let file = SourceFile {
-            path: path.to_string(),
-            text: Arc::from(text),
-        };
-        let raw: RawScene = toml::from_str(text).map_err(|e| {
-            let span = e.span().unwrap_or(0..0);
-            file.error(span, toml_message(e.message()))
-        })?;
-        Builder { file }.build(raw)
-    }
-
-    /// `N`, the number of coordinates.
-    pub fn n(&self) -> usize {
-        self.coordinates.len()
-    }
-
-    /// `K`, the number of constraints.
-    pub fn k(&self) -> usize {
-        self.constraints.len()
-    }
-
-    /// What has to be recorded along the motion for the tables and pictures asked for.
-    pub fn record(&self) -> Record {
-        let tables = self.output.tables.iter().map(|t| t.record());
-        let pictures = self.output.pictures.iter().map(|p| p.record());
-        tables.chain(pictures).max().unwrap_or(Record::State)
-    }
-
-    /// Whether anything is sampled along the motion (a table or a picture other than the events
-    /// table). When nothing is, only the start, the end and the events are recorded.
-    pub fn samples_motion(&self) -> bool {
-        !self.output.pictures.is_empty() || self.output.tables.iter().any(|t| *t != Table::Events)
-    }
-
-    pub(crate) fn error_at(&self, range: Range<usize>, message: impl Into<String>) -> Error {
-        self.file.error(range, message)
-    }
-}
-
 /// toml's messages, with a hint for the commonest mistakes.
-fn toml_message(message: &str) -> String {
+pub(super) fn toml_message(message: &str) -> String {
     let m = message.trim_end().to_string();
     if m.contains("missing field") {
         format!("{m}; see docs/scenes.md for the keys of each table")
@@ -598,8 +29,8 @@ fn toml_message(message: &str) -> String {
     }
 }
 
-struct Builder {
-    file: SourceFile,
+pub(super) struct Builder {
+    pub(super) file: SourceFile,
 }
 
 fn is_identifier(s: &str) -> bool {
@@ -610,7 +41,7 @@ fn is_identifier(s: &str) -> bool {
 }
 
 impl Builder {
-    fn err(&self, range: Range<usize>, message: impl Into<String>) -> Error {
+    pub(super) fn err(&self, range: Range<usize>, message: impl Into<String>) -> Error {
         self.file.error(range, message)
     }
 
@@ -619,7 +50,7 @@ impl Builder {
         Expr::parse(s.get_ref(), symbols).map_err(|e| self.expr_error(s, e))
     }
 
-    fn expr_error(&self, s: &Spanned<String>, e: crate::expr::ExprError) -> Error {
+    pub(super) fn expr_error(&self, s: &Spanned<String>, e: crate::expr::ExprError) -> Error {
         let span = s.span();
         let start = string_offset(&self.file.text, &span, s.get_ref(), e.start);
         let end = string_offset(&self.file.text, &span, s.get_ref(), e.end).max(start + 1);
@@ -627,7 +58,12 @@ impl Builder {
     }
 
     /// A constant: a number, or an expression of the parameters.
-    fn number(&self, n: &Spanned<Number>, symbols: &Symbols, what: &str) -> Result<f64, Error> {
+    pub(super) fn number(
+        &self,
+        n: &Spanned<Number>,
+        symbols: &Symbols,
+        what: &str,
+    ) -> Result<f64, Error> {
         let v = match n.get_ref() {
             Number::Value(v) => *v,
             Number::Expr(s) => {
@@ -647,7 +83,7 @@ impl Builder {
         Ok(v)
     }
 
-    fn name_check(&self, name: &Spanned<String>, what: &str) -> Result<(), Error> {
+    pub(super) fn name_check(&self, name: &Spanned<String>, what: &str) -> Result<(), Error> {
         let n = name.get_ref();
         if !is_identifier(n) {
             return Err(self.err(
@@ -680,7 +116,7 @@ impl Builder {
         Ok(())
     }
 
-    fn build(&self, raw: RawScene) -> Result<Scene, Error> {
+    pub(super) fn build(&self, raw: RawScene) -> Result<Scene, Error> {
         let parameters = self.parameters(&raw.parameters)?;
         let param_map: BTreeMap<String, f64> = parameters.iter().cloned().collect();
         let constants = Symbols::constants(&param_map);
@@ -835,83 +271,6 @@ impl Builder {
                 quantities: quantity_spans,
             },
         })
-    }
-
-    /// The parameters in the order of the file; a value may be an expression of other parameters.
-    fn parameters(
-        &self,
-        raw: &BTreeMap<Spanned<String>, Spanned<Number>>,
-    ) -> Result<Vec<(String, f64)>, Error> {
-        let mut entries: Vec<(&Spanned<String>, &Spanned<Number>)> = raw.iter().collect();
-        entries.sort_by_key(|(k, _)| k.span().start);
-        let all: HashSet<&str> = entries.iter().map(|(k, _)| k.get_ref().as_str()).collect();
-        let mut values: BTreeMap<String, f64> = BTreeMap::new();
-        let mut pending = Vec::new();
-        for (k, v) in &entries {
-            self.name_check(k, "parameter")?;
-            match v.get_ref() {
-                Number::Value(x) => {
-                    if !x.is_finite() {
-                        return Err(self.err(
-                            v.span(),
-                            format!("parameter '{}' is {x}; give a finite number", k.get_ref()),
-                        ));
-                    }
-                    values.insert(k.get_ref().clone(), *x);
-                }
-                Number::Expr(s) => {
-                    let spanned = Spanned::new(v.span(), s.clone());
-                    let ast = expr_parse::parse(s).map_err(|e| self.expr_error(&spanned, e))?;
-                    pending.push((k, spanned, ast));
-                }
-            }
-        }
-        // Resolve expressions once everything they name is known.
-        while !pending.is_empty() {
-            let mut progress = false;
-            let mut i = 0;
-            while i < pending.len() {
-                let (k, s, ast) = &pending[i];
-                let mut used = Vec::new();
-                ast.names(&mut used);
-                let waiting = used
-                    .iter()
-                    .any(|(n, _)| all.contains(n.as_str()) && !values.contains_key(n));
-                if waiting {
-                    i += 1;
-                    continue;
-                }
-                let e = Expr::from_ast(s.get_ref(), ast, &Symbols::constants(&values))
-                    .map_err(|e| self.expr_error(s, e))?;
-                let value = e.constant().ok_or_else(|| {
-                    self.err(s.span(), "a parameter must be a constant expression")
-                })?;
-                values.insert(k.get_ref().clone(), value);
-                pending.remove(i);
-                progress = true;
-            }
-            if !progress {
-                let names: Vec<&str> = pending
-                    .iter()
-                    .map(|(k, _, _)| k.get_ref().as_str())
-                    .collect();
-                return Err(self.err(
-                    pending[0].1.span(),
-                    format!(
-                        "the parameters {} are defined in terms of each other in a cycle; give one of them a number",
-                        names.join(", ")
-                    ),
-                ));
-            }
-        }
-        Ok(entries
-            .iter()
-            .map(|(k, _)| {
-                let name = k.get_ref().clone();
-                let v = values.get(&name).copied().unwrap_or(f64::NAN);
-                (name, v)
-            })
-            .collect())
     }
 
     fn vector(

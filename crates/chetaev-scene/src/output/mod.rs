@@ -1,0 +1,106 @@
+//! What a run writes and prints: CSV tables, SVG pictures, the manifest, and the summary.
+//!
+//! | file | holds |
+//! |---|---|
+//! | `files.rs` | the output directory: [`Plan`] (checked before integrating), the [`MANIFEST`] |
+//! | `table.rs` | CSV tables, streamed row by row |
+//! | `picture.rs` | SVG pictures (`chetaev-plot`) |
+//! | `summary.rs` | the summary, a failure in the scene's terms, values that are not finite |
+
+mod files;
+mod picture;
+mod summary;
+mod table;
+
+use std::path::{Path, PathBuf};
+
+pub use files::{resolve, Plan, Written, MANIFEST};
+pub use summary::{count, failure, non_finite, status_text, summary, Failure, NonFinite};
+pub use table::CsvNumber;
+
+use crate::error::Error;
+use crate::expr::{Env, Expr};
+use crate::run::Outcome;
+use crate::scene::{Picture, Scene, Table};
+
+/// A number for a CSV file: the shortest text that reads back to the same `f64`, in plain notation
+/// between `1e-5` and `1e16` and in exponent notation outside.
+pub fn csv_number(v: f64) -> String {
+    CsvNumber(v).to_string()
+}
+
+/// A number for the summary: 13 significant digits, trailing zeros dropped.
+pub fn summary_number(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    if (1e-3..1e7).contains(&a) {
+        let decimals = (12 - a.log10().floor() as i32).clamp(0, 15) as usize;
+        let s = format!("{v:.decimals$}");
+        let s = if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        };
+        return s;
+    }
+    let s = format!("{v:.12e}");
+    match s.split_once('e') {
+        Some((m, e)) if m.contains('.') => {
+            format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+        }
+        _ => s,
+    }
+}
+
+/// Whether the quantities are written (as a table or a picture).
+fn writes_quantities(scene: &Scene) -> bool {
+    scene.output.tables.contains(&Table::Quantities)
+        || scene.output.pictures.contains(&Picture::Quantities)
+}
+
+/// An output quantity at output point `i`, if the state there was recorded.
+fn quantity_at(e: &Expr, out: &Outcome, i: usize) -> Option<f64> {
+    let (t, q, qd) = (out.t.get(i)?, out.q.get(i)?, out.qd.get(i)?);
+    Some(e.eval(&Env { t: *t, q, qd }))
+}
+
+/// An output quantity along the recorded motion, evaluated as it is read.
+fn quantity_values<'a>(e: &'a Expr, out: &'a Outcome) -> impl Iterator<Item = f64> + 'a {
+    (0..out.t.len()).map(move |i| quantity_at(e, out, i).unwrap_or(f64::NAN))
+}
+
+/// Writes the tables and pictures the scene asks for into `dir` (created if missing), with the
+/// [`MANIFEST`] listing them, and returns the tables and pictures written. Refuses a directory
+/// holding files of an earlier run that this one would not write (see [`Plan::new`]).
+pub fn write(scene: &Scene, out: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, Error> {
+    Ok(Plan::new(scene, dir, false)?.write(scene, out)?.files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_round_trip_and_read_well() {
+        for v in [
+            0.0,
+            1.0,
+            -2.5,
+            1e-20,
+            6.02e23,
+            1.085_038_501_948_426_5,
+            f64::MIN_POSITIVE,
+        ] {
+            assert_eq!(csv_number(v).parse::<f64>().ok(), Some(v), "{v}");
+        }
+        assert_eq!(csv_number(1e-20), "1e-20");
+        assert_eq!(summary_number(1.085_038_501_948_426_5), "1.085038501948");
+        assert_eq!(summary_number(10.0), "10");
+        assert_eq!(summary_number(-7.657_510_943_466), "-7.657510943466");
+        assert_eq!(summary_number(2.5e-16), "2.5e-16");
+        assert_eq!(table::csv_text("a, b"), "\"a, b\"");
+        assert_eq!(table::csv_text("plain"), "plain");
+    }
+}

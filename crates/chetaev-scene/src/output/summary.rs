@@ -1,0 +1,447 @@
+//! The summary a run prints, a failure told in the scene's terms, and the values that are not
+//! finite.
+
+use std::fmt::Write as _;
+
+use chetaev::prelude::{Atol, Status};
+
+use super::{quantity_values, summary_number as num, writes_quantities};
+use crate::run::Outcome;
+use crate::scene::{MethodSpec, Scene};
+
+/// `n` and the noun in the number that goes with it: `count(1, "step", "steps")` is "1 step".
+pub fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+/// A failed integration told in the scene's terms: where, what, and what to change in the file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Failure {
+    /// The time of the failure, as the error reports it (not the last output time).
+    pub t: Option<f64>,
+    /// What happened.
+    pub what: String,
+    /// What to change in the scene file, by its keys.
+    pub advice: String,
+}
+
+/// `x = 1, y = 2, x_dot = 3, y_dot = 4`, or as much of it as the vectors hold.
+fn state_text(scene: &Scene, q: &[f64], qd: &[f64]) -> String {
+    let c = &scene.coordinates;
+    c.iter()
+        .zip(q)
+        .map(|(c, v)| format!("{c} = {}", num(*v)))
+        .chain(
+            c.iter()
+                .zip(qd)
+                .map(|(c, v)| format!("{c}_dot = {}", num(*v))),
+        )
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The method key for the advice: `method = "dop853"`.
+fn method_key(scene: &Scene) -> String {
+    format!("method = \"{}\"", scene.solve.method.name().to_lowercase())
+}
+
+/// The failure `e` of a scene's integration, with its own time and advice by the scene's keys.
+pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
+    use chetaev::Error as E;
+    let stiff =
+        "if the steps shrank because the problem is stiff, set method = \"rodas4\" under [solve]";
+    match e {
+        E::MaxSteps { t, max_steps } => Failure {
+            t: Some(*t),
+            what: format!("the step limit of {max_steps} steps was reached"),
+            advice: format!(
+                "raise max_steps under [solve] (now {max_steps}), or loosen rtol and atol; {stiff}"
+            ),
+        },
+        E::Stiff { t, h_lambda, .. } => Failure {
+            t: Some(*t),
+            what: format!(
+                "the problem became stiff: {} holds h·|λ| ≈ {h_lambda:.2} at its stability boundary, step after step",
+                scene.solve.method.name()
+            ),
+            advice: format!(
+                "set method = \"rodas4\" under [solve] (implicit, made for stiff problems); or keep \
+                 {} with stiffness_detection = false, which goes on with many small steps",
+                method_key(scene)
+            ),
+        },
+        E::StepSizeTooSmall { t, h } => Failure {
+            t: Some(*t),
+            what: format!(
+                "the step size fell to {h:e}, below what floating point resolves: the motion changes \
+                 faster than rtol and atol allow"
+            ),
+            advice: format!(
+                "check the expressions near this time for a singularity (a division by a vanishing \
+                 coordinate, a speed constraint at zero speed); {stiff}; or loosen rtol and atol"
+            ),
+        },
+        E::NonFiniteEvaluation { t, q, qd } => Failure {
+            t: Some(*t),
+            what: format!(
+                "the lagrangian or a constraint, or a derivative of one, is not finite at {}",
+                state_text(scene, q, qd)
+            ),
+            advice: "an expression left its domain there (sqrt or ln of a negative number, a \
+                     division by zero, an overflow): check the expressions at this state, or stop \
+                     the motion before it with a terminal [[events]] entry"
+                .to_string(),
+        },
+        E::Singular {
+            t, pivot_ratio, q, qd,
+        } => Failure {
+            t: Some(*t),
+            what: format!(
+                "the equations for the accelerations and multipliers are singular (pivot ratio \
+                 {pivot_ratio:e}) at {}",
+                state_text(scene, q, qd)
+            ),
+            advice: "two constraints have become dependent, a constraint on a speed has met a zero \
+                     velocity, or a coordinate has no kinetic term in the lagrangian there: check the \
+                     constraints and the lagrangian at this state"
+                .to_string(),
+        },
+        E::DegenerateConstraint { t, index, q, qd } => Failure {
+            t: Some(*t),
+            what: format!(
+                "constraint {} ({}) no longer restricts the velocity (its derivative by the \
+                 velocities vanishes) at {}",
+                index + 1,
+                scene.constraints.get(*index).map_or("?", |c| c.source()),
+                state_text(scene, q, qd)
+            ),
+            advice: "check that constraint at this state (a speed constraint at zero speed?)"
+                .to_string(),
+        },
+        E::ProjectionFailed {
+            t,
+            residual,
+            iterations,
+        } => Failure {
+            t: Some(*t),
+            what: format!(
+                "the projection onto f = 0 (projection = true) did not converge: residual \
+                 {residual:e} after {}",
+                count(*iterations, "iteration", "iterations")
+            ),
+            advice: "tighten rtol and atol under [solve] so that the steps stay near the \
+                     constraints, or set projection = false"
+                .to_string(),
+        },
+        E::NonFiniteEvent { index, t, value } => Failure {
+            t: Some(*t),
+            what: format!(
+                "the event '{}' is {value}",
+                scene.events.get(*index).map_or("?", |e| e.name.as_str())
+            ),
+            advice: "check the event's expression for its domain along the motion".to_string(),
+        },
+        other => Failure {
+            t: None,
+            what: other.to_string(),
+            advice: String::new(),
+        },
+    }
+}
+
+/// How the integration ended, in one line: "reached t_end = 10", "stopped by the terminal event
+/// 'impact' at t = 1.08", "FAILED at t = 0.3: ...".
+pub fn status_text(scene: &Scene, out: &Outcome) -> String {
+    let end = out.t.last().copied().unwrap_or(scene.t0);
+    match &out.status {
+        Status::Success => format!("reached t_end = {}", num(end)),
+        Status::Terminated { event } => format!(
+            "stopped by the terminal event '{}' at t = {}",
+            scene.events.get(*event).map_or("?", |e| e.name.as_str()),
+            num(end)
+        ),
+        Status::Failed(e) => {
+            let f = failure(scene, e);
+            match f.t {
+                Some(t) => format!("FAILED at t = {}: {}", num(t), f.what),
+                None => format!(
+                    "FAILED after the last output time t = {}: {}",
+                    num(end),
+                    f.what
+                ),
+            }
+        }
+    }
+}
+
+/// Values of a run that are not finite: what, at how many output points (or events), of how many.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct NonFinite {
+    /// What holds them: "the state", "the quantity 'speed'", ...
+    pub what: String,
+    /// At how many output points.
+    pub count: usize,
+    /// Of how many.
+    pub of: usize,
+}
+
+/// Every recorded value that is NaN or infinite, and every output quantity written that is: rows
+/// the tables and pictures would hold as `NaN` or `inf`. Empty for a clean run.
+pub fn non_finite(scene: &Scene, out: &Outcome) -> Vec<NonFinite> {
+    let mut found = Vec::new();
+    let total = out.t.len();
+    let mut check = |what: String, bad: usize, of: usize| {
+        if bad > 0 {
+            found.push(NonFinite {
+                what,
+                count: bad,
+                of,
+            });
+        }
+    };
+    let rows = |r: &[Vec<f64>]| {
+        r.iter()
+            .filter(|r| r.iter().any(|v| !v.is_finite()))
+            .count()
+    };
+    let state_rows = (0..total)
+        .filter(|&i| {
+            !out.t[i].is_finite()
+                || out
+                    .q
+                    .get(i)
+                    .is_some_and(|r| r.iter().any(|v| !v.is_finite()))
+                || out
+                    .qd
+                    .get(i)
+                    .is_some_and(|r| r.iter().any(|v| !v.is_finite()))
+        })
+        .count();
+    check("the time or state (t, q, q_dot)".into(), state_rows, total);
+    check("the accelerations".into(), rows(&out.qdd), out.qdd.len());
+    check("the multipliers".into(), rows(&out.mu), out.mu.len());
+    check("the Chetaev force".into(), rows(&out.phi), out.phi.len());
+    check(
+        "the constraint residual".into(),
+        rows(&out.residual),
+        out.residual.len(),
+    );
+    let energy_rows = (0..out.energy.len())
+        .filter(|&i| {
+            [&out.energy, &out.work, &out.dl_dt_integral, &out.balance]
+                .iter()
+                .any(|c| c.get(i).is_some_and(|v| !v.is_finite()))
+        })
+        .count();
+    check("the energy balance".into(), energy_rows, out.energy.len());
+    let events = out
+        .events
+        .iter()
+        .filter(|e| !e.t.is_finite() || e.q.iter().chain(&e.qd).any(|v| !v.is_finite()))
+        .count();
+    check("the located events".into(), events, out.events.len());
+    if writes_quantities(scene) {
+        for (name, e) in &scene.output.quantities {
+            let bad = quantity_values(e, out).filter(|v| !v.is_finite()).count();
+            check(format!("the quantity '{name}'"), bad, total);
+        }
+    }
+    found
+}
+
+/// The largest `|v|`, NaN if any `v` is NaN: a summary never hides a NaN.
+fn max_abs<'a>(values: impl IntoIterator<Item = &'a f64>) -> Option<f64> {
+    values.into_iter().fold(None, |m, v| {
+        let a = v.abs();
+        Some(match m {
+            None => a,
+            Some(m) if m.is_nan() || a.is_nan() => f64::NAN,
+            Some(m) => m.max(a),
+        })
+    })
+}
+
+/// The summary a run prints: the scene, the method, the initial velocity if it was projected, why
+/// it stopped (and what to change if it failed), the events with their state, the work done, the
+/// largest residual and energy balance, and every value that is not finite.
+pub fn summary(scene: &Scene, out: &Outcome) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "{} ({})", scene.name, scene.file.path);
+    let k = scene.k();
+    let _ = writeln!(
+        s,
+        "  model    N = {} ({}), K = {}",
+        scene.n(),
+        scene.coordinates.join(", "),
+        if k == 0 {
+            "0 (unconstrained)".to_string()
+        } else {
+            count(k, "constraint", "constraints")
+        }
+    );
+    let tol = match &scene.solve.atol {
+        Atol::Scalar(a) => format!("atol = {a:e}"),
+        Atol::PerComponent(_) => "atol per component".to_string(),
+    };
+    let method = match scene.solve.method {
+        MethodSpec::Rk4 { step } => format!("Rk4, step = {}", num(step)),
+        m => format!("{}, rtol = {:e}, {tol}", m.name(), scene.solve.rtol),
+    };
+    let _ = writeln!(
+        s,
+        "  method   {method}; t from {} to {}",
+        num(scene.t0),
+        num(scene.solve.t_end)
+    );
+    if scene.project_velocity && k > 0 {
+        let _ = writeln!(s, "  initial  {}", projection_text(scene, out));
+    }
+    let _ = writeln!(s, "  status   {}", status_text(scene, out));
+    if let Status::Failed(e) = &out.status {
+        let f = failure(scene, e);
+        if !f.advice.is_empty() {
+            let _ = writeln!(s, "  advice   {}", f.advice);
+        }
+    }
+    if out.events.is_empty() {
+        if !scene.events.is_empty() {
+            let _ = writeln!(s, "  events   none located");
+        }
+    } else {
+        let width = out
+            .events
+            .iter()
+            .map(|e| e.name.chars().count())
+            .max()
+            .unwrap_or(0);
+        for (i, e) in out.events.iter().enumerate() {
+            let label = if i == 0 { "events" } else { "" };
+            let _ = writeln!(
+                s,
+                "  {label:<8} {:<width$}  t = {}, {}",
+                e.name,
+                num(e.t),
+                state_text(scene, &e.q, &e.qd)
+            );
+        }
+    }
+    let st = &out.stats;
+    let mut work = format!(
+        "{} and {}, {}",
+        count(st.accepted_steps, "accepted step", "accepted steps"),
+        count(st.rejected_steps, "rejected step", "rejected steps"),
+        count(st.rhs_evaluations, "right-hand side", "right-hand sides")
+    );
+    if st.jacobian_evaluations > 0 {
+        let _ = write!(
+            work,
+            ", {}, {}",
+            count(st.jacobian_evaluations, "Jacobian", "Jacobians"),
+            count(
+                st.lu_decompositions,
+                "LU decomposition",
+                "LU decompositions"
+            )
+        );
+    }
+    if st.event_evaluations > 0 {
+        let _ = write!(
+            work,
+            ", {}",
+            count(
+                st.event_evaluations,
+                "event evaluation",
+                "event evaluations"
+            )
+        );
+    }
+    if st.projections > 0 {
+        let _ = write!(
+            work,
+            ", {} ({})",
+            count(st.projections, "projection", "projections"),
+            count(st.projection_iterations, "iteration", "iterations")
+        );
+    }
+    if out.passes > 1 {
+        let _ = write!(
+            work,
+            "; {} integrations (the first finds where the motion ends)",
+            out.passes
+        );
+    }
+    let _ = writeln!(s, "  stats    {work}");
+    if k > 0 {
+        if let Some(max) = max_abs(out.residual.iter().flatten()) {
+            let _ = writeln!(
+                s,
+                "  residual max |f| = {} over {}",
+                num(max),
+                count(out.residual.len(), "output point", "output points")
+            );
+        }
+    }
+    if let Some(b) = max_abs(&out.balance) {
+        let _ = writeln!(
+            s,
+            "  energy   max |E − E(t0) − W_Φ + ∫∂L/∂t dt| = {}",
+            num(b)
+        );
+    }
+    for bad in non_finite(scene, out) {
+        let _ = writeln!(
+            s,
+            "  error    {} is NaN or infinite at {} of {} (written as NaN or inf); check the \
+             expressions' domains",
+            bad.what,
+            bad.count,
+            count(bad.of, "output point", "output points")
+        );
+    }
+    s
+}
+
+/// "q_dot projected onto f = 0: x_dot 10 → 9.95, y_dot 1 → 0.995", or that it did not change.
+fn projection_text(scene: &Scene, out: &Outcome) -> String {
+    let Some(used) = out.qd.first().filter(|_| out.t.first() == Some(&scene.t0)) else {
+        return "q_dot projected onto f = 0 (project_velocity = true)".to_string();
+    };
+    let changed: Vec<String> = scene
+        .coordinates
+        .iter()
+        .zip(scene.qd0.iter().zip(used))
+        .filter(|(_, (a, b))| a != b)
+        .map(|(c, (a, b))| format!("{c}_dot {} → {}", num(*a), num(*b)))
+        .collect();
+    if changed.is_empty() {
+        "q_dot satisfies f = 0 as given; project_velocity = true changed nothing".to_string()
+    } else {
+        format!(
+            "q_dot projected onto f = 0 (project_velocity = true): {}",
+            changed.join(", ")
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_maximum_over_a_nan_is_nan() {
+        assert_eq!(max_abs(&[1.0, -3.0, 2.0]), Some(3.0));
+        assert!(max_abs(&[1.0, f64::NAN, 2.0]).is_some_and(f64::is_nan));
+        assert!(max_abs(&[f64::NAN, 1.0]).is_some_and(f64::is_nan));
+        assert_eq!(max_abs(&[]), None);
+    }
+
+    #[test]
+    fn counts_agree_with_their_nouns() {
+        assert_eq!(count(1, "constraint", "constraints"), "1 constraint");
+        assert_eq!(count(0, "constraint", "constraints"), "0 constraints");
+        assert_eq!(
+            count(2, "right-hand side", "right-hand sides"),
+            "2 right-hand sides"
+        );
+    }
+}

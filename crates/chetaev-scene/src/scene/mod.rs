@@ -1,0 +1,117 @@
+//! The scene file: its TOML schema, and its validation into a [`Scene`] ready to solve.
+//!
+//! The schema is described in `docs/scenes.md`. Every table rejects unknown keys, every value
+//! keeps its place in the file, and every mistake is reported at that place.
+//!
+//! | file | holds |
+//! |---|---|
+//! | `schema.rs` | the file as written: serde structures, every value with its span |
+//! | `spec.rs` | the scene as validated: [`Scene`], [`SolveSpec`], [`EventSpec`], [`OutputSpec`], ... |
+//! | `validate.rs` | from one to the other, every mistake located |
+//! | `parameters.rs` | `[parameters]` resolved in dependency order, in linear time |
+
+mod parameters;
+mod schema;
+mod spec;
+mod validate;
+
+use std::io::Read as _;
+use std::ops::Range;
+use std::path::Path;
+use std::sync::Arc;
+
+use chetaev::prelude::Record;
+
+use crate::error::{Error, SourceFile};
+
+pub use spec::{
+    EventSpec, GridEnd, MethodSpec, OutputSpec, Picture, Scene, SolveSpec, Table, Times,
+};
+
+/// The most times an output grid may have.
+pub const MAX_OUTPUT_TIMES: i64 = 10_000_000;
+
+/// The largest scene file read, 16 MiB: far more than any scene needs (20 000 parameters take
+/// about 400 KiB), and a bound on what a wrong path can make the command read.
+pub const MAX_SCENE_BYTES: u64 = 16 * 1024 * 1024;
+
+impl Scene {
+    /// Reads and validates the scene file at `path`. At most [`MAX_SCENE_BYTES`] are read, so a
+    /// path to an endless stream (`/dev/zero`, a pipe) is refused instead of filling the memory.
+    pub fn load(path: impl AsRef<Path>) -> Result<Self, Error> {
+        let path = path.as_ref();
+        let name = path.display().to_string();
+        let read_error = |source| Error::Read {
+            path: name.clone(),
+            source,
+        };
+        let file = std::fs::File::open(path).map_err(read_error)?;
+        let mut bytes = Vec::new();
+        file.take(MAX_SCENE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(read_error)?;
+        if bytes.len() as u64 > MAX_SCENE_BYTES {
+            return Err(Error::TooLarge {
+                path: name,
+                limit: MAX_SCENE_BYTES,
+            });
+        }
+        let text = String::from_utf8(bytes).map_err(|e| {
+            read_error(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!(
+                    "byte {} is not UTF-8 text; a scene file is TOML, which is UTF-8",
+                    e.utf8_error().valid_up_to()
+                ),
+            ))
+        })?;
+        Self::parse(&text, &name)
+    }
+
+    /// Validates a scene given as text; `path` names it in messages and gives the default output
+    /// directory `out/<file stem>`. A text longer than [`MAX_SCENE_BYTES`] is refused.
+    pub fn parse(text: &str, path: &str) -> Result<Self, Error> {
+        if text.len() as u64 > MAX_SCENE_BYTES {
+            return Err(Error::TooLarge {
+                path: path.to_string(),
+                limit: MAX_SCENE_BYTES,
+            });
+        }
+        let file = SourceFile {
+            path: path.to_string(),
+            text: Arc::from(text),
+        };
+        let raw: schema::RawScene = toml::from_str(text).map_err(|e| {
+            let span = e.span().unwrap_or(0..0);
+            file.error(span, validate::toml_message(e.message()))
+        })?;
+        validate::Builder { file }.build(raw)
+    }
+
+    /// `N`, the number of coordinates.
+    pub fn n(&self) -> usize {
+        self.coordinates.len()
+    }
+
+    /// `K`, the number of constraints.
+    pub fn k(&self) -> usize {
+        self.constraints.len()
+    }
+
+    /// What has to be recorded along the motion for the tables and pictures asked for.
+    pub fn record(&self) -> Record {
+        let tables = self.output.tables.iter().map(|t| t.record());
+        let pictures = self.output.pictures.iter().map(|p| p.record());
+        tables.chain(pictures).max().unwrap_or(Record::State)
+    }
+
+    /// Whether anything is sampled along the motion (a table or a picture other than the events
+    /// table). When nothing is, only the start, the end and the events are recorded.
+    pub fn samples_motion(&self) -> bool {
+        !self.output.pictures.is_empty() || self.output.tables.iter().any(|t| *t != Table::Events)
+    }
+
+    pub(crate) fn error_at(&self, range: Range<usize>, message: impl Into<String>) -> Error {
+        self.file.error(range, message)
+    }
+}

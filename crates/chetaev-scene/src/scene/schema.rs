@@ -1,0 +1,238 @@
+//! The scene file as written: the serde structures TOML is read into, every value with its span.
+//!
+//! Nothing here checks more than types and key names (every table rejects unknown keys); what the
+//! values mean is checked in [`validate`](super::validate).
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::spec::{Picture, Table};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawScene {
+    pub(crate) scene: Option<RawMeta>,
+    #[serde(default)]
+    pub(crate) parameters: BTreeMap<Spanned<String>, Spanned<Number>>,
+    pub(crate) model: Spanned<RawModel>,
+    pub(crate) initial: Spanned<RawInitial>,
+    pub(crate) solve: Spanned<RawSolve>,
+    #[serde(default)]
+    pub(crate) events: Vec<Spanned<RawEvent>>,
+    pub(crate) output: Option<RawOutput>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMeta {
+    pub(crate) name: Option<String>,
+    pub(crate) description: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawModel {
+    pub(crate) coordinates: Spanned<Vec<Spanned<String>>>,
+    pub(crate) lagrangian: Spanned<String>,
+    pub(crate) constraints: Option<Spanned<Vec<Spanned<String>>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawInitial {
+    pub(crate) t: Option<Spanned<Number>>,
+    pub(crate) q: Spanned<Vec<Spanned<Number>>>,
+    pub(crate) q_dot: Spanned<Vec<Spanned<Number>>>,
+    #[serde(default)]
+    pub(crate) project_velocity: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSolve {
+    pub(crate) method: Option<Spanned<MethodName>>,
+    pub(crate) t_end: Spanned<Number>,
+    pub(crate) rtol: Option<Spanned<f64>>,
+    pub(crate) atol: Option<Spanned<RawAtol>>,
+    pub(crate) step: Option<Spanned<Number>>,
+    pub(crate) initial_step: Option<Spanned<Number>>,
+    pub(crate) max_step: Option<Spanned<Number>>,
+    pub(crate) max_steps: Option<Spanned<i64>>,
+    #[serde(default)]
+    pub(crate) projection: bool,
+    pub(crate) stiffness_detection: Option<Spanned<bool>>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub(crate) enum MethodName {
+    Dopri5,
+    Dop853,
+    Rk4,
+    Rodas4,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawEvent {
+    pub(crate) name: Spanned<String>,
+    pub(crate) expression: Spanned<String>,
+    pub(crate) direction: Option<RawDirection>,
+    #[serde(default)]
+    pub(crate) terminal: bool,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub(crate) enum RawDirection {
+    Either,
+    Rising,
+    Falling,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawOutput {
+    pub(crate) directory: Option<String>,
+    pub(crate) times: Option<Spanned<RawTimes>>,
+    #[serde(default)]
+    pub(crate) tables: Vec<Spanned<Table>>,
+    #[serde(default)]
+    pub(crate) pictures: Vec<Spanned<Picture>>,
+    #[serde(default)]
+    pub(crate) quantities: BTreeMap<Spanned<String>, Spanned<String>>,
+}
+
+/// A number, or an expression of the parameters in quotes.
+#[derive(Clone, Debug)]
+pub(crate) enum Number {
+    Value(f64),
+    Expr(String),
+}
+
+impl<'de> Deserialize<'de> for Number {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Number;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or an expression in quotes, such as 5.0 or \"2*h0\"")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Number, E> {
+                Ok(Number::Value(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Number, E> {
+                Ok(Number::Value(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Number, E> {
+                Ok(Number::Value(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Number, E> {
+                Ok(Number::Expr(v.to_string()))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// `atol`: one number, or one per component of `(q, q̇)`.
+pub(crate) enum RawAtol {
+    Scalar(f64),
+    List(Vec<f64>),
+}
+
+impl<'de> Deserialize<'de> for RawAtol {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawAtol;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(
+                    "a number, or a list of 2N numbers (the coordinates' absolute tolerances, then the velocities')",
+                )
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawAtol, E> {
+                Ok(RawAtol::Scalar(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawAtol, E> {
+                Ok(RawAtol::Scalar(v as f64))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawAtol, A::Error> {
+                let mut v = Vec::new();
+                while let Some(x) = seq.next_element::<f64>()? {
+                    v.push(x);
+                }
+                Ok(RawAtol::List(v))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// `output.times`.
+pub(crate) enum RawTimes {
+    Steps,
+    List(Vec<f64>),
+    Grid {
+        from: Option<Number>,
+        to: Option<Number>,
+        count: i64,
+    },
+}
+
+impl<'de> Deserialize<'de> for RawTimes {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawTimes;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(
+                    "\"steps\", a list of times, or a grid { from = 0.0, to = \"end\", count = 101 }",
+                )
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<RawTimes, E> {
+                match v {
+                    "steps" => Ok(RawTimes::Steps),
+                    other => Err(E::custom(format!(
+                        "unknown output times \"{other}\": expected \"steps\", a list of times, or a grid \
+                         {{ from = 0.0, to = \"end\", count = 101 }}"
+                    ))),
+                }
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawTimes, A::Error> {
+                let mut v = Vec::new();
+                while let Some(x) = seq.next_element::<f64>()? {
+                    v.push(x);
+                }
+                Ok(RawTimes::List(v))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<RawTimes, A::Error> {
+                let (mut from, mut to, mut count) = (None, None, None);
+                while let Some(key) = map.next_key::<String>()? {
+                    match key.as_str() {
+                        "from" => from = Some(map.next_value::<Number>()?),
+                        "to" => to = Some(map.next_value::<Number>()?),
+                        "count" => count = Some(map.next_value::<i64>()?),
+                        other => {
+                            return Err(de::Error::custom(format!(
+                                "unknown key `{other}` in the output grid: expected `from`, `to`, `count`"
+                            )))
+                        }
+                    }
+                }
+                let count = count.ok_or_else(|| {
+                    de::Error::custom(
+                        "the output grid needs `count`, the number of times (at least 2), as in \
+                         { from = 0.0, to = \"end\", count = 101 }",
+                    )
+                })?;
+                Ok(RawTimes::Grid { from, to, count })
+            }
+        }
+        d.deserialize_any(V)
+    }
+}

@@ -1,0 +1,294 @@
+//! The scene as validated: every expression parsed and resolved, every number checked.
+
+use std::collections::BTreeMap;
+use std::ops::Range;
+use std::path::PathBuf;
+
+use chetaev::prelude::{Atol, Direction, Record};
+use serde::Deserialize;
+
+use crate::error::SourceFile;
+use crate::expr::Expr;
+
+/// A validated scene: every expression parsed and resolved, every number checked.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The scene's name (`[scene] name`, or the file name).
+    pub name: String,
+    /// Its description, if any.
+    pub description: Option<String>,
+    /// The file, for locating errors found later (at the initial state).
+    pub file: SourceFile,
+    /// Parameters and their values, in the order of the file.
+    pub parameters: Vec<(String, f64)>,
+    /// Coordinate names.
+    pub coordinates: Vec<String>,
+    /// `L(t, q, q̇)`.
+    pub lagrangian: Expr,
+    /// `f_a(t, q, q̇)`, `a = 1..K`.
+    pub constraints: Vec<Expr>,
+    /// Initial time.
+    pub t0: f64,
+    /// Initial coordinates.
+    pub q0: Vec<f64>,
+    /// Initial velocities.
+    pub qd0: Vec<f64>,
+    /// Whether the initial velocity is projected onto `f = 0` first.
+    pub project_velocity: bool,
+    /// Method, end time, tolerances.
+    pub solve: SolveSpec,
+    /// Events, in the order of the file.
+    pub events: Vec<EventSpec>,
+    /// What to write.
+    pub output: OutputSpec,
+    pub(crate) spans: Spans,
+}
+
+/// Places in the file that errors found after validation point at.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Spans {
+    pub initial: Range<usize>,
+    pub q_dot: Range<usize>,
+    pub constraints: Vec<Range<usize>>,
+    pub lagrangian: Range<usize>,
+    pub solve: Range<usize>,
+    pub options: BTreeMap<&'static str, Range<usize>>,
+    pub events: Vec<Range<usize>>,
+    pub quantities: Vec<Range<usize>>,
+}
+
+/// The integration method and its options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MethodSpec {
+    /// Dormand–Prince 5(4).
+    Dopri5 {
+        /// Stop with a stiffness error when the test fires.
+        stiffness_detection: bool,
+    },
+    /// Dormand–Prince 8(5,3).
+    Dop853 {
+        /// Stop with a stiffness error when the test fires.
+        stiffness_detection: bool,
+    },
+    /// Classical Runge–Kutta with a fixed step.
+    Rk4 {
+        /// The step size.
+        step: f64,
+    },
+    /// Hairer and Wanner's Rosenbrock method RODAS (implicit, for stiff problems).
+    Rodas4,
+}
+
+impl MethodSpec {
+    /// The method's name as in the literature.
+    pub fn name(&self) -> &'static str {
+        match self {
+            MethodSpec::Dopri5 { .. } => "Dopri5",
+            MethodSpec::Dop853 { .. } => "Dop853",
+            MethodSpec::Rk4 { .. } => "Rk4",
+            MethodSpec::Rodas4 => "Rodas4",
+        }
+    }
+}
+
+/// `[solve]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolveSpec {
+    /// The method.
+    pub method: MethodSpec,
+    /// The end time.
+    pub t_end: f64,
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: Atol,
+    /// First step size.
+    pub initial_step: Option<f64>,
+    /// Largest step size.
+    pub max_step: Option<f64>,
+    /// Step limit.
+    pub max_steps: Option<usize>,
+    /// Projection onto `f = 0` after each step.
+    pub projection: bool,
+}
+
+/// One `[[events]]` entry.
+#[derive(Clone, Debug)]
+pub struct EventSpec {
+    /// Its name.
+    pub name: String,
+    /// `g(t, q, q̇)`, whose zeros are located.
+    pub expr: Expr,
+    /// Which crossings count.
+    pub direction: Direction,
+    /// Whether the first crossing stops the integration.
+    pub terminal: bool,
+}
+
+/// A CSV table a scene can ask for.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, PartialOrd, Ord)]
+#[serde(rename_all = "lowercase")]
+pub enum Table {
+    /// `t`, the coordinates and the velocities.
+    State,
+    /// `t` and the accelerations `q̈`.
+    Acceleration,
+    /// `t` and the multipliers `μ_a`.
+    Multipliers,
+    /// `t` and the Chetaev force `Φ = Jᵀμ`, one column per coordinate.
+    Force,
+    /// `t` and the constraint residuals `f_a`.
+    Residual,
+    /// `t`, the energy `E`, the work `W_Φ`, `∫∂L/∂t dt` and the balance.
+    Energy,
+    /// One row per located event: its name, `t`, the coordinates and the velocities.
+    Events,
+    /// `t` and the scene's `[output.quantities]`.
+    Quantities,
+}
+
+/// An SVG picture a scene can ask for.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, PartialOrd, Ord)]
+#[serde(rename_all = "lowercase")]
+pub enum Picture {
+    /// The second coordinate against the first (equal scales); the coordinate against `t` if `N = 1`.
+    Trajectory,
+    /// Every coordinate against `t`.
+    State,
+    /// Every velocity against `t`.
+    Velocity,
+    /// Every acceleration against `t`.
+    Acceleration,
+    /// Every multiplier against `t`.
+    Multipliers,
+    /// Every component of the Chetaev force against `t`.
+    Force,
+    /// `|f_a|` against `t`, logarithmic.
+    Residual,
+    /// `E − E(t0)`, `W_Φ`, `∫∂L/∂t dt` and the balance against `t`.
+    Energy,
+    /// Every output quantity against `t`.
+    Quantities,
+}
+
+impl Table {
+    /// Every table, in the order of the documentation.
+    pub const ALL: [Table; 8] = [
+        Table::State,
+        Table::Acceleration,
+        Table::Multipliers,
+        Table::Force,
+        Table::Residual,
+        Table::Energy,
+        Table::Events,
+        Table::Quantities,
+    ];
+
+    /// The file name without extension.
+    pub fn name(self) -> &'static str {
+        match self {
+            Table::State => "state",
+            Table::Acceleration => "acceleration",
+            Table::Multipliers => "multipliers",
+            Table::Force => "force",
+            Table::Residual => "residual",
+            Table::Energy => "energy",
+            Table::Events => "events",
+            Table::Quantities => "quantities",
+        }
+    }
+
+    /// What has to be recorded along the motion for it.
+    pub fn record(self) -> Record {
+        match self {
+            Table::State | Table::Events | Table::Quantities => Record::State,
+            Table::Acceleration | Table::Multipliers | Table::Force | Table::Residual => {
+                Record::Dynamics
+            }
+            Table::Energy => Record::Energy,
+        }
+    }
+
+    pub(crate) fn needs_constraints(self) -> bool {
+        matches!(self, Table::Multipliers | Table::Force | Table::Residual)
+    }
+}
+
+impl Picture {
+    /// The file name without extension.
+    pub fn name(self) -> &'static str {
+        match self {
+            Picture::Trajectory => "trajectory",
+            Picture::State => "state",
+            Picture::Velocity => "velocity",
+            Picture::Acceleration => "acceleration",
+            Picture::Multipliers => "multipliers",
+            Picture::Force => "force",
+            Picture::Residual => "residual",
+            Picture::Energy => "energy",
+            Picture::Quantities => "quantities",
+        }
+    }
+
+    /// What has to be recorded along the motion for it.
+    pub fn record(self) -> Record {
+        match self {
+            Picture::Trajectory | Picture::State | Picture::Velocity | Picture::Quantities => {
+                Record::State
+            }
+            Picture::Acceleration | Picture::Multipliers | Picture::Force | Picture::Residual => {
+                Record::Dynamics
+            }
+            Picture::Energy => Record::Energy,
+        }
+    }
+
+    pub(crate) fn needs_constraints(self) -> bool {
+        matches!(
+            self,
+            Picture::Multipliers | Picture::Force | Picture::Residual
+        )
+    }
+}
+
+/// Where along the motion the tables and pictures are sampled.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Times {
+    /// At every accepted step.
+    Steps,
+    /// At these times (by dense output), plus the start and the end.
+    List(Vec<f64>),
+    /// `count` equally spaced times from `from` to `to`.
+    Grid {
+        /// First time.
+        from: f64,
+        /// Last time.
+        to: GridEnd,
+        /// Number of times, at least 2.
+        count: usize,
+    },
+}
+
+/// The last time of an output grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GridEnd {
+    /// A given time.
+    Time(f64),
+    /// Where the motion stops: at a terminal event, or at `t_end`.
+    End,
+}
+
+/// `[output]`.
+#[derive(Clone, Debug)]
+pub struct OutputSpec {
+    /// Where the files go.
+    pub directory: PathBuf,
+    /// Where the motion is sampled.
+    pub times: Times,
+    /// CSV tables, without repetitions, in the order asked.
+    pub tables: Vec<Table>,
+    /// SVG pictures, without repetitions, in the order asked.
+    pub pictures: Vec<Picture>,
+    /// Named expressions of `t`, the coordinates and the velocities, in the order of the file.
+    pub quantities: Vec<(String, Expr)>,
+}
