@@ -68,10 +68,13 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
         "t", "u", "u exact", "ω", "ω exact", "θ", "θ exact", "error"
     )?;
     for i in 0..sol.len() {
-        let (t, q, qd, mu) = (sol.t[i], sol.q[i], sol.qd[i], sol.mu[i]);
-        let (u, w) = body_velocities(&q, &qd);
+        let (t, q, qd, mu) = (sol.t[i], &sol.q[i], &sol.qd[i], &sol.mu[i]);
+        let (u, w) = body_velocities(
+            &SVector::from_column_slice(q),
+            &SVector::from_column_slice(qd),
+        );
         let error = cf
-            .checks(t, &q, &qd, Some(&mu))
+            .checks_at(t, q, qd, Some(mu))?
             .iter()
             .fold(0.0f64, |acc, c| acc.max(c.error()));
         writeln!(
@@ -88,7 +91,7 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
         out,
         "error: largest |numerical − exact| over u, ω, θ, μ and E, each against its scale \
          (V, V √(m/(I + m a²)), ...): {:.2e}",
-        compare(&sol, cf).max()
+        compare(&sol, cf)?.max()
     )?;
     writeln!(
         out,

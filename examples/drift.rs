@@ -14,17 +14,14 @@ use chetaev::integrate::system::Stats;
 use chetaev::prelude::*;
 use clap::Parser;
 use uniform_projectile::closed_form::Params;
-use uniform_projectile::model::uniform_problem;
+use uniform_projectile::model::{uniform_problem, UniformProblem};
 
-fn residuals<Me: Method + Copy>(
-    problem: &Problem<uniform_projectile::model::UniformProjectile, 2, 1>,
+fn residuals<Me: Method>(
+    problem: &UniformProblem,
     method: Me,
-    options: &Options<2>,
+    options: &Options,
 ) -> Result<(Vec<f64>, Stats), Error> {
-    let sol = solve(problem, method, options)?;
-    if let Some(e) = sol.error() {
-        return Err(e.clone());
-    }
+    let sol = solve(problem, method, options)?.ok()?;
     Ok((sol.residual.iter().map(|f| f[0].abs()).collect(), sol.stats))
 }
 

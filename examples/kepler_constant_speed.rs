@@ -96,7 +96,9 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
         "t", "r", "|C|", "x", "x quadrature", "C error", "q error"
     )?;
     for i in 0..sol.len() {
-        let (t, q, qd) = (sol.t[i], sol.q[i], sol.qd[i]);
+        let t = sol.t[i];
+        let q = SVector::<f64, 3>::from_column_slice(&sol.q[i]);
+        let qd = SVector::<f64, 3>::from_column_slice(&sol.qd[i]);
         let c = invariant(lambda, &q, &qd);
         let (x_ref, q_err) = match reference.state(t) {
             Some((qr, _)) => (qr[0], (q - qr).norm() / qr.norm()),
@@ -113,7 +115,7 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
             sci(q_err)
         )?;
     }
-    let cmp = compare(&sol, reference);
+    let cmp = compare(&sol, reference)?;
     writeln!(out)?;
     writeln!(
         out,

@@ -113,7 +113,7 @@ fn run(cli: &Cli, stdout: &mut impl Write) -> Result<(), Box<dyn Error>> {
     });
     let mu = largest(&|i| (uni.mu[i][0] - uniform::multiplier(&p, uni.t[i])).abs());
     let phi =
-        largest(&|i| (uni.phi[i].norm() - uniform::chetaev_force_magnitude(&p, uni.t[i])).abs());
+        largest(&|i| (norm(&uni.phi[i]) - uniform::chetaev_force_magnitude(&p, uni.t[i])).abs());
     writeln!(
         stdout,
         "uniform, largest deviation from (42.29): {position:.1e} m, from (42.40): {mu:.1e} kg/s, from (42.42): {phi:.1e} N"
@@ -127,8 +127,13 @@ fn grid(a: f64, b: f64, n: usize) -> Vec<f64> {
     (0..=n).map(|i| a + (b - a) * i as f64 / n as f64).collect()
 }
 
+/// The Euclidean length of a recorded vector.
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
 /// The solution if the integration reached the impact, its error otherwise.
-fn checked<const K: usize>(sol: Solution<2, K>) -> Result<Solution<2, K>, Box<dyn Error>> {
+fn checked(sol: Solution) -> Result<Solution, Box<dyn Error>> {
     match sol.error() {
         Some(e) => Err(format!("{} failed: {e}", sol.method).into()),
         None => Ok(sol),
@@ -136,7 +141,7 @@ fn checked<const K: usize>(sol: Solution<2, K>) -> Result<Solution<2, K>, Box<dy
 }
 
 /// The impact time and range of a solution stopped by the impact event.
-fn impact_of<const K: usize>(sol: &Solution<2, K>) -> Result<(f64, f64), Box<dyn Error>> {
+fn impact_of(sol: &Solution) -> Result<(f64, f64), Box<dyn Error>> {
     let hit = sol
         .events
         .first()
@@ -181,14 +186,14 @@ fn markers(color: &'static str) -> Style {
 }
 
 /// The recorded trajectory `(x, y)`.
-fn path<const K: usize>(sol: &Solution<2, K>) -> Vec<(f64, f64)> {
+fn path(sol: &Solution) -> Vec<(f64, f64)> {
     sol.q.iter().map(|q| (q[0], q[1])).collect()
 }
 
 /// Fig. 42.1: the explicit trajectory (42.37) `y(x) = h0 + (v0²/g) ln|cos(g x / v0²)|` over its
 /// first period `|x| < π v0² / 2g`, where it falls to −∞ at both ends; the realised part from the
 /// start `x = 0` to the impact `x = R` bold, `chetaev`'s trajectory as markers over it.
-fn trajectory_figure(p: &Params, uni: &Solution<2, 1>, range: f64) -> Figure {
+fn trajectory_figure(p: &Params, uni: &Solution, range: f64) -> Figure {
     let half = FRAC_PI_2 * p.v0 * p.v0 / p.g;
     let n = 2000;
     // The open interval (−half, half): midpoints of n cells.
@@ -237,8 +242,8 @@ fn trajectory_figure(p: &Params, uni: &Solution<2, 1>, range: f64) -> Figure {
 /// (42.4) and (42.29) as lines, `chetaev`'s solutions as markers.
 fn trajectories_figure(
     p: &Params,
-    uni: &Solution<2, 1>,
-    cla: &Solution<2, 0>,
+    uni: &Solution,
+    cla: &Solution,
     (t_u, r_u): (f64, f64),
     (t_c, r_c): (f64, f64),
 ) -> Figure {
@@ -299,8 +304,13 @@ fn closed_form_curves(p: &Params, f: fn(&Params, f64) -> f64, t_impact: f64) -> 
 
 /// `μ(t)` from `chetaev` (markers) and (42.40) (line), continued past the impact to show its limit
 /// `−m g / (2 v0)`.
-fn multiplier_figure(p: &Params, uni: &Solution<2, 1>, t_u: f64) -> Figure {
-    let mu: Vec<(f64, f64)> = uni.t.iter().zip(&uni.mu).map(|(&t, m)| (t, m[0])).collect();
+fn multiplier_figure(p: &Params, uni: &Solution, t_u: f64) -> Figure {
+    let mu: Vec<(f64, f64)> = uni
+        .t
+        .iter()
+        .zip(uni.mu.iter())
+        .map(|(&t, m)| (t, m[0]))
+        .collect();
     let (before, after) = closed_form_curves(p, uniform::multiplier, t_u);
     let limit = -p.m * p.g / (2.0 * p.v0);
     Figure::new("Lagrange multiplier of the uniform motion")
@@ -337,12 +347,12 @@ fn multiplier_figure(p: &Params, uni: &Solution<2, 1>, t_u: f64) -> Figure {
 
 /// `|Φ|(t)` from `chetaev` (markers) and (42.42) (line), continued past the impact to show its limit
 /// `m g`.
-fn chetaev_force_figure(p: &Params, uni: &Solution<2, 1>, t_u: f64) -> Figure {
+fn chetaev_force_figure(p: &Params, uni: &Solution, t_u: f64) -> Figure {
     let phi: Vec<(f64, f64)> = uni
         .t
         .iter()
-        .zip(&uni.phi)
-        .map(|(&t, f)| (t, f.norm()))
+        .zip(uni.phi.iter())
+        .map(|(&t, f)| (t, norm(f)))
         .collect();
     let (before, after) = closed_form_curves(p, uniform::chetaev_force_magnitude, t_u);
     let mg = p.m * p.g;
@@ -420,7 +430,7 @@ fn residual_figure(p: &Params) -> Result<Figure, Box<dyn Error>> {
         let points: Vec<(f64, f64)> = sol
             .t
             .iter()
-            .zip(&sol.residual)
+            .zip(sol.residual.iter())
             .map(|(&t, f)| (t, f[0].abs()))
             .collect();
         let name = format!(
@@ -440,16 +450,16 @@ fn residual_figure(p: &Params) -> Result<Figure, Box<dyn Error>> {
 
 /// The energy of the uniform motion: `T = ½ m |q̇|²` constant, `V = m g y` falling, the work `W_Φ`
 /// of the Chetaev force equal to `V − V(0)`, and the balance `E − E(0) − W_Φ ≈ 0`.
-fn energy_figure(p: &Params, uni: &Solution<2, 1>) -> Figure {
+fn energy_figure(p: &Params, uni: &Solution) -> Figure {
     let t = &uni.t;
     let kinetic: Vec<(f64, f64)> = t
         .iter()
-        .zip(&uni.qd)
-        .map(|(&t, qd)| (t, 0.5 * p.m * qd.norm_squared()))
+        .zip(uni.qd.iter())
+        .map(|(&t, qd)| (t, 0.5 * p.m * qd.iter().map(|v| v * v).sum::<f64>()))
         .collect();
     let potential: Vec<(f64, f64)> = t
         .iter()
-        .zip(&uni.q)
+        .zip(uni.q.iter())
         .map(|(&t, q)| (t, p.m * p.g * q[1]))
         .collect();
     let work: Vec<(f64, f64)> = t.iter().zip(&uni.work).map(|(&t, &w)| (t, w)).collect();

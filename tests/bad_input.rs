@@ -1,6 +1,7 @@
 //! Bad input gets a typed error that says what was wrong; failures mid-run keep what was computed.
 
 use chetaev::prelude::*;
+use chetaev_suite::{distance, norm};
 use uniform_projectile::closed_form::Params;
 use uniform_projectile::model::{impact, uniform_problem, Projectile, UniformProjectile};
 
@@ -38,7 +39,7 @@ fn non_finite_initial_state_is_rejected() {
 fn zero_speed_under_the_constant_speed_constraint_is_degenerate() {
     let e = Problem::new(model(0.0), 0.0, SVector::from([0.0, 5.0]), SVector::zeros()).unwrap_err();
     assert!(
-        matches!(e, Error::DegenerateConstraint { index: 0, .. }),
+        matches!(e, Error::DegenerateConstraint { index: 1, .. }),
         "{e}"
     );
     assert!(e.to_string().contains("v0 must not be zero"), "{e}");
@@ -49,13 +50,13 @@ fn inconsistent_initial_velocity_is_an_error_unless_projection_is_asked_for() {
     let qd0 = SVector::from([10.5, 0.0]);
     let e = Problem::new(model(10.0), 0.0, SVector::from([0.0, 5.0]), qd0).unwrap_err();
     assert!(
-        matches!(e, Error::InconsistentInitialState { index: 0, .. }),
+        matches!(e, Error::InconsistentInitialState { index: 1, .. }),
         "{e}"
     );
     assert!(e.to_string().contains("with_projected_velocity"));
     let p = Problem::with_projected_velocity(model(10.0), 0.0, SVector::from([0.0, 5.0]), qd0)
         .expect("projectable");
-    assert!((p.qd0().norm() - 10.0).abs() <= 1e-14 * 10.0);
+    assert!((norm(p.qd0()) - 10.0).abs() <= 1e-14 * 10.0);
     assert_eq!(
         p.qd0()[1],
         0.0,
@@ -154,14 +155,31 @@ fn bad_tolerances_are_rejected() {
     let e = solve(
         &p,
         Dopri5::default(),
-        &Options::until(1.0)
-            .atol_per_component(SVector::from([1e-9, -1.0]), SVector::from([1e-9, 1e-9])),
+        &Options::until(1.0).atol_per_component(&[1e-9, -1.0], &[1e-9, 1e-9]),
     )
     .unwrap_err();
     assert!(
         matches!(e, Error::InvalidOption { name: "atol", .. }),
         "{e}"
     );
+    // With rtol = 0 the absolute tolerance alone sets the accuracy: a subnormal one cannot.
+    let e = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(1.0).tolerances(0.0, 1e-320),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, Error::InvalidOption { name: "atol", value, .. } if value == 1e-320),
+        "{e}"
+    );
+    let sol = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(1.0).tolerances(0.0, 1e-10),
+    )
+    .expect("rtol = 0 with a usable atol is valid");
+    assert!(sol.is_success(), "{:?}", sol.status);
     let e = solve(&p, Rk4::new(0.0), &Options::until(1.0)).unwrap_err();
     assert!(
         matches!(e, Error::InvalidOption { name: "Rk4::h", .. }),
@@ -194,7 +212,7 @@ fn zero_length_interval_returns_the_initial_point() {
     let sol = solve(&p, Dopri5::default(), &Options::until(0.0)).expect("valid");
     assert!(sol.is_success());
     assert_eq!(sol.len(), 1);
-    assert_eq!(sol.q[0], *p.q0());
+    assert_eq!(&sol.q[0], p.q0());
 }
 
 #[test]
@@ -208,7 +226,13 @@ fn backward_from_the_impact_recovers_the_start() {
     )
     .expect("valid");
     let (t1, q1, qd1) = fwd.last().expect("points");
-    let back = Problem::new(*p.model(), t1, q1, qd1).expect("consistent");
+    let back = Problem::new(
+        **p.model(),
+        t1,
+        SVector::from_column_slice(q1),
+        SVector::from_column_slice(qd1),
+    )
+    .expect("consistent");
     let sol = solve(
         &back,
         Dopri5::default(),
@@ -218,8 +242,8 @@ fn backward_from_the_impact_recovers_the_start() {
     assert!(sol.is_success(), "{:?}", sol.status);
     let (t0, q0, qd0) = sol.last().expect("points");
     assert_eq!(t0, 0.0);
-    assert!((q0 - p.q0()).norm() <= 1e-10 * params.h0, "{q0:?}");
-    assert!((qd0 - p.qd0()).norm() <= 1e-10 * params.v0, "{qd0:?}");
+    assert!(distance(q0, p.q0()) <= 1e-10 * params.h0, "{q0:?}");
+    assert!(distance(qd0, p.qd0()) <= 1e-10 * params.v0, "{qd0:?}");
 }
 
 #[test]
@@ -262,4 +286,82 @@ fn non_finite_model_parameter_is_reported_at_construction() {
         ..Params::PAPER
     };
     assert!(uniform_problem(&p).is_err());
+}
+
+#[test]
+fn output_times_outside_the_interval_are_rejected() {
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    for (t_end, times, outside) in [
+        (1.0, vec![0.5, 1.5], 1.5),
+        (1.0, vec![-0.1, 0.5], -0.1),
+        (1.0, vec![0.5, 1.0 + 1e-12], 1.0 + 1e-12),
+        // Backward from t0 = 0 to −1: a positive time lies outside.
+        (-1.0, vec![-0.5, 0.5], 0.5),
+    ] {
+        let e = solve(
+            &p,
+            Dopri5::default(),
+            &Options::until(t_end).output_times(times.clone()),
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::OutputTimeOutOfRange { time, t0, t_end: end }
+                    if time == outside && t0 == 0.0 && end == t_end
+            ),
+            "{times:?} on [0, {t_end}]: {e}"
+        );
+        assert!(
+            e.to_string().contains("between the start and the end"),
+            "{e}"
+        );
+    }
+    // The ends themselves are inside.
+    let sol = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(-1.0).output_times(vec![-0.5, -1.0]),
+    )
+    .expect("valid");
+    assert_eq!(sol.t, vec![0.0, -0.5, -1.0]);
+}
+
+/// A Lagrangian on no coordinates at all.
+#[derive(Debug)]
+struct Empty;
+impl Lagrangian<0> for Empty {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 0>, _qd: &SVector<R, 0>) -> R {
+        R::zero()
+    }
+}
+
+/// Run-time sizes `(n, k)` with a free-particle Lagrangian and constraints `q̇_a = 0`.
+#[derive(Debug)]
+struct Sizes(usize, usize);
+impl DynModel for Sizes {
+    fn sizes(&self) -> (usize, usize) {
+        (self.0, self.1)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, _q: &[R], qd: &[R]) -> R {
+        qd.iter().fold(R::zero(), |a, v| a + *v * *v * 0.5)
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        for (a, fa) in f.iter_mut().enumerate() {
+            *fa = qd[a % qd.len()];
+        }
+    }
+}
+
+#[test]
+fn a_model_without_coordinates_is_invalid() {
+    let e = Problem::unconstrained(Empty, 0.0, SVector::zeros(), SVector::zeros()).unwrap_err();
+    assert!(matches!(e, Error::InvalidModel { .. }), "{e}");
+    assert!(e.to_string().contains("no coordinates"), "{e}");
+    let e = Problem::dynamic(Sizes(0, 0), 0.0, vec![], vec![]).unwrap_err();
+    assert!(matches!(e, Error::InvalidModel { .. }), "{e}");
+    assert!(e.to_string().contains("no coordinates"), "{e}");
+    // More constraints than coordinates cannot all hold independently.
+    let e = Problem::dynamic(Sizes(1, 2), 0.0, vec![0.0], vec![0.0]).unwrap_err();
+    assert!(matches!(e, Error::InvalidModel { .. }), "{e}");
 }

@@ -3,7 +3,7 @@
 //! has the opposite sign; with it this test would fail.
 
 use approx::assert_relative_eq;
-use chetaev::equations::{dynamics, saddle::SaddleWorkspace};
+use chetaev::equations::{evaluate, Workspace};
 use chetaev::prelude::*;
 use uniform_projectile::closed_form::{uniform, Params};
 use uniform_projectile::model::uniform_problem;
@@ -17,11 +17,11 @@ fn multiplier_is_newton_form_as_in_42_40() {
         m: 1.7,
     };
     let problem = uniform_problem(&p).expect("valid");
-    let mut ws = SaddleWorkspace::default();
+    let mut ws = Workspace::for_model(problem.model());
     for &t in &[0.05, 0.3, 1.0, 2.5] {
-        let q = SVector::from(uniform::position(&p, t));
-        let qd = SVector::from(uniform::velocity(&p, t));
-        let d = dynamics::<_, f64, 2, 1>(problem.model(), &mut ws, t, &q, &qd).expect("regular");
+        let q = uniform::position(&p, t);
+        let qd = uniform::velocity(&p, t);
+        let d = evaluate(problem.model(), &mut ws, t, &q, &qd).expect("regular");
         let mu = -(p.m * p.g / (2.0 * p.v0)) * (p.g * t / p.v0).tanh();
         assert!(d.mu[0] < 0.0, "μ < 0 while falling, as (42.40)");
         assert_relative_eq!(d.mu[0], mu, max_relative = 1e-13);

@@ -5,7 +5,8 @@
 
 use approx::assert_relative_eq;
 use chetaev::equations::derivatives::{constraint_derivatives, lagrangian_derivatives};
-use chetaev::equations::{dynamics, saddle::SaddleWorkspace};
+use chetaev::equations::{evaluate, Workspace};
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
 use nalgebra::{Matrix3, Vector3};
 
@@ -96,8 +97,9 @@ fn block_solve_matches_a_dense_solve_of_the_hand_derived_system() {
     let (q, qd) = (SVector::from(Q), SVector::from(QD));
     let ld = lagrangian_derivatives(&Everything, T, &q, &qd);
     let cd = constraint_derivatives::<_, f64, 2, 1>(&Everything, T, &q, &qd);
-    let d = dynamics::<_, f64, 2, 1>(&Everything, &mut SaddleWorkspace::default(), T, &q, &qd)
-        .expect("regular");
+    let model = Fixed::<_, 2, 1>(Everything);
+    let mut ws = Workspace::for_model(&model);
+    let d = evaluate(&model, &mut ws, T, &Q, &QD).expect("regular");
     // [W −Jᵀ; J 0] [q̈; μ] = [∂L/∂q − g; −c]  (Newton form)
     let m = Matrix3::new(
         ld.w[(0, 0)],

@@ -2,6 +2,7 @@
 
 use std::cell::Cell;
 
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 /// The paper's model, counting how often `chetaev` calls it.
@@ -23,7 +24,7 @@ impl Constraints<2, 1> for Counting {
     }
 }
 
-fn problem() -> Problem<Counting, 2, 1> {
+fn problem() -> Problem<Fixed<Counting, 2, 1>> {
     let model = Counting {
         l_calls: Cell::new(0),
         f_calls: Cell::new(0),

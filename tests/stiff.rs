@@ -20,12 +20,12 @@ const STIFF: Params = Params {
 
 /// Options for the scene: per-component absolute tolerances scaled to the motion, the terminal
 /// impact, output at the end only.
-fn options(rtol: f64) -> Options<2> {
+fn options(rtol: f64) -> Options {
     let (atol_q, atol_qd) = scaled_atol(&STIFF, rtol);
     let mut o = Options::until(2.0 * STIFF.h0 / STIFF.v0)
         .output_final()
         .event(impact())
-        .atol_per_component(atol_q, atol_qd);
+        .atol_per_component(&atol_q, &atol_qd);
     o.rtol = rtol;
     o
 }
@@ -113,6 +113,7 @@ fn dopri5_without_stiffness_detection_needs_millions_of_steps() {
     let problem = uniform_problem(&STIFF).expect("valid");
     let method = Dopri5 {
         stiffness_detection: false,
+        ..Dopri5::default()
     };
     let start = Instant::now();
     let sol = solve(&problem, method, &options(1e-10).max_steps(100_000_000)).expect("valid");

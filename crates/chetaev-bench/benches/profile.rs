@@ -1,5 +1,6 @@
 //! Where the time of one right-hand side of the paper's model goes: the three autodiff passes
-//! over `L`, the two over `f`, the block solve, the whole `dynamics`, one dual-number `dynamics`
+//! over `L`, the two over `f`, the block solve, the whole right-hand side
+//! (`chetaev::equations::evaluate`, named `dynamics` in the results), one dual-number evaluation
 //! (a Rodas4 Jacobian takes `2·dim + 1 = 5` of them), and the hand-written right-hand sides and
 //! Jacobians for comparison.
 //!
@@ -11,7 +12,7 @@ use std::time::Duration;
 use chetaev::equations::derivatives::{
     constraint_derivatives, lagrangian_derivatives, velocity_hessian,
 };
-use chetaev::equations::{dynamics, saddle, saddle::SaddleWorkspace};
+use chetaev::equations::{evaluate, saddle, saddle::SaddleWorkspace, Workspace};
 use chetaev::integrate::system::OdeSystem;
 use chetaev::prelude::*;
 use chetaev_bench::handwritten::{Full, Reduced};
@@ -23,7 +24,8 @@ use uniform_projectile::model::uniform_problem;
 fn profile(c: &mut Criterion) {
     let p = Params::PAPER;
     let problem = uniform_problem(&p).expect("the paper's problem is valid");
-    let model = *problem.model();
+    let fixed = *problem.model();
+    let model = fixed.0;
     let t = 0.5;
     let q = SVector::from(uniform::position(&p, t));
     let qd = SVector::from(uniform::velocity(&p, t));
@@ -32,10 +34,17 @@ fn profile(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(2))
         .sample_size(50);
 
-    let mut ws = SaddleWorkspace::default();
+    let mut workspace = Workspace::for_model(&fixed);
     g.bench_function("dynamics", |b| {
         b.iter(|| {
-            dynamics::<_, f64, 2, 1>(black_box(&model), &mut ws, t, black_box(&q), black_box(&qd))
+            evaluate(
+                black_box(&fixed),
+                &mut workspace,
+                t,
+                black_box(q.as_slice()),
+                black_box(qd.as_slice()),
+            )
+            .map(|d| d.qdd[0])
         })
     });
     g.bench_function("lagrangian_derivatives (passes A, B, C)", |b| {
@@ -58,6 +67,7 @@ fn profile(c: &mut Criterion) {
     let cd = constraint_derivatives::<_, f64, 2, 1>(&model, t, &q, &qd);
     let r = ld.dl_dq - ld.g;
     let s = -cd.c;
+    let mut ws = SaddleWorkspace::default();
     g.bench_function("saddle::solve (3 × 3)", |b| {
         b.iter(|| {
             saddle::solve(
@@ -70,19 +80,20 @@ fn profile(c: &mut Criterion) {
         })
     });
 
-    let mut wsd = SaddleWorkspace::<Dual64>::default();
+    let mut wsd = Workspace::<Dual64>::for_model(&fixed);
     let qd_dual = qd.map(Dual64::from_re);
     let mut q_dual = q.map(Dual64::from_re);
     q_dual[0].eps = 1.0;
     g.bench_function("dynamics over Dual64 (one Jacobian column)", |b| {
         b.iter(|| {
-            dynamics::<_, Dual64, 2, 1>(
-                black_box(&model),
+            evaluate(
+                black_box(&fixed),
                 &mut wsd,
                 Dual64::from_re(t),
-                black_box(&q_dual),
-                black_box(&qd_dual),
+                black_box(q_dual.as_slice()),
+                black_box(qd_dual.as_slice()),
             )
+            .map(|d| d.qdd[0])
         })
     });
 

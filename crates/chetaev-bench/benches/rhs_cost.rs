@@ -1,8 +1,8 @@
-//! The cost of one reduced right-hand side, `chetaev::equations::dynamics` with `f64`, on a chain
-//! of `n` unit masses with `k` pair-speed constraints ([`Chain`]), for `n = 2, 3, 6, 12, 24` and
-//! `k = 0, 1, n/2`. Every size is a static type: the model API takes `N` and `K` as const
-//! generics. The group `rhs_cost_dyn` runs the same chain through `chetaev::dynamic`, whose sizes
-//! are known only at run time.
+//! The cost of one reduced right-hand side, `chetaev::equations::evaluate` with `f64`, on a chain
+//! of `n` unit masses with `k` pair-speed constraints, for `n = 2, 3, 6, 12, 24` and
+//! `k = 0, 1, n/2`. The group `rhs_cost` runs `Chain<N, K>` (sizes known when compiling, every
+//! size its own type); the group `rhs_cost_dyn` runs the same chain as `DynChain`, whose sizes
+//! are known only at run time (both from `chetaev_catalogue::benchmarks`).
 //!
 //! `cargo bench -p chetaev-bench --bench rhs_cost`; `cargo run -p chetaev-bench --bin bench-report`
 //! then fits the growth in `n`.
@@ -10,13 +10,15 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use chetaev::equations::{dynamics, saddle::SaddleWorkspace};
-use chetaev_bench::models::{Chain, DynChain};
+use chetaev::equations::{evaluate, Workspace};
+use chetaev_catalogue::benchmarks::{Chain, DynChain};
 use criterion::Criterion;
 
 fn bench_one<const N: usize, const K: usize>(c: &mut Criterion) {
-    let (model, q, qd) = Chain::<N, K>::at_rest_shape();
-    let mut ws = SaddleWorkspace::default();
+    let problem = Chain::<N, K>::problem().expect("the benchmark chain is consistent");
+    let model = problem.model();
+    let (q, qd) = (problem.q0(), problem.qd0());
+    let mut ws = Workspace::for_model(model);
     let id = format!("n{N:02}_k{K:02}");
     let mut group = c.benchmark_group("rhs_cost");
     group
@@ -25,22 +27,18 @@ fn bench_one<const N: usize, const K: usize>(c: &mut Criterion) {
         .sample_size(50);
     group.bench_function(id, |b| {
         b.iter(|| {
-            dynamics::<_, f64, N, K>(
-                black_box(&model),
-                &mut ws,
-                0.0,
-                black_box(&q),
-                black_box(&qd),
-            )
+            evaluate(black_box(model), &mut ws, 0.0, black_box(q), black_box(qd)).map(|d| d.qdd[0])
         })
     });
     group.finish();
 }
 
-/// The same chain through `chetaev::dynamic` (sizes known at run time).
+/// The same chain with its sizes known at run time.
 fn bench_dyn(c: &mut Criterion, n: usize, k: usize) {
-    let (model, q, qd) = DynChain::at_rest_shape(n, k);
-    let mut ws = SaddleWorkspace::default();
+    let problem = DynChain::problem(n, k).expect("the benchmark chain is consistent");
+    let model = problem.model();
+    let (q, qd) = (problem.q0(), problem.qd0());
+    let mut ws = Workspace::for_model(model);
     let mut group = c.benchmark_group("rhs_cost_dyn");
     group
         .warm_up_time(Duration::from_millis(500))
@@ -48,13 +46,7 @@ fn bench_dyn(c: &mut Criterion, n: usize, k: usize) {
         .sample_size(50);
     group.bench_function(format!("n{n:02}_k{k:02}"), |b| {
         b.iter(|| {
-            chetaev::dynamic::dynamics(
-                black_box(&model),
-                &mut ws,
-                0.0,
-                black_box(&q),
-                black_box(&qd),
-            )
+            evaluate(black_box(model), &mut ws, 0.0, black_box(q), black_box(qd)).map(|d| d.qdd[0])
         })
     });
     group.finish();

@@ -62,10 +62,10 @@ impl SweepPoint {
     }
 }
 
-fn options(p: &Params, tol: f64, t_max: f64) -> Options<2> {
+fn options(p: &Params, tol: f64, t_max: f64) -> Options {
     let (atol_q, atol_qd) = scaled_atol(p, tol);
     let mut o = Options::until(t_max)
-        .atol_per_component(atol_q, atol_qd)
+        .atol_per_component(&atol_q, &atol_qd)
         .output_final()
         .record(Record::State)
         .event(impact());
@@ -73,7 +73,7 @@ fn options(p: &Params, tol: f64, t_max: f64) -> Options<2> {
     o
 }
 
-fn range<const K: usize>(sol: &Solution<2, K>) -> Result<f64, String> {
+fn range(sol: &Solution) -> Result<f64, String> {
     if let Some(e) = sol.error() {
         return Err(e.to_string());
     }

@@ -157,8 +157,7 @@ impl OdeSystem for Full {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use chetaev::equations::{dynamics, saddle::SaddleWorkspace};
-    use chetaev::prelude::SVector;
+    use chetaev::equations::{evaluate, Workspace};
     use uniform_projectile::closed_form::Params;
     use uniform_projectile::model::uniform_problem;
 
@@ -174,10 +173,9 @@ mod tests {
     fn both_hand_written_forms_agree_with_chetaev_to_1e_14() {
         let p = Params::PAPER;
         let problem = uniform_problem(&p).expect("valid");
-        let mut ws = SaddleWorkspace::default();
+        let mut ws = Workspace::for_model(problem.model());
         for (q, v) in states(p.v0) {
-            let (qs, vs) = (SVector::from(q), SVector::from(v));
-            let d = dynamics(problem.model(), &mut ws, 0.0, &qs, &vs).expect("regular");
+            let d = evaluate(problem.model(), &mut ws, 0.0, &q, &v).expect("regular");
 
             let mut full = Full::new(p.g);
             let mut dy = [0.0; 4];

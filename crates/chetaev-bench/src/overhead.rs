@@ -2,13 +2,13 @@
 //! does nothing, and diagnostics off against on. Each pair is timed interleaved, so that both see
 //! the same background load.
 
-use chetaev::integrate::Method;
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
+use chetaev_catalogue::benchmarks::SteadyHorizontal;
 use uniform_projectile::closed_form::{table, Params};
 use uniform_projectile::model::{classical_problem, uniform_problem};
 
 use crate::measure::{time_interleaved, Budget, Run, Timing};
-use crate::models::steady_horizontal_problem;
 
 /// Two ways to run the same motion, timed.
 #[derive(Clone, Debug, PartialEq)]
@@ -45,14 +45,38 @@ impl Comparison {
     }
 }
 
-fn end_difference<const N: usize, const K1: usize, const K2: usize>(
-    a: &Solution<N, K1>,
-    b: &Solution<N, K2>,
-) -> f64 {
+/// The classical projectile of `p` through the constrained path: [`SteadyHorizontal`], the same
+/// Lagrangian as `classical_problem(p)` with the constraint `ẋ − v0 = 0`, from the same state.
+pub fn steady_horizontal_problem(
+    p: &Params,
+) -> Result<Problem<Fixed<SteadyHorizontal, 2, 1>>, chetaev_catalogue::Error> {
+    SteadyHorizontal {
+        m: p.m,
+        g: p.g,
+        v0: p.v0,
+    }
+    .problem(p.h0)
+}
+
+/// The largest of `|a_i − b_i|` over the components of two slices.
+fn max_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// The largest of `|a_i|`.
+fn max_abs(a: &[f64]) -> f64 {
+    a.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+/// The largest difference of the end states `(q, q̇)` of `a` and `b`, relative to the largest
+/// component of `a`'s; NaN when either recorded nothing.
+fn end_difference(a: &Solution, b: &Solution) -> f64 {
     match (a.last(), b.last()) {
         (Some((_, qa, va)), Some((_, qb, vb))) => {
-            let scale = qa.abs().max().max(va.abs().max()).max(f64::MIN_POSITIVE);
-            ((qa - qb).abs().max()).max((va - vb).abs().max()) / scale
+            let scale = max_abs(qa).max(max_abs(va)).max(f64::MIN_POSITIVE);
+            max_difference(qa, qb).max(max_difference(va, vb)) / scale
         }
         _ => f64::NAN,
     }
@@ -72,7 +96,7 @@ fn time_pair<A, B>(
     Ok([t[0], t[1]])
 }
 
-fn failed<const N: usize, const K: usize>(sol: &Solution<N, K>) -> Result<(), chetaev::Error> {
+fn failed(sol: &Solution) -> Result<(), chetaev::Error> {
     match sol.error() {
         Some(e) => Err(e.clone()),
         None => Ok(()),
@@ -81,13 +105,13 @@ fn failed<const N: usize, const K: usize>(sol: &Solution<N, K>) -> Result<(), ch
 
 /// The classical motion of the paper's particle to its impact, once as `Problem::unconstrained`
 /// (`K = 0`) and once with the constraint `ẋ − v0 = 0`, which it satisfies anyway
-/// ([`SteadyHorizontal`](crate::models::SteadyHorizontal)); diagnostics off.
+/// ([`steady_horizontal_problem`]); diagnostics off.
 pub fn constraint_overhead<Me: Method + Copy>(
     p: &Params,
     method: Me,
     tol: f64,
     budget: &Budget,
-) -> Result<Comparison, chetaev::Error> {
+) -> Result<Comparison, chetaev_catalogue::Error> {
     let t_end = table(p).classical.t_impact;
     let options = Options::until(t_end)
         .tolerances(tol, tol)
@@ -126,7 +150,7 @@ pub fn diagnostics_overhead<Me: Method + Copy>(
     method: Me,
     tol: f64,
     budget: &Budget,
-) -> Result<Comparison, chetaev::Error> {
+) -> Result<Comparison, chetaev_catalogue::Error> {
     let t_end = table(p).uniform.t_impact;
     let base = Options::until(t_end).tolerances(tol, tol);
     let off = base.clone().output_final().record(Record::State);

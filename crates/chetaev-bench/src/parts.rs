@@ -26,7 +26,7 @@ use serde_json::{json, Map, Value};
 
 use crate::ensemble::SweepPoint;
 use crate::overhead::Comparison;
-use crate::study::{Outcome, Point};
+use crate::study::{Point, PointOutcome};
 
 /// The tag of the file format, checked on reading.
 pub const FORMAT: &str = "chetaev-bench part 1";
@@ -468,9 +468,9 @@ impl<'a> Fields<'a> {
 /// A point of the work-precision study as JSON.
 pub fn point_to_json(p: &Point) -> Value {
     let (outcome, reason) = match &p.outcome {
-        Outcome::Measured => ("measured", ""),
-        Outcome::Skipped(r) => ("skipped", r.as_str()),
-        Outcome::Failed(r) => ("failed", r.as_str()),
+        PointOutcome::Measured => ("measured", ""),
+        PointOutcome::Skipped(r) => ("skipped", r.as_str()),
+        PointOutcome::Failed(r) => ("failed", r.as_str()),
     };
     json!({
         "scene": p.scene,
@@ -495,9 +495,9 @@ pub fn point_from_json(v: &Value) -> Result<Point, PartError> {
     let f = Fields::of(v, "point")?;
     let reason = f.str("reason")?.to_string();
     let outcome = match f.str("outcome")? {
-        "measured" => Outcome::Measured,
-        "skipped" => Outcome::Skipped(reason),
-        "failed" => Outcome::Failed(reason),
+        "measured" => PointOutcome::Measured,
+        "skipped" => PointOutcome::Skipped(reason),
+        "failed" => PointOutcome::Failed(reason),
         other => return Err(malformed(format!("outcome `{other}`"))),
     };
     Ok(Point {
@@ -651,7 +651,7 @@ mod tests {
         }
     }
 
-    fn point(method: &str, outcome: Outcome) -> Point {
+    fn point(method: &str, outcome: PointOutcome) -> Point {
         Point {
             scene: "uniform".to_string(),
             method: method.to_string(),
@@ -672,9 +672,9 @@ mod tests {
     #[test]
     fn points_comparisons_and_sweep_points_read_back() {
         for p in [
-            point("Dopri5", Outcome::Measured),
-            point("Rk4", Outcome::Skipped("no, \"never\"".to_string())),
-            point("Rodas4", Outcome::Failed("stiff at t = 1".to_string())),
+            point("Dopri5", PointOutcome::Measured),
+            point("Rk4", PointOutcome::Skipped("no, \"never\"".to_string())),
+            point("Rodas4", PointOutcome::Failed("stiff at t = 1".to_string())),
         ] {
             // Debug, not ==: NaN fields print alike and compare unequal.
             let back = point_from_json(&point_to_json(&p)).expect("reads");

@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 
 use crate::measure::ratio_at_error;
-use crate::study::{curve, Outcome, Point};
+use crate::study::{curve, Point, PointOutcome};
 
 /// One CSV field, quoted when it holds a comma, a quote or a line break.
 pub fn csv_field(s: &str) -> String {
@@ -33,9 +33,9 @@ pub fn points_csv(points: &[Point]) -> String {
     out.push('\n');
     for p in points {
         let (outcome, reason) = match &p.outcome {
-            Outcome::Measured => ("measured", ""),
-            Outcome::Skipped(r) => ("skipped", r.as_str()),
-            Outcome::Failed(r) => ("failed", r.as_str()),
+            PointOutcome::Measured => ("measured", ""),
+            PointOutcome::Skipped(r) => ("skipped", r.as_str()),
+            PointOutcome::Failed(r) => ("failed", r.as_str()),
         };
         let fields = [
             csv_field(&p.scene),
@@ -114,9 +114,9 @@ pub fn points_markdown(points: &[Point]) -> String {
             format!("{:.0e}", p.tolerance)
         };
         let note = match &p.outcome {
-            Outcome::Measured => String::new(),
-            Outcome::Skipped(r) => format!("skipped: {}", r.replace('|', "\\|")),
-            Outcome::Failed(r) => format!("failed: {}", r.replace('|', "\\|")),
+            PointOutcome::Measured => String::new(),
+            PointOutcome::Skipped(r) => format!("skipped: {}", r.replace('|', "\\|")),
+            PointOutcome::Failed(r) => format!("failed: {}", r.replace('|', "\\|")),
         };
         let per_rhs = if p.is_measured() && p.rhs_evaluations > 0 {
             format_seconds(p.seconds / p.rhs_evaluations as f64)

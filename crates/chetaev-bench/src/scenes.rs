@@ -1,14 +1,16 @@
 //! The five scenes of the work-precision study, each with its reference and error measure.
 
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
+use chetaev_catalogue::benchmarks::{Launch3d, Particle3d, TwoRunners};
+use chetaev_catalogue::Error;
 use uniform_projectile::closed_form::{classical, table, uniform, Params};
 use uniform_projectile::model::{
     classical_problem, scaled_atol, uniform_problem, Projectile, UniformProjectile,
 };
 
 use crate::handwritten::{Full, Reduced};
-use crate::models::{Launch3d, Particle3d, TwoRunners};
-use crate::study::{HandWritten, Scene};
+use crate::study::{HandWritten, StudyScene};
 
 /// Step counts of `Rk4` on the non-stiff scenes: 8, 16, …, 32768.
 pub fn rk4_steps() -> Vec<usize> {
@@ -26,17 +28,11 @@ pub const STIFF: Params = Params {
     m: 1.0,
 };
 
-/// `max(|q_i − x_i| / L, |q̇_i − v_i| / V)` over the components.
-fn scaled_error<const N: usize>(
-    q: &SVector<f64, N>,
-    qd: &SVector<f64, N>,
-    x: &SVector<f64, N>,
-    v: &SVector<f64, N>,
-    length: &SVector<f64, N>,
-    speed: f64,
-) -> f64 {
+/// `max(|q_i − x_i| / L_i, |q̇_i − v_i| / V)` over the components of the end state `(q, q̇)`
+/// against the reference `(x, v)`, with a length scale `L_i` per coordinate and one speed `V`.
+fn scaled_error(q: &[f64], qd: &[f64], x: &[f64], v: &[f64], length: &[f64], speed: f64) -> f64 {
     let mut e = 0.0f64;
-    for i in 0..N {
+    for i in 0..q.len() {
         e = e.max((q[i] - x[i]).abs() / length[i]);
         e = e.max((qd[i] - v[i]).abs() / speed);
     }
@@ -49,21 +45,14 @@ pub fn uniform_error(p: &Params, t_end: f64, q: [f64; 2], qd: [f64; 2]) -> f64 {
     let k = table(p).uniform;
     let length = k.range.max(p.h0);
     let (x, v) = (uniform::position(p, t_end), uniform::velocity(p, t_end));
-    scaled_error(
-        &SVector::from(q),
-        &SVector::from(qd),
-        &SVector::from(x),
-        &SVector::from(v),
-        &SVector::from([length, length]),
-        p.v0,
-    )
+    scaled_error(&q, &qd, &x, &v, &[length, length], p.v0)
 }
 
 /// The paper's uniform motion (42.29)–(42.30) to the closed-form impact time (42.38).
-pub fn uniform_scene() -> Result<Scene<UniformProjectile, 2, 1>, chetaev::Error> {
+pub fn uniform_scene() -> Result<StudyScene<Fixed<UniformProjectile, 2, 1>>, Error> {
     let p = PAPER;
     let t_end = table(&p).uniform.t_impact;
-    Ok(Scene {
+    Ok(StudyScene {
         key: "uniform",
         title: "Uniform motion (paper, v0 = 10, g = 10, h0 = 5)".to_string(),
         reference: "closed form (42.29)–(42.30) at the closed-form impact time T (42.38); \
@@ -80,13 +69,13 @@ pub fn uniform_scene() -> Result<Scene<UniformProjectile, 2, 1>, chetaev::Error>
 }
 
 /// The classical motion (42.4)–(42.6) of the same particle to its impact time.
-pub fn classical_scene() -> Result<Scene<Unconstrained<Projectile>, 2, 0>, chetaev::Error> {
+pub fn classical_scene() -> Result<StudyScene<Fixed<Unconstrained<Projectile>, 2, 0>>, Error> {
     let p = PAPER;
     let k = table(&p).classical;
     let t_end = k.t_impact;
     let length = k.range.max(p.h0);
     let speed = k.impact_speed;
-    Ok(Scene {
+    Ok(StudyScene {
         key: "classical",
         title: "Classical motion (paper, v0 = 10, g = 10, h0 = 5)".to_string(),
         reference:
@@ -102,14 +91,7 @@ pub fn classical_scene() -> Result<Scene<Unconstrained<Projectile>, 2, 0>, cheta
                 classical::position(&p, t_end),
                 classical::velocity(&p, t_end),
             );
-            scaled_error(
-                q,
-                qd,
-                &SVector::from(x),
-                &SVector::from(v),
-                &SVector::from([length, length]),
-                speed,
-            )
+            scaled_error(q, qd, &x, &v, &[length, length], speed)
         }),
         options: Box::new(move |tol| Options::until(t_end).tolerances(tol, tol)),
         ode_solvers_atol: Box::new(|tol| tol),
@@ -120,7 +102,7 @@ pub fn classical_scene() -> Result<Scene<Unconstrained<Projectile>, 2, 0>, cheta
 
 /// The stiff scene to its closed-form impact time, with per-component absolute tolerances
 /// ([`scaled_atol`]).
-pub fn stiff_scene(max_steps: usize) -> Result<Scene<UniformProjectile, 2, 1>, chetaev::Error> {
+pub fn stiff_scene(max_steps: usize) -> Result<StudyScene<Fixed<UniformProjectile, 2, 1>>, Error> {
     let p = STIFF;
     let t_end = table(&p).uniform.t_impact;
     let (aq, av) = scaled_atol(&p, 1.0);
@@ -128,7 +110,7 @@ pub fn stiff_scene(max_steps: usize) -> Result<Scene<UniformProjectile, 2, 1>, c
     // Classical Runge–Kutta is stable for h|λ| ≤ 2.785 on the negative real axis.
     let h_stable = 2.785 / lambda;
     let rk4_needed = (t_end / h_stable).ceil();
-    Ok(Scene {
+    Ok(StudyScene {
         key: "stiff",
         title: "Stiff scene (v0 = 1e-3, g = 9.81, h0 = 1)".to_string(),
         reference: format!(
@@ -140,11 +122,11 @@ pub fn stiff_scene(max_steps: usize) -> Result<Scene<UniformProjectile, 2, 1>, c
         t_end,
         error: Box::new(move |q, qd| {
             let (x, v) = (uniform::position(&p, t_end), uniform::velocity(&p, t_end));
-            scaled_error(q, qd, &SVector::from(x), &SVector::from(v), &aq, av[0])
+            scaled_error(q, qd, &x, &v, &aq, av[0])
         }),
         options: Box::new(move |tol| {
             let (atol_q, atol_qd) = scaled_atol(&p, tol);
-            let mut o = Options::until(t_end).atol_per_component(atol_q, atol_qd);
+            let mut o = Options::until(t_end).atol_per_component(&atol_q, &atol_qd);
             o.rtol = tol;
             o
         }),
@@ -162,7 +144,7 @@ pub fn stiff_scene(max_steps: usize) -> Result<Scene<UniformProjectile, 2, 1>, c
 
 /// The three-dimensional particle at constant speed, launched upwards out of the coordinate
 /// planes, to `t = 2 s`.
-pub fn particle3d_scene() -> Result<Scene<Particle3d, 3, 1>, chetaev::Error> {
+pub fn particle3d_scene() -> Result<StudyScene<Fixed<Particle3d, 3, 1>>, Error> {
     let launch = Launch3d {
         particle: Particle3d { g: 9.81, v0: 10.0 },
         h0: 5.0,
@@ -173,7 +155,7 @@ pub fn particle3d_scene() -> Result<Scene<Particle3d, 3, 1>, chetaev::Error> {
     let (x_end, _) = launch.closed_form(t_end);
     let length = x_end.abs().map(|c| c.max(launch.h0));
     let v0 = launch.particle.v0;
-    Ok(Scene {
+    Ok(StudyScene {
         key: "particle3d",
         title: "3D particle at constant speed (v0 = 10, g = 9.81, launched at 40°, azimuth 30°)"
             .to_string(),
@@ -185,7 +167,7 @@ pub fn particle3d_scene() -> Result<Scene<Particle3d, 3, 1>, chetaev::Error> {
         t_end,
         error: Box::new(move |q, qd| {
             let (x, v) = launch.closed_form(t_end);
-            scaled_error(q, qd, &x, &v, &length, v0)
+            scaled_error(q, qd, x.as_slice(), v.as_slice(), length.as_slice(), v0)
         }),
         options: Box::new(move |tol| Options::until(t_end).tolerances(tol, tol)),
         ode_solvers_atol: Box::new(|tol| tol),
@@ -198,21 +180,18 @@ pub fn particle3d_scene() -> Result<Scene<Particle3d, 3, 1>, chetaev::Error> {
 /// computed by `Dop853` at `rtol = atol = 1e-13` with at most `t_end/2000` per step, checked
 /// against `Rodas4` at `1e-13`. (Many more steps only add rounding: with `t_end/200000` the end
 /// state moves by some `1e-12`.)
-pub fn two_runners_scene() -> Result<Scene<TwoRunners, 4, 3>, chetaev::Error> {
-    let problem = TwoRunners::scene()?;
+pub fn two_runners_scene() -> Result<StudyScene<Fixed<TwoRunners, 4, 3>>, Error> {
+    let problem = TwoRunners::problem()?;
     let t_end = 1.5;
-    let end_state =
-        |sol: Solution<4, 3>| -> Result<(SVector<f64, 4>, SVector<f64, 4>), chetaev::Error> {
-            if let Some(e) = sol.error() {
-                return Err(e.clone());
-            }
-            let (_, q, qd) = sol.last().ok_or(chetaev::Error::InvalidOption {
-                name: "t_end",
-                value: t_end,
-                hint: "the reference run recorded nothing",
-            })?;
-            Ok((q, qd))
-        };
+    let end_state = |sol: Solution| -> Result<(Vec<f64>, Vec<f64>), chetaev::Error> {
+        let sol = sol.ok()?;
+        let (_, q, qd) = sol.last().ok_or(chetaev::Error::InvalidOption {
+            name: "t_end",
+            value: t_end,
+            hint: "the reference run recorded nothing",
+        })?;
+        Ok((q.to_vec(), qd.to_vec()))
+    };
     let o = Options::until(t_end)
         .tolerances(1e-13, 1e-13)
         .max_steps(10_000_000)
@@ -224,11 +203,11 @@ pub fn two_runners_scene() -> Result<Scene<TwoRunners, 4, 3>, chetaev::Error> {
         &o.clone().max_step(t_end / 2000.0),
     )?)?;
     let (q2, qd2) = end_state(solve(&problem, Rodas4, &o)?)?;
-    let length = q.abs().map(|c| c.max(1.0));
+    let length: Vec<f64> = q.iter().map(|c| c.abs().max(1.0)).collect();
     let m = problem.model();
     let speed = m.c1.sqrt().max(m.c2.sqrt());
     let spread = scaled_error(&q2, &qd2, &q, &qd, &length, speed);
-    Ok(Scene {
+    Ok(StudyScene {
         key: "two-runners",
         title: "Two particles, three constraints (two speeds, one linear)".to_string(),
         reference: format!(

@@ -1,18 +1,17 @@
 //! The work-precision study: every method on a scene over a range of tolerances, with the error
 //! at the end time, the median run time and the work counters.
 
-use chetaev::backend::{solve_with_ode_solvers, OdeSolversMethod};
 use chetaev::integrate::driver::{solve_ode, OdeOptions};
-use chetaev::integrate::system::OdeSystem;
-use chetaev::integrate::Method;
+use chetaev::integrate::system::{OdeSystem, Stats};
 use chetaev::prelude::*;
+use chetaev_ode_solvers::{solve_with_ode_solvers, OdeSolversMethod};
 
 use crate::handwritten::{Full, Reduced};
 use crate::measure::{time_interleaved, time_median, Budget, Run};
 
-/// What happened to one configuration.
+/// What happened to one configuration of the study.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Outcome {
+pub enum PointOutcome {
     /// Integrated to the end time; the error and timing are measured.
     Measured,
     /// Not run, with the reason (the configuration makes no sense, or the solver refuses it).
@@ -33,7 +32,7 @@ pub struct Point {
     /// The fixed step; NaN for adaptive methods.
     pub step: f64,
     /// What happened.
-    pub outcome: Outcome,
+    pub outcome: PointOutcome,
     /// The error at the end time, as the scene measures it; NaN unless measured.
     pub error: f64,
     /// Median wall time, seconds; NaN unless measured.
@@ -53,7 +52,7 @@ pub struct Point {
 }
 
 impl Point {
-    fn new(scene: &str, method: &str, tolerance: f64, step: f64, outcome: Outcome) -> Self {
+    fn new(scene: &str, method: &str, tolerance: f64, step: f64, outcome: PointOutcome) -> Self {
         Self {
             scene: scene.to_string(),
             method: method.to_string(),
@@ -71,7 +70,7 @@ impl Point {
         }
     }
 
-    fn with_stats(mut self, s: &chetaev::integrate::system::Stats) -> Self {
+    fn with_stats(mut self, s: &Stats) -> Self {
         self.rhs_evaluations = s.rhs_evaluations;
         self.jacobian_evaluations = s.jacobian_evaluations;
         self.output_evaluations = s.output_evaluations;
@@ -82,7 +81,7 @@ impl Point {
 
     /// Whether the point was measured.
     pub fn is_measured(&self) -> bool {
-        self.outcome == Outcome::Measured
+        self.outcome == PointOutcome::Measured
     }
 }
 
@@ -97,10 +96,11 @@ pub fn curve(points: &[Point], method: &str) -> Vec<(f64, f64)> {
 }
 
 /// The error measure of a scene: the end state `(q, q̇)` against its reference, as one number.
-pub type ErrorFn<const N: usize> = Box<dyn Fn(&SVector<f64, N>, &SVector<f64, N>) -> f64>;
+pub type ErrorFn = Box<dyn Fn(&[f64], &[f64]) -> f64>;
 
-/// One scene of the study.
-pub struct Scene<M, const N: usize, const K: usize> {
+/// One scene of the study: a problem of model `M` with its end time, its reference and the
+/// settings of the methods on it.
+pub struct StudyScene<M> {
     /// Short name, used for file names.
     pub key: &'static str,
     /// Title for tables and diagrams.
@@ -108,13 +108,13 @@ pub struct Scene<M, const N: usize, const K: usize> {
     /// What the error is measured against, and how it is scaled.
     pub reference: String,
     /// The problem.
-    pub problem: Problem<M, N, K>,
+    pub problem: Problem<M>,
     /// The end time.
     pub t_end: f64,
     /// The error of the end state.
-    pub error: ErrorFn<N>,
+    pub error: ErrorFn,
     /// The options of chetaev's adaptive methods at tolerance `tol` (without output settings).
-    pub options: Box<dyn Fn(f64) -> Options<N>>,
+    pub options: Box<dyn Fn(f64) -> Options>,
     /// The absolute tolerance handed to ode_solvers (one scalar) at tolerance `tol`.
     pub ode_solvers_atol: Box<dyn Fn(f64) -> f64>,
     /// Step counts for `Rk4`, or why it is not run.
@@ -144,17 +144,21 @@ impl Default for StudyConfig {
     }
 }
 
+/// The step limit of the ode_solvers runs: ode_solvers' own default (`n_max = 100 000` of its
+/// `Dopri5::new` and `Dop853::new`), whatever the study's `max_steps`.
+pub const ODE_SOLVERS_MAX_STEPS: usize = 100_000;
+
 /// One untimed run of `method` on `scene`: the point with its error and counters, not yet timed
 /// (a refused configuration is skipped, a failed run is reported with its counters).
-fn chetaev_evaluate<M, Me, const N: usize, const K: usize>(
-    scene: &Scene<M, N, K>,
+fn chetaev_evaluate<M, Me>(
+    scene: &StudyScene<M>,
     method: Me,
     tolerance: f64,
     step: f64,
-    options: &Options<N>,
+    options: &Options,
 ) -> Point
 where
-    M: Model<N, K>,
+    M: Model,
     Me: Method + Copy,
 {
     let name = method.name();
@@ -164,35 +168,35 @@ where
             name,
             tolerance,
             step,
-            Outcome::Skipped(e.to_string()),
+            PointOutcome::Skipped(e.to_string()),
         ),
         Ok(sol) => end_point(scene, name, tolerance, step, &sol),
     }
 }
 
 /// The point of a finished run: its counters, and its end-state error where it reached `t_end`.
-fn end_point<M, const N: usize, const K: usize>(
-    scene: &Scene<M, N, K>,
+fn end_point<M>(
+    scene: &StudyScene<M>,
     name: &str,
     tolerance: f64,
     step: f64,
-    sol: &Solution<N, K>,
+    sol: &Solution,
 ) -> Point {
     let mut p =
-        Point::new(scene.key, name, tolerance, step, Outcome::Measured).with_stats(&sol.stats);
+        Point::new(scene.key, name, tolerance, step, PointOutcome::Measured).with_stats(&sol.stats);
     if let Some(e) = sol.error() {
-        p.outcome = Outcome::Failed(e.to_string());
+        p.outcome = PointOutcome::Failed(e.to_string());
         return p;
     }
     match sol.last() {
         Some((t, q, qd)) if (t - scene.t_end).abs() <= 1e-12 * scene.t_end.abs().max(1.0) => {
-            p.error = (scene.error)(&q, &qd);
+            p.error = (scene.error)(q, qd);
         }
         Some((t, _, _)) => {
             p.outcome =
-                Outcome::Failed(format!("stopped at t = {t} before t_end = {}", scene.t_end));
+                PointOutcome::Failed(format!("stopped at t = {t} before t_end = {}", scene.t_end));
         }
-        None => p.outcome = Outcome::Failed("nothing recorded".to_string()),
+        None => p.outcome = PointOutcome::Failed("nothing recorded".to_string()),
     }
     p
 }
@@ -211,36 +215,46 @@ fn timed<T, E: std::fmt::Display>(
             p.seconds = timing.median;
             p.repeats = timing.repeats;
         }
-        Err(e) => p.outcome = Outcome::Failed(e.to_string()),
+        Err(e) => p.outcome = PointOutcome::Failed(e.to_string()),
     }
     p
 }
 
 /// Times `method` on `scene` with `options`, returning the point.
-fn chetaev_point<M, Me, const N: usize, const K: usize>(
-    scene: &Scene<M, N, K>,
+fn chetaev_point<M, Me>(
+    scene: &StudyScene<M>,
     method: Me,
     tolerance: f64,
     step: f64,
-    options: &Options<N>,
+    options: &Options,
     budget: &Budget,
 ) -> Point
 where
-    M: Model<N, K>,
+    M: Model,
     Me: Method + Copy,
 {
     let p = chetaev_evaluate(scene, method, tolerance, step, options);
     timed(p, budget, || solve(&scene.problem, method, options))
 }
 
-fn ode_solvers_point<M, const N: usize, const K: usize>(
-    scene: &Scene<M, N, K>,
+/// The options of the ode_solvers runs on `scene` at `tol`: `rtol = tol` and the scene's one
+/// scalar `atol`, everything recorded (`Record::Energy`) at every accepted step, ode_solvers' own
+/// step-size control and step limit ([`ODE_SOLVERS_MAX_STEPS`]).
+pub fn ode_solvers_options<M>(scene: &StudyScene<M>, tol: f64) -> Options {
+    Options::until(scene.t_end)
+        .tolerances(tol, (scene.ode_solvers_atol)(tol))
+        .record(Record::Energy)
+        .max_steps(ODE_SOLVERS_MAX_STEPS)
+}
+
+fn ode_solvers_point<M>(
+    scene: &StudyScene<M>,
     method: OdeSolversMethod,
     tolerance: f64,
     budget: &Budget,
 ) -> Point
 where
-    M: Model<N, K>,
+    M: Model,
 {
     let name = method.name();
     if let Some(reason) = &scene.ode_solvers_skip {
@@ -249,11 +263,11 @@ where
             name,
             tolerance,
             f64::NAN,
-            Outcome::Skipped(reason.clone()),
+            PointOutcome::Skipped(reason.clone()),
         );
     }
-    let atol = (scene.ode_solvers_atol)(tolerance);
-    let run = || solve_with_ode_solvers(&scene.problem, method, scene.t_end, tolerance, atol);
+    let options = ode_solvers_options(scene, tolerance);
+    let run = || solve_with_ode_solvers(&scene.problem, method, &options);
     let p = match run() {
         Err(e) => {
             return Point::new(
@@ -261,7 +275,7 @@ where
                 name,
                 tolerance,
                 f64::NAN,
-                Outcome::Skipped(e.to_string()),
+                PointOutcome::Skipped(e.to_string()),
             )
         }
         Ok(sol) => end_point(scene, name, tolerance, f64::NAN, &sol),
@@ -270,11 +284,7 @@ where
 }
 
 /// The options of the adaptive methods on `scene` at `tol`: no diagnostics, output at the end.
-fn adaptive_options<M, const N: usize, const K: usize>(
-    scene: &Scene<M, N, K>,
-    config: &StudyConfig,
-    tol: f64,
-) -> Options<N> {
+fn adaptive_options<M>(scene: &StudyScene<M>, config: &StudyConfig, tol: f64) -> Options {
     (scene.options)(tol)
         .output_final()
         .record(Record::State)
@@ -282,59 +292,52 @@ fn adaptive_options<M, const N: usize, const K: usize>(
 }
 
 /// The options of `Rk4` with `n` steps to the end of `scene`.
-fn rk4_options<M, const N: usize, const K: usize>(
-    scene: &Scene<M, N, K>,
-    config: &StudyConfig,
-    n: usize,
-) -> Options<N> {
+fn rk4_options<M>(scene: &StudyScene<M>, config: &StudyConfig, n: usize) -> Options {
     Options::until(scene.t_end)
         .output_final()
         .record(Record::State)
         .max_steps(config.max_steps.max(n + 1))
 }
 
+/// `method` on `scene` over the tolerances of `config`, timed.
+fn adaptive_points<M, Me>(scene: &StudyScene<M>, config: &StudyConfig, method: Me) -> Vec<Point>
+where
+    M: Model,
+    Me: Method + Copy,
+{
+    config
+        .tolerances
+        .iter()
+        .map(|&tol| {
+            let o = adaptive_options(scene, config, tol);
+            chetaev_point(scene, method, tol, f64::NAN, &o, &config.budget)
+        })
+        .collect()
+}
+
 /// Runs the whole study on one scene: chetaev's `Dopri5`, `Dop853`, `Rodas4` over the tolerances,
 /// `Rk4` over the step counts, and ode_solvers' `Dopri5`, `Dop853` over the tolerances. `progress`
 /// is told the name of each method as it starts.
-pub fn run_scene<M, const N: usize, const K: usize>(
-    scene: &Scene<M, N, K>,
+///
+/// chetaev's methods are passed as their own types (`Dopri5::default()`, ...), as a user calls
+/// them, not through `AnyMethod`: the run-time choice of method is compiled differently and takes
+/// a measurably different time.
+pub fn run_scene<M>(
+    scene: &StudyScene<M>,
     config: &StudyConfig,
     progress: &mut dyn FnMut(&str),
 ) -> Vec<Point>
 where
-    M: Model<N, K>,
+    M: Model,
 {
     let mut points = Vec::new();
     let b = &config.budget;
     progress("Dopri5");
-    for &tol in &config.tolerances {
-        let o = adaptive_options(scene, config, tol);
-        points.push(chetaev_point(
-            scene,
-            Dopri5::default(),
-            tol,
-            f64::NAN,
-            &o,
-            b,
-        ));
-    }
+    points.extend(adaptive_points(scene, config, Dopri5::default()));
     progress("Dop853");
-    for &tol in &config.tolerances {
-        let o = adaptive_options(scene, config, tol);
-        points.push(chetaev_point(
-            scene,
-            Dop853::default(),
-            tol,
-            f64::NAN,
-            &o,
-            b,
-        ));
-    }
+    points.extend(adaptive_points(scene, config, Dop853::default()));
     progress("Rodas4");
-    for &tol in &config.tolerances {
-        let o = adaptive_options(scene, config, tol);
-        points.push(chetaev_point(scene, Rodas4, tol, f64::NAN, &o, b));
-    }
+    points.extend(adaptive_points(scene, config, Rodas4));
     progress("Rk4");
     match &scene.rk4_steps {
         Ok(steps) => {
@@ -349,10 +352,10 @@ where
             "Rk4",
             f64::NAN,
             f64::NAN,
-            Outcome::Skipped(reason.clone()),
+            PointOutcome::Skipped(reason.clone()),
         )),
     }
-    for m in [OdeSolversMethod::Dopri5, OdeSolversMethod::Dop853] {
+    for m in OdeSolversMethod::ALL {
         progress(m.name());
         for &tol in &config.tolerances {
             points.push(ode_solvers_point(scene, m, tol, b));
@@ -420,25 +423,25 @@ where
                 &name,
                 tolerance,
                 step,
-                Outcome::Skipped(e.to_string()),
+                PointOutcome::Skipped(e.to_string()),
             )
         }
     };
     let (rhs, jac) = sys.counted();
-    let mut p = Point::new(scene_key, &name, tolerance, step, Outcome::Measured);
+    let mut p = Point::new(scene_key, &name, tolerance, step, PointOutcome::Measured);
     p.rhs_evaluations = rhs;
     p.jacobian_evaluations = jac;
     p.accepted_steps = sol.stats.accepted_steps;
     p.rejected_steps = sol.stats.rejected_steps;
     if let Some(e) = sol.error {
-        p.outcome = Outcome::Failed(e.to_string());
+        p.outcome = PointOutcome::Failed(e.to_string());
         return p;
     }
     match (sol.t.last(), sol.y.last()) {
         (Some(&t), Some(y)) if (t - hw.t_end).abs() <= 1e-12 * hw.t_end.abs().max(1.0) => {
             p.error = (hw.error)(&sys, y);
         }
-        _ => p.outcome = Outcome::Failed("did not reach t_end".to_string()),
+        _ => p.outcome = PointOutcome::Failed("did not reach t_end".to_string()),
     }
     p
 }
@@ -447,18 +450,18 @@ where
 /// interleaved ([`time_interleaved`]) so that all three see the same background load.
 #[allow(clippy::too_many_arguments)]
 fn limit_triple<M, Me>(
-    scene: &Scene<M, 2, 1>,
+    scene: &StudyScene<M>,
     reduced: &HandWritten<Reduced>,
     full: &HandWritten<Full>,
     method: Me,
     tolerance: f64,
     step: f64,
-    options: &Options<2>,
+    options: &Options,
     ode_options: &OdeOptions,
     budget: &Budget,
 ) -> [Point; 3]
 where
-    M: Model<2, 1>,
+    M: Model,
     Me: Method + Copy,
 {
     let mut points = [
@@ -497,76 +500,69 @@ where
         }
         Err(e) => {
             for &i in &which {
-                points[i].outcome = Outcome::Failed(e.to_string());
+                points[i].outcome = PointOutcome::Failed(e.to_string());
             }
         }
     }
     points
 }
 
+/// `method` on the paper's model through chetaev and on the two hand-written systems over the
+/// tolerances of `config` (`rtol = atol = tol` for all three), timed interleaved.
+fn limit_adaptive<M, Me>(
+    scene: &StudyScene<M>,
+    reduced: &HandWritten<Reduced>,
+    full: &HandWritten<Full>,
+    config: &StudyConfig,
+    method: Me,
+) -> Vec<Point>
+where
+    M: Model,
+    Me: Method + Copy,
+{
+    let mut points = Vec::new();
+    for &tol in &config.tolerances {
+        let o = adaptive_options(scene, config, tol);
+        let mut oo = OdeOptions::until(scene.t_end).tolerances(tol, tol);
+        oo.output = Output::Final;
+        oo.max_steps = config.max_steps;
+        points.extend(limit_triple(
+            scene,
+            reduced,
+            full,
+            method,
+            tol,
+            f64::NAN,
+            &o,
+            &oo,
+            &config.budget,
+        ));
+    }
+    points
+}
+
 /// The limit: `Dopri5`, `Dop853`, `Rodas4` over the tolerances and `Rk4` over `rk4_steps`, each on
-/// the paper's model through chetaev (`scene`) and on the two hand-written systems through the
-/// same driver ([`solve_ode`]), the three timed interleaved at every setting.
+/// the paper's model through chetaev (`scene`, the uniform motion) and on the two hand-written
+/// systems through the same driver ([`solve_ode`]), the three timed interleaved at every setting.
 pub fn run_limit<M>(
-    scene: &Scene<M, 2, 1>,
+    scene: &StudyScene<M>,
     reduced: &HandWritten<Reduced>,
     full: &HandWritten<Full>,
     config: &StudyConfig,
     rk4_steps: &[usize],
 ) -> Vec<Point>
 where
-    M: Model<2, 1>,
+    M: Model,
 {
-    let mut points = Vec::new();
-    let b = &config.budget;
-    let ode_options = |tol: f64| {
-        let mut o = OdeOptions::until(scene.t_end).tolerances(tol, tol);
-        o.output = Output::Final;
-        o.max_steps = config.max_steps;
-        o
-    };
-    for &tol in &config.tolerances {
-        let (o, oo) = (adaptive_options(scene, config, tol), ode_options(tol));
-        points.extend(limit_triple(
-            scene,
-            reduced,
-            full,
-            Dopri5::default(),
-            tol,
-            f64::NAN,
-            &o,
-            &oo,
-            b,
-        ));
-    }
-    for &tol in &config.tolerances {
-        let (o, oo) = (adaptive_options(scene, config, tol), ode_options(tol));
-        points.extend(limit_triple(
-            scene,
-            reduced,
-            full,
-            Dop853::default(),
-            tol,
-            f64::NAN,
-            &o,
-            &oo,
-            b,
-        ));
-    }
-    for &tol in &config.tolerances {
-        let (o, oo) = (adaptive_options(scene, config, tol), ode_options(tol));
-        points.extend(limit_triple(
-            scene,
-            reduced,
-            full,
-            Rodas4,
-            tol,
-            f64::NAN,
-            &o,
-            &oo,
-            b,
-        ));
-    }
+    let mut points = limit_adaptive(scene, reduced, full, config, Dopri5::default());
+    points.extend(limit_adaptive(
+        scene,
+        reduced,
+        full,
+        config,
+        Dop853::default(),
+    ));
+    points.extend(limit_adaptive(scene, reduced, full, config, Rodas4));
     for &n in rk4_steps {
         let h = scene.t_end / n as f64;
         let o = rk4_options(scene, config, n);
@@ -582,7 +578,7 @@ where
             h,
             &o,
             &oo,
-            b,
+            &config.budget,
         ));
     }
     points

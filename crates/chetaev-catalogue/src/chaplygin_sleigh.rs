@@ -34,6 +34,7 @@
 //! (`a > 0`; backwards for `a < 0`). The position `(x, y)` is a quadrature of `u (cos θ, sin θ)` and
 //! is checked through `u`, `θ` and the constraint. Source: Bloch §1.7 (see [`SOURCES`]).
 
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 use crate::error::{check, finite, positive, Error};
@@ -143,7 +144,7 @@ impl Constraints<3, 1> for ChaplyginSleigh {
 
 /// The problem: the contact point at `(x0, y0)`, heading `θ0`, moving forward at `u0` and turning
 /// at `ω0`.
-pub fn problem(p: &Params) -> Result<Problem<ChaplyginSleigh, 3, 1>, Error> {
+pub fn problem(p: &Params) -> Result<Problem<Fixed<ChaplyginSleigh, 3, 1>>, Error> {
     p.validate()?;
     let model = ChaplyginSleigh {
         m: p.m,

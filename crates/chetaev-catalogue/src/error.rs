@@ -1,6 +1,6 @@
 //! The one error type of the catalogue.
 
-/// What can go wrong when building a catalogue entry.
+/// What can go wrong when building a catalogue entry or comparing a motion with its reference.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
@@ -15,7 +15,8 @@ pub enum Error {
         hint: &'static str,
     },
 
-    /// A parameter list does not match the number of coordinates `N`.
+    /// A list (of parameters, or a recorded state or multiplier) does not have the length the model
+    /// needs (`N` coordinates, `K` constraints).
     #[error("{what} has {got} entries, but the model needs {expected}")]
     WrongLength {
         /// Which list.

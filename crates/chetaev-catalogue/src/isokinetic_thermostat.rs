@@ -37,6 +37,7 @@
 //! `∫ s̈/ṡ = ln ṡ`; `G` is elementary (see [`ClosedForm::g`]). For one particle in gravity this is
 //! the uniform horizontal projectile of Swaczyna and Volný: `a = 0`, `√b = g/v0`, `ṡ = cosh(g t/v0)`.
 
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 use crate::error::{finite, positive, Error};
@@ -202,7 +203,7 @@ impl<const N: usize> Constraints<N, 1> for IsokineticThermostat<N> {
 /// The problem, with `K0` the kinetic energy of the initial velocities.
 pub fn problem<const N: usize>(
     p: &Params<N>,
-) -> Result<Problem<IsokineticThermostat<N>, N, 1>, Error> {
+) -> Result<Problem<Fixed<IsokineticThermostat<N>, N, 1>>, Error> {
     p.validate()?;
     let model = IsokineticThermostat {
         mass: p.mass,

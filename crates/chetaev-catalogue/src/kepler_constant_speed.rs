@@ -35,6 +35,7 @@
 //! such scattering orbits [`Invariant`] also gives `q(t)` and `q̇(t)` by quadrature. The proof is
 //! in `docs/catalogue/kepler_constant_speed.md`.
 
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 use crate::error::{check, positive, Error};
@@ -143,7 +144,7 @@ impl Constraints<3, 1> for ConstantSpeedKepler {
 }
 
 /// The problem, with `v0 = |q̇0|`.
-pub fn problem(p: &Params) -> Result<Problem<ConstantSpeedKepler, 3, 1>, Error> {
+pub fn problem(p: &Params) -> Result<Problem<Fixed<ConstantSpeedKepler, 3, 1>>, Error> {
     p.validate()?;
     let model = ConstantSpeedKepler {
         m: p.m,

@@ -30,6 +30,7 @@
 //! homogeneous in `q̇`, so `Φ` does no work and `E = ½ m v² + ½ I ω² − m g sin α · x` is
 //! conserved. Sources: Neimark & Fufaev; Bloch §1.6 (see [`SOURCES`]).
 
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 use crate::error::{check, positive, Error};
@@ -134,7 +135,7 @@ impl Constraints<3, 1> for KnifeEdge {
 }
 
 /// The problem: at rest at the origin, blade along the `x` axis (`φ = 0`), spinning at `ω`.
-pub fn problem(p: &Params) -> Result<Problem<KnifeEdge, 3, 1>, Error> {
+pub fn problem(p: &Params) -> Result<Problem<Fixed<KnifeEdge, 3, 1>>, Error> {
     p.validate()?;
     let model = KnifeEdge {
         m: p.m,

@@ -17,7 +17,8 @@
 //! Every module has a `Params` type (with a `Default`), `problem(&Params)` and `entry(&Params)`,
 //! which returns the problem together with its reference. A reference implements [`Reference`]:
 //! the quantities it predicts at a recorded point, each with a natural scale, so that
-//! [`compare`] gives the largest scaled error of every quantity over a [`Solution`](chetaev::Solution).
+//! [`compare`] gives the largest scaled error of every quantity over a [`Solution`](chetaev::Solution)
+//! (and [`Reference::checks_at`] the checks at one recorded point).
 //!
 //! ```
 //! use chetaev::prelude::*;
@@ -28,7 +29,7 @@
 //! let sol = solve(&entry.problem, Dop853::default(), &Options::until(10.0).tolerances(tol, tol))?;
 //! assert!(sol.is_success());
 //!
-//! let errors = compare(&sol, &entry.reference);
+//! let errors = compare(&sol, &entry.reference)?;
 //! assert!(errors.max_of(Kind::Position) < 50.0 * tol);
 //! assert!(errors.max_of(Kind::Multiplier) < 50.0 * tol);
 //! assert!(sol.max_residual() < 50.0 * tol);
@@ -38,6 +39,7 @@
 //! # Ok::<(), chetaev_catalogue::Error>(())
 //! ```
 
+pub mod benchmarks;
 pub mod chaplygin_sleigh;
 pub mod error;
 pub mod isokinetic_thermostat;

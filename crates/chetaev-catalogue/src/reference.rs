@@ -3,13 +3,18 @@
 
 use std::fmt;
 
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
-/// A ready problem and its reference.
+use crate::error::Error;
+
+/// A ready problem and its reference: a static model `M` on `N` coordinates with `K` constraints
+/// (wrapped in [`Fixed`] by [`Problem::new`]; `entry.problem.model()` dereferences to `M`), and
+/// what its motion must satisfy.
 #[derive(Clone, Debug)]
 pub struct Entry<M, R, const N: usize, const K: usize> {
     /// The problem: model, initial time and a consistent initial state.
-    pub problem: Problem<M, N, K>,
+    pub problem: Problem<Fixed<M, N, K>>,
     /// What its motion must satisfy.
     pub reference: R,
 }
@@ -98,6 +103,37 @@ pub trait Reference<const N: usize, const K: usize> {
         qd: &SVector<f64, N>,
         mu: Option<&SVector<f64, K>>,
     ) -> Vec<Check>;
+
+    /// [`Reference::checks`] at a point given as slices, as a [`Solution`] records it:
+    /// `checks_at(sol.t[i], &sol.q[i], &sol.qd[i], sol.mu.get(i))`.
+    ///
+    /// Fails with [`Error::WrongLength`] if `q` or `q̇` does not have `N` entries, or `μ` not `K`
+    /// (the point of a motion of another model).
+    fn checks_at(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        mu: Option<&[f64]>,
+    ) -> Result<Vec<Check>, Error> {
+        let q = vector::<N>("q", q)?;
+        let qd = vector::<N>("q̇", qd)?;
+        let mu = mu.map(|mu| vector::<K>("μ", mu)).transpose()?;
+        Ok(self.checks(t, &q, &qd, mu.as_ref()))
+    }
+}
+
+/// `v` as an `SVector` of length `L`, or [`Error::WrongLength`].
+fn vector<const L: usize>(what: &'static str, v: &[f64]) -> Result<SVector<f64, L>, Error> {
+    if v.len() == L {
+        Ok(SVector::from_column_slice(v))
+    } else {
+        Err(Error::WrongLength {
+            what,
+            got: v.len(),
+            expected: L,
+        })
+    }
 }
 
 /// The largest error of one quantity over a motion.
@@ -143,17 +179,36 @@ impl Comparison {
 }
 
 /// Compares every recorded point of `solution` with `reference`.
+///
+/// Fails with [`Error::WrongLength`] if the solution is not a motion with `N` coordinates and `K`
+/// constraints (the solution of another entry's problem).
 pub fn compare<R, const N: usize, const K: usize>(
-    solution: &Solution<N, K>,
+    solution: &Solution,
     reference: &R,
-) -> Comparison
+) -> Result<Comparison, Error>
 where
     R: Reference<N, K> + ?Sized,
 {
+    for (what, got, expected) in [
+        ("the solution's q", solution.n(), N),
+        ("the solution's μ", solution.k(), K),
+    ] {
+        if got != expected {
+            return Err(Error::WrongLength {
+                what,
+                got,
+                expected,
+            });
+        }
+    }
     let mut out = Comparison::default();
     for i in 0..solution.len() {
-        let mu = solution.mu.get(i);
-        let checks = reference.checks(solution.t[i], &solution.q[i], &solution.qd[i], mu);
+        let checks = reference.checks_at(
+            solution.t[i],
+            &solution.q[i],
+            &solution.qd[i],
+            solution.mu.get(i),
+        )?;
         for c in checks {
             // A NaN (a reference or a motion that left its domain) counts as the worst error.
             let e = if c.error().is_nan() {
@@ -176,12 +231,12 @@ where
             }
         }
     }
-    out
+    Ok(out)
 }
 
 /// The largest `|E(t) − E(t0) − W_Φ(t) + ∫∂L/∂t dt|` over the motion
 /// ([`Solution::energy_balance`]; 0 if the energy was not recorded).
-pub fn max_energy_balance<const N: usize, const K: usize>(solution: &Solution<N, K>) -> f64 {
+pub fn max_energy_balance(solution: &Solution) -> f64 {
     solution.energy_balance().iter().fold(0.0f64, |acc, b| {
         if b.is_nan() {
             f64::INFINITY
@@ -195,12 +250,62 @@ pub fn max_energy_balance<const N: usize, const K: usize>(solution: &Solution<N,
 /// size of the power the work `W_Φ = ∫ q̇·Φ dt` is integrated from, and so the scale of the error of
 /// that quadrature and of the energy balance. For a constraint linear and homogeneous in `q̇`,
 /// `q̇·Φ = μ·f` vanishes on the constraints although neither `Φ` nor `q̇` does.
-pub fn absolute_work<const N: usize, const K: usize>(solution: &Solution<N, K>) -> f64 {
+pub fn absolute_work(solution: &Solution) -> f64 {
     if solution.phi.len() != solution.len() {
         return 0.0;
     }
-    let power = |i: usize| solution.phi[i].norm() * solution.qd[i].norm();
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let power = |i: usize| norm(&solution.phi[i]) * norm(&solution.qd[i]);
     (1..solution.len())
         .map(|i| 0.5 * (power(i - 1) + power(i)) * (solution.t[i] - solution.t[i - 1]).abs())
         .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{knife_edge, rolling_disk};
+
+    #[test]
+    fn a_motion_of_another_model_is_refused_with_its_sizes() {
+        let knife = knife_edge::entry(&knife_edge::Params::default()).expect("valid");
+        let disk = rolling_disk::entry(&rolling_disk::Params::default()).expect("valid");
+        let options = Options::until(0.5);
+        let sol = solve(&disk.problem, Dop853::default(), &options).expect("valid options");
+        assert_eq!(
+            compare(&sol, &knife.reference),
+            Err(Error::WrongLength {
+                what: "the solution's q",
+                got: 4,
+                expected: 3
+            })
+        );
+        let mu = [0.0, 0.0];
+        assert_eq!(
+            knife
+                .reference
+                .checks_at(0.0, &[0.0; 3], &[0.0, 0.0, 1.0], Some(&mu)),
+            Err(Error::WrongLength {
+                what: "μ",
+                got: 2,
+                expected: 1
+            })
+        );
+        // The entry's own motion compares, point by point as `checks` does.
+        let sol = solve(&knife.problem, Dop853::default(), &options).expect("valid options");
+        let cmp = compare(&sol, &knife.reference).expect("same sizes");
+        assert_eq!(cmp.quantities.len(), 8);
+        let i = sol.len() - 1;
+        let by_slices = knife
+            .reference
+            .checks_at(sol.t[i], &sol.q[i], &sol.qd[i], sol.mu.get(i))
+            .expect("same sizes");
+        let by_vectors = knife.reference.checks(
+            sol.t[i],
+            &SVector::from_column_slice(&sol.q[i]),
+            &SVector::from_column_slice(&sol.qd[i]),
+            Some(&SVector::from_column_slice(&sol.mu[i])),
+        );
+        assert_eq!(by_slices, by_vectors);
+    }
 }

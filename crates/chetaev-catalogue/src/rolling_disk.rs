@@ -28,6 +28,7 @@
 //! The constraints are linear and homogeneous in `q̇`: `E = ½ (m R² + I) ω² + ½ J Ω²` is conserved.
 //! Source: Bloch §1.4 (see [`SOURCES`]).
 
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 use crate::error::{finite, positive, Error};
@@ -144,7 +145,7 @@ impl Constraints<4, 2> for RollingDisk {
 
 /// The problem: the disk at `(x0, y0)` with angles `θ0`, `φ0`, rolling at `ω` and turning at `Ω`
 /// (the initial `ẋ, ẏ` follow from the constraints).
-pub fn problem(p: &Params) -> Result<Problem<RollingDisk, 4, 2>, Error> {
+pub fn problem(p: &Params) -> Result<Problem<Fixed<RollingDisk, 4, 2>>, Error> {
     p.validate()?;
     let model = RollingDisk {
         m: p.m,

@@ -4,7 +4,7 @@
 
 mod common;
 
-use chetaev::equations::{dynamics, saddle::SaddleWorkspace};
+use chetaev::equations::{evaluate, Workspace};
 use chetaev::prelude::*;
 use chetaev_catalogue::chaplygin_sleigh::{body_velocities, entry, ClosedForm, Params};
 use chetaev_catalogue::Kind;
@@ -60,6 +60,10 @@ fn the_sleigh_ends_moving_straight_at_the_limit_speed() {
     let e = entry(&p).expect("valid");
     let (sol, _) = run(&e, T_END, 1e-10);
     let (_, q, qd) = sol.last().expect("points");
+    let (q, qd) = (
+        SVector::<f64, 3>::from_column_slice(q),
+        SVector::<f64, 3>::from_column_slice(qd),
+    );
     let (u, w) = body_velocities(&q, &qd);
     let v = e.reference.limit_speed();
     let v_expected =
@@ -88,14 +92,15 @@ fn block_solve_gives_the_reduced_equations_and_the_blade_force() {
     };
     let e = entry(&p).expect("valid");
     let cf = ClosedForm::new(&p).expect("valid");
-    let mut ws = SaddleWorkspace::default();
+    let model = e.problem.model();
+    let mut ws = Workspace::for_model(model);
     let v = cf.limit_speed();
     let w_max = v * (p.m / (p.inertia + p.m * p.a * p.a)).sqrt();
     for t in [0.0, 0.2, 0.9, 2.0] {
         let (theta, u, w) = (cf.heading(t), cf.forward_speed(t), cf.turning_rate(t));
         let q = SVector::from([0.3, -1.2, theta]);
         let qd = SVector::from([u * theta.cos(), u * theta.sin(), w]);
-        let d = dynamics::<_, f64, 3, 1>(e.problem.model(), &mut ws, t, &q, &qd).expect("regular");
+        let d = evaluate(model, &mut ws, t, q.as_slice(), qd.as_slice()).expect("regular");
         let u_dot = d.qdd[0] * theta.cos() + d.qdd[1] * theta.sin();
         let (u_dot_ref, w_dot_ref) = cf.body_accelerations(t);
         let acc = p.a.abs() * w_max * w_max;

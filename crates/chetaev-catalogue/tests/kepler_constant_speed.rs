@@ -4,7 +4,7 @@
 
 mod common;
 
-use chetaev::equations::{dynamics, saddle::SaddleWorkspace};
+use chetaev::equations::{evaluate, Workspace};
 use chetaev::prelude::*;
 use chetaev_catalogue::kepler_constant_speed::{entry, invariant, multiplier_at, Params};
 use chetaev_catalogue::Kind;
@@ -30,7 +30,7 @@ fn invariant_holds_along_a_long_integration() {
         }
         // The orbit against the quadratures: positions relative to r, velocities to v0. The pass
         // near the unstable circle amplifies the error before the periapsis into a shift along
-        // the outgoing orbit (observed ≤ 25 tol at 1e-8, ≤ 5 tol below); the stated bound is
+        // the outgoing orbit (observed ≤ 26 tol at 1e-8, ≤ 9 tol below); the stated bound is
         // 100 tol.
         for kind in [Kind::Position, Kind::Velocity] {
             let err = cmp.max_of(kind);
@@ -40,7 +40,8 @@ fn invariant_holds_along_a_long_integration() {
         assert!(sol.max_residual() <= 10.0 * tol * v0 * v0, "tol {tol:e}");
         assert_energy_balance(&sol, tol);
         let (_, q, _) = sol.last().expect("points");
-        assert!(q.norm() > 900.0, "the particle escapes: r = {}", q.norm());
+        let r = SVector::<f64, 3>::from_column_slice(q).norm();
+        assert!(r > 900.0, "the particle escapes: r = {r}");
     }
 }
 
@@ -56,10 +57,9 @@ fn periapsis_is_the_root_of_r_exp_lambda_over_r() {
     assert!(rp > lambda);
     assert!((rp * (lambda / rp).exp() - b).abs() <= 4.0 * f64::EPSILON * b);
     assert!((rp - 1.6).abs() <= 1e-13 * 1.6, "r_p = {rp}, asked 1.6");
-    let periapsis = Event::new(
-        "periapsis",
-        |_t, q: &SVector<f64, 3>, qd: &SVector<f64, 3>| q.dot(qd),
-    )
+    let periapsis = Event::new("periapsis", |_t, q, qd| {
+        q.iter().zip(qd).map(|(x, v)| x * v).sum()
+    })
     .rising();
     let tol = 1e-12;
     let sol = solve(
@@ -71,12 +71,16 @@ fn periapsis_is_the_root_of_r_exp_lambda_over_r() {
     assert!(sol.is_success());
     assert_eq!(sol.events.len(), 1);
     let hit = &sol.events[0];
+    let hit_q = SVector::<f64, 3>::from_column_slice(&hit.q);
     // Radius, time and direction against r_p, t_p and the periapsis direction of the quadratures
-    // (observed 1.3 tol, 0.04 tol and 0.3 tol); the stated bound is 10 tol.
+    // (observed 1.7 tol, 0.7 tol and 5.7 tol); the stated bound is 10 tol. The event lies between
+    // steps, where Dop853's dense output (order 7) is up to about 7 tol off the orbit while the
+    // steps themselves are within 1 tol: the direction error is the angle turned in the time
+    // error, θ̇ Δt, and depends on where in a step the periapsis falls.
     assert!(
-        (hit.q.norm() - rp).abs() <= 10.0 * tol * rp,
+        (hit_q.norm() - rp).abs() <= 10.0 * tol * rp,
         "r = {} vs {rp}",
-        hit.q.norm()
+        hit_q.norm()
     );
     assert!(
         (hit.t - orbit.t_periapsis).abs() <= 10.0 * tol * orbit.t_periapsis,
@@ -84,7 +88,7 @@ fn periapsis_is_the_root_of_r_exp_lambda_over_r() {
         hit.t,
         orbit.t_periapsis
     );
-    let direction = hit.q / hit.q.norm();
+    let direction = hit_q / hit_q.norm();
     assert!(
         (direction - orbit.p_hat).norm() <= 10.0 * tol,
         "{direction} vs {}",
@@ -105,7 +109,8 @@ fn block_solve_keeps_c_constant_at_any_state() {
     let e = entry(&p).expect("valid");
     let v0 = p.v0();
     let lambda = p.k / (v0 * v0);
-    let mut ws = SaddleWorkspace::default();
+    let model = e.problem.model();
+    let mut ws = Workspace::for_model(model);
     for s in 0..8 {
         let s = s as f64;
         let q = SVector::from([
@@ -115,12 +120,12 @@ fn block_solve_keeps_c_constant_at_any_state() {
         ]) * (0.3 + 0.5 * s);
         let dir = SVector::from([(2.1 * s).sin(), (0.9 * s).cos(), (1.7 * s).sin() - 0.3]);
         let qd = dir * (v0 / dir.norm());
-        let d =
-            dynamics::<_, f64, 3, 1>(e.problem.model(), &mut ws, 0.0, &q, &qd).expect("regular");
+        let d = evaluate(model, &mut ws, 0.0, q.as_slice(), qd.as_slice()).expect("regular");
+        let qdd = SVector::<f64, 3>::from_column_slice(&d.qdd);
         let r = q.norm();
         let r_dot = q.dot(&qd) / r;
         let h = q.cross(&qd);
-        let c_dot = (q.cross(&d.qdd) - h * (lambda * r_dot / (r * r))) * (lambda / r).exp();
+        let c_dot = (q.cross(&qdd) - h * (lambda * r_dot / (r * r))) * (lambda / r).exp();
         // Against |C| times the rate of the field at r, v0/r · (1 + λ/r).
         let scale =
             invariant(lambda, &q, &qd).norm().max(f64::MIN_POSITIVE) * v0 / r * (1.0 + lambda / r);
@@ -159,11 +164,8 @@ fn the_circle_r_equals_lambda_is_an_orbit() {
     let (sol, cmp) = run(&e, std::f64::consts::PI * lambda / v0, tol);
     assert!(cmp.max_of(Kind::Invariant) <= 10.0 * tol);
     // Observed: |r − λ| ≤ 2.5 tol · λ. The stated bound is the amplification 23 times 10 tol.
-    for q in &sol.q {
-        assert!(
-            (q.norm() - lambda).abs() <= 230.0 * tol * lambda,
-            "r = {}",
-            q.norm()
-        );
+    for q in sol.q.iter() {
+        let r = SVector::<f64, 3>::from_column_slice(q).norm();
+        assert!((r - lambda).abs() <= 230.0 * tol * lambda, "r = {r}");
     }
 }

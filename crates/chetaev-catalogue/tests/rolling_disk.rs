@@ -3,7 +3,7 @@
 
 mod common;
 
-use chetaev::equations::{dynamics, saddle::SaddleWorkspace};
+use chetaev::equations::{evaluate, Workspace};
 use chetaev_catalogue::rolling_disk::{entry, ClosedForm, Params};
 use chetaev_catalogue::Kind;
 use common::{assert_energy_balance, run, TOLERANCES};
@@ -49,7 +49,7 @@ fn the_contact_point_stays_on_the_circle() {
     assert!((rho - p.radius * p.omega / p.spin.abs()).abs() <= 1e-15 * rho);
     let tol = 1e-10;
     let (sol, _) = run(&e, T_END, tol);
-    for q in &sol.q {
+    for q in sol.q.iter() {
         let d = ((q[0] - centre[0]).powi(2) + (q[1] - centre[1]).powi(2)).sqrt();
         // The bound of the closed-form test, 10 tol of the radius.
         assert!((d - rho).abs() <= 10.0 * tol * rho, "distance {d} vs {rho}");
@@ -73,11 +73,12 @@ fn block_solve_gives_the_centripetal_force_and_uniform_rates() {
     };
     let e = entry(&p).expect("valid");
     let cf = ClosedForm::new(&p);
-    let mut ws = SaddleWorkspace::default();
+    let model = e.problem.model();
+    let mut ws = Workspace::for_model(model);
     let force = p.m * p.radius * p.omega * p.spin;
     for t in [0.0, 0.3, 1.1, 4.0] {
         let (q, qd) = (cf.position(t), cf.velocity(t));
-        let d = dynamics::<_, f64, 4, 2>(e.problem.model(), &mut ws, t, &q, &qd).expect("regular");
+        let d = evaluate(model, &mut ws, t, q.as_slice(), qd.as_slice()).expect("regular");
         let (qdd, mu) = (cf.acceleration(t), cf.multiplier(t));
         for i in 0..4 {
             assert!(

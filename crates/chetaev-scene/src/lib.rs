@@ -9,8 +9,8 @@
 //! |---|---|---|
 //! | parse | [`Scene::load`], [`scene`] | TOML with spans; every mistake located at a line and column |
 //! | expressions | [`expr`] | our parser; parameters folded; evaluated generically over `R: Real` |
-//! | model | `model.rs` | `L` and `f` as expressions implement [`chetaev::dynamic::DynModel`]: any `N ≥ 1`, `0 ≤ K ≤ N` |
-//! | solve | [`Scene::solve`], [`run`] | [`chetaev::dynamic::solve_dyn`]; records only what the tables and pictures need |
+//! | model | `model.rs` | `L` and `f` as expressions implement [`chetaev::model::DynModel`]: any `N ≥ 1`, `0 ≤ K ≤ N` |
+//! | solve | [`Scene::solve`], [`run`] | [`chetaev::solve`] on [`chetaev::Problem::dynamic`]; records only what the tables and pictures need |
 //! | output | [`output`] | CSV tables, SVG pictures (`chetaev-plot`), the summary |
 //!
 //! Because the expressions are evaluated generically over `chetaev`'s scalar type, `chetaev`
@@ -57,5 +57,5 @@ pub mod scene;
 pub mod source;
 
 pub use error::Error;
-pub use run::{EventRecord, Outcome};
+pub use run::Outcome;
 pub use scene::Scene;

@@ -7,6 +7,7 @@
 //! Standard output closed early (`chetaev run scene.toml | head`) ends the printing quietly; the
 //! run still writes its files and exits with its own code.
 
+use chetaev::integrate::Method;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

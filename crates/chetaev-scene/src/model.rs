@@ -1,6 +1,6 @@
 //! A scene's Lagrangian and constraints as a `chetaev` model with sizes known at run time.
 
-use chetaev::dynamic::DynModel;
+use chetaev::model::DynModel;
 use chetaev::prelude::Real;
 
 use crate::expr::{Env, Expr};

@@ -1,56 +1,39 @@
-//! From a validated scene to `chetaev`'s run-time-sized problem ([`chetaev::dynamic`]), and back
-//! to the outcome.
+//! From a validated scene to `chetaev`'s problem, and back to the outcome.
 //!
-//! A scene states the number of coordinates `N` and of constraints `K` when it is read, so it is
-//! solved through [`chetaev::dynamic`]: the same equations, block solve, methods, step control,
-//! events and projection as a model written in Rust with `N` and `K` fixed when compiling, for any
-//! `N ≥ 1` and `0 ≤ K ≤ N`.
+//! A scene states the number of coordinates `N` and of constraints `K` when it is read, so its
+//! model is a run-time-sized [`DynModel`] ([`Problem::dynamic`]): the same `Problem`, `Options`,
+//! `Event`, `Solution` and `solve` as a model written in Rust with `N` and `K` fixed when
+//! compiling, for any `N ≥ 1` and `0 ≤ K ≤ N`.
 
 use std::sync::Arc;
 
-use chetaev::dynamic::{solve_dyn, DynEvent, DynOptions, DynProblem, DynSolution};
 use chetaev::prelude::*;
 
 use crate::error::Error;
 use crate::expr::Env;
 use crate::model::ExprModel;
-use crate::scene::{GridEnd, MethodSpec, Scene, Times};
+use crate::scene::{GridEnd, Scene, Times};
 
-/// A located event, with the event's name.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EventRecord {
-    /// The event's name.
-    pub name: String,
-    /// Its index in the scene's events.
-    pub index: usize,
-    /// The time of the zero.
-    pub t: f64,
-    /// Coordinates there.
-    pub q: Vec<f64>,
-    /// Velocities there.
-    pub qd: Vec<f64>,
-}
-
-/// What an integration of a scene produced: the library's [`DynSolution`] (whose fields it
-/// dereferences to: `t`, `q`, `qd`, `qdd`, `mu`, `phi`, `residual`, `energy`, `work`, `stats`,
-/// `status`, ...), with the events named and the energy balance computed. Vectors of diagnostics are
-/// empty unless a table or picture asked for them.
+/// What an integration of a scene produced: the library's [`Solution`] (whose fields it
+/// dereferences to: `t`, `q`, `qd`, `qdd`, `mu`, `phi`, `residual`, `energy`, `work`, `events`,
+/// `stats`, `status`, ...), with the energy balance computed and the events' names. Series of
+/// diagnostics are empty unless a table or picture asked for them.
 #[derive(Clone, Debug)]
 #[must_use = "an outcome carries a status that says whether the integration succeeded"]
 pub struct Outcome {
     /// The motion and its diagnostics.
-    pub solution: DynSolution,
+    pub solution: Solution,
     /// `E − E(t0) − W_Φ + ∫∂L/∂t dt`, zero along an exact motion ([`Record::Energy`]).
     pub balance: Vec<f64>,
-    /// Located events in the order they occurred, with their names.
-    pub events: Vec<EventRecord>,
+    /// The names of the scene's events, by index (`solution.events[i].index`).
+    pub event_names: Vec<String>,
     /// Integrations run: 2 when an output grid ends at a terminal event (the first finds where).
     pub passes: usize,
 }
 
 impl std::ops::Deref for Outcome {
-    type Target = DynSolution;
-    fn deref(&self) -> &DynSolution {
+    type Target = Solution;
+    fn deref(&self) -> &Solution {
         &self.solution
     }
 }
@@ -59,6 +42,11 @@ impl Outcome {
     /// Whether the end time or a terminal event was reached.
     pub fn is_success(&self) -> bool {
         !matches!(self.status, Status::Failed(_))
+    }
+
+    /// The name of event `index` of the scene.
+    pub fn event_name(&self, index: usize) -> &str {
+        self.event_names.get(index).map_or("?", String::as_str)
     }
 }
 
@@ -75,29 +63,7 @@ impl Scene {
             .options(self.t0)
             .record(Record::Dynamics)
             .output_final();
-        let sol = match self.solve.method {
-            MethodSpec::Dopri5 {
-                stiffness_detection,
-            } => solve_dyn(
-                &problem,
-                Dopri5 {
-                    stiffness_detection,
-                },
-                &options,
-            ),
-            MethodSpec::Dop853 {
-                stiffness_detection,
-            } => solve_dyn(
-                &problem,
-                Dop853 {
-                    stiffness_detection,
-                },
-                &options,
-            ),
-            MethodSpec::Rk4 { step } => solve_dyn(&problem, Rk4::new(step), &options),
-            MethodSpec::Rodas4 => solve_dyn(&problem, Rodas4, &options),
-        }
-        .map_err(|e| self.setup_error(e))?;
+        let sol = solve(&problem, self.solve.method, &options).map_err(|e| self.setup_error(e))?;
         match sol.status {
             Status::Failed(e) => Err(self.setup_error(e)),
             _ => Ok(()),
@@ -109,26 +75,7 @@ impl Scene {
     pub fn solve(&self) -> Result<Outcome, Error> {
         let problem = self.problem()?;
         self.check_at_start()?;
-        match self.solve.method {
-            MethodSpec::Dopri5 {
-                stiffness_detection,
-            } => self.integrate(
-                &problem,
-                Dopri5 {
-                    stiffness_detection,
-                },
-            ),
-            MethodSpec::Dop853 {
-                stiffness_detection,
-            } => self.integrate(
-                &problem,
-                Dop853 {
-                    stiffness_detection,
-                },
-            ),
-            MethodSpec::Rk4 { step } => self.integrate(&problem, Rk4::new(step)),
-            MethodSpec::Rodas4 => self.integrate(&problem, Rodas4),
-        }
+        self.integrate(&problem, self.solve.method)
     }
 
     /// A located error for a setup failure reported by `chetaev`.
@@ -144,12 +91,11 @@ impl Scene {
             } => self.error_at(
                 s.q_dot.clone(),
                 format!(
-                    "the initial velocity violates constraint {} ({}): f = {residual:e} at t = {t} \
+                    "the initial velocity violates constraint {index} ({}): f = {residual:e} at t = {t} \
                      (allowed {tolerance:e}); give a consistent q_dot, or set project_velocity = true \
                      under [initial] to project it onto f = 0",
-                    index + 1,
                     self.constraints
-                        .get(index)
+                        .get(index.wrapping_sub(1))
                         .map_or("?", |c| c.source())
                 ),
             ),
@@ -160,7 +106,11 @@ impl Scene {
                 self.error_at(span, format!("invalid {key} = {value} under [solve]: {hint}"))
             }
             E::DegenerateConstraint { index, .. } => {
-                let span = s.constraints.get(index).cloned().unwrap_or(s.initial.clone());
+                let span = s
+                    .constraints
+                    .get(index.wrapping_sub(1))
+                    .cloned()
+                    .unwrap_or(s.initial.clone());
                 self.error_at(span, format!("at the initial state, {e}"))
             }
             E::Singular { .. } => {
@@ -204,7 +154,7 @@ impl Scene {
         Ok(())
     }
 
-    fn problem(&self) -> Result<DynProblem<ExprModel>, Error> {
+    fn problem(&self) -> Result<Problem<ExprModel>, Error> {
         let model = ExprModel {
             n: self.n(),
             lagrangian: self.lagrangian.clone(),
@@ -212,20 +162,20 @@ impl Scene {
         };
         let (q0, qd0) = (self.q0.clone(), self.qd0.clone());
         if self.project_velocity && self.k() > 0 {
-            DynProblem::with_projected_velocity(model, self.t0, q0, qd0)
+            Problem::dynamic_with_projected_velocity(model, self.t0, q0, qd0)
         } else {
-            DynProblem::new(model, self.t0, q0, qd0)
+            Problem::dynamic(model, self.t0, q0, qd0)
         }
         .map_err(|e| self.setup_error(e))
     }
 
     /// The options every integration of the scene shares: end, tolerances, step bounds, events,
     /// projection.
-    fn options(&self, t_end: f64) -> DynOptions {
+    fn options(&self, t_end: f64) -> Options {
         let s = &self.solve;
-        let mut o = DynOptions::until(t_end);
-        o.common.rtol = s.rtol;
-        o.common.atol = s.atol.clone();
+        let mut o = Options::until(t_end);
+        o.rtol = s.rtol;
+        o.atol = s.atol.clone();
         if let Some(h) = s.initial_step {
             o = o.initial_step(h);
         }
@@ -240,7 +190,7 @@ impl Scene {
         }
         for e in &self.events {
             let expr = e.expr.clone();
-            o = o.event(DynEvent {
+            o = o.event(Event {
                 name: e.name.clone(),
                 g: Arc::new(move |t, q: &[f64], qd: &[f64]| expr.eval(&Env { t, q, qd })),
                 direction: e.direction,
@@ -250,11 +200,7 @@ impl Scene {
         o
     }
 
-    fn integrate<Me: Method + Copy>(
-        &self,
-        problem: &DynProblem<ExprModel>,
-        method: Me,
-    ) -> Result<Outcome, Error> {
+    fn integrate(&self, problem: &Problem<ExprModel>, method: AnyMethod) -> Result<Outcome, Error> {
         let t_end = self.solve.t_end;
         let base = self.options(t_end);
         let mut passes = 1;
@@ -271,7 +217,7 @@ impl Scene {
                         GridEnd::End if self.events.iter().any(|e| e.terminal) => {
                             // Where does the motion stop? One cheap integration finds out.
                             passes = 2;
-                            let first = solve_dyn(
+                            let first = solve(
                                 problem,
                                 method,
                                 &base.clone().output_final().record(Record::State),
@@ -292,30 +238,15 @@ impl Scene {
                 }
             }
         };
-        let sol = solve_dyn(problem, method, &options).map_err(|e| self.setup_error(e))?;
+        let sol = solve(problem, method, &options).map_err(|e| self.setup_error(e))?;
         Ok(self.outcome(sol, passes))
     }
 
-    fn outcome(&self, sol: DynSolution, passes: usize) -> Outcome {
-        let balance = sol.energy_balance();
-        let events = sol
-            .events
-            .iter()
-            .map(|h| EventRecord {
-                name: self
-                    .events
-                    .get(h.index)
-                    .map_or_else(|| format!("event {}", h.index), |e| e.name.clone()),
-                index: h.index,
-                t: h.t,
-                q: h.q.clone(),
-                qd: h.qd.clone(),
-            })
-            .collect();
+    fn outcome(&self, sol: Solution, passes: usize) -> Outcome {
         Outcome {
+            balance: sol.energy_balance(),
             solution: sol,
-            balance,
-            events,
+            event_names: self.events.iter().map(|e| e.name.clone()).collect(),
             passes,
         }
     }

@@ -61,11 +61,11 @@ fn the_guide_scene_runs_and_agrees_with_its_closed_forms() {
 
     // The event "heading 45 degrees" at t = (v0/a)(tan(π/8)^(−1/k) − 1).
     let half = &o.events[0];
-    assert_eq!(half.name, "heading 45 degrees");
+    assert_eq!(o.event_name(half.index), "heading 45 degrees");
     let t_half = v0 / a * ((PI / 8.0).tan().powf(-1.0 / k) - 1.0);
     assert!((half.t - t_half).abs() < 1e-9, "{} vs {t_half}", half.t);
     let bottom = &o.events[1];
-    assert_eq!(bottom.name, "bottom");
+    assert_eq!(o.event_name(bottom.index), "bottom");
     assert!(bottom.q[2].abs() < 1e-9);
     // The numbers the guide quotes.
     assert!(GUIDE.contains(&format!(

@@ -107,7 +107,7 @@ fn the_thermostat_force_is_mu_m_v_and_the_motion_follows_the_closed_form() {
     }
     // The net vertical momentum, and with it μ, changes sign at t = −φ0 u / g.
     let hit = &o.events[0];
-    assert_eq!(hit.name, "net vertical momentum zero");
+    assert_eq!(o.event_name(hit.index), "net vertical momentum zero");
     let t_zero = -p["phi0"] * u / p["g"];
     assert!((hit.t - t_zero).abs() <= 1e-9, "{} vs {t_zero}", hit.t);
     // At the end (g t/u ≈ 6) every particle falls nearly straight down at the common terminal

@@ -25,7 +25,7 @@ fn rel(a: f64, b: f64) -> f64 {
 /// T, R, v_R and the impact angle from the scene's impact event.
 fn impact_row(o: &Outcome) -> [f64; 4] {
     let e = &o.events[0];
-    assert_eq!(e.name, "impact");
+    assert_eq!(o.event_name(e.index), "impact");
     let (vx, vy) = (e.qd[0], e.qd[1]);
     [e.t, e.q[0], vx.hypot(vy), (-vy).atan2(vx).to_degrees()]
 }
@@ -47,12 +47,12 @@ fn closed_row(k: &Kinematics) -> [f64; 4] {
     [k.t_impact, k.range, k.impact_speed, k.impact_angle_deg()]
 }
 
-fn rust_row<const K: usize>(sol: &Solution<2, K>) -> [f64; 4] {
+fn rust_row(sol: &Solution) -> [f64; 4] {
     let e = &sol.events[0];
     [
         e.t,
         e.q[0],
-        e.qd.norm(),
+        e.qd[0].hypot(e.qd[1]),
         (-e.qd[1]).atan2(e.qd[0]).to_degrees(),
     ]
 }

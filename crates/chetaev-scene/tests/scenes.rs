@@ -233,7 +233,8 @@ fn an_inconsistent_initial_velocity_points_at_q_dot_and_says_what_to_try() {
 
 #[test]
 fn a_failed_integration_keeps_the_motion_computed() {
-    let text = BASE.replace("atol = 1e-9", "atol = 1e-9\nmax_steps = 3");
+    // Two steps do not reach t_end = 0.5 at this tolerance.
+    let text = BASE.replace("atol = 1e-9", "atol = 1e-9\nmax_steps = 2");
     let scene = Scene::parse(
         &format!("{text}\n[output]\ntables = [\"state\"]\n"),
         "short.toml",
@@ -241,20 +242,20 @@ fn a_failed_integration_keeps_the_motion_computed() {
     .expect("parses");
     let o = scene.solve().expect("setup is fine");
     assert!(!o.is_success());
-    assert_eq!(o.t.len(), 4, "{:?}", o.t);
+    assert_eq!(o.t.len(), 3, "{:?}", o.t);
     let summary = output::summary(&scene, &o);
     let Status::Failed(chetaev::Error::MaxSteps { t, .. }) = &o.status else {
         panic!("{:?}", o.status)
     };
     assert!(
         summary.contains(&format!(
-            "  status   FAILED at t = {}: the step limit of 3 steps was reached\n",
+            "  status   FAILED at t = {}: the step limit of 2 steps was reached\n",
             output::summary_number(*t)
         )),
         "{summary}"
     );
     assert!(
-        summary.contains("  advice   raise max_steps under [solve] (now 3)"),
+        summary.contains("  advice   raise max_steps under [solve] (now 2)"),
         "{summary}"
     );
 

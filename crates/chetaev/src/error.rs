@@ -28,15 +28,46 @@ pub enum Error {
         hint: &'static str,
     },
 
+    /// The model's sizes or the initial state's lengths are wrong.
+    #[error("invalid model: {what}")]
+    InvalidModel {
+        /// What is wrong, and what to do.
+        what: String,
+    },
+
+    /// No method has this name.
+    #[error(
+        "unknown method {name:?}: choose one of dopri5, dop853, tsit5, rk4 (with its step), rodas4"
+    )]
+    UnknownMethod {
+        /// The name given.
+        name: String,
+    },
+
+    /// An output time lies outside the integration interval.
+    #[error(
+        "output time {time} lies outside the integration interval from t0 = {t0} to t_end = {t_end}; \
+         give output times between the start and the end time"
+    )]
+    OutputTimeOutOfRange {
+        /// The output time.
+        time: f64,
+        /// The start time.
+        t0: f64,
+        /// The end time.
+        t_end: f64,
+    },
+
     /// The initial velocity does not satisfy the constraints.
     #[error(
-        "the initial state violates constraint {index}: f = {residual:e} at t = {t} (allowed {tolerance:e}); \
-         give a consistent initial velocity, or opt in to Problem::with_projected_velocity to project it onto f = 0"
+        "the initial state violates constraint {index} (numbered from 1): f = {residual:e} at t = {t} (allowed \
+         {tolerance:e}); give a consistent initial velocity, or opt in to Problem::with_projected_velocity to \
+         project it onto f = 0"
     )]
     InconsistentInitialState {
         /// Initial time.
         t: f64,
-        /// The constraint index `a`.
+        /// The constraint's number, from 1.
         index: usize,
         /// `f_a(t0, q0, q̇0)`.
         residual: f64,
@@ -63,13 +94,13 @@ pub enum Error {
 
     /// A constraint's gradient `∂f_a/∂q̇` vanishes.
     #[error(
-        "constraint {index} has ∂f/∂q̇ = 0 at t = {t} with q = {q:?}, q̇ = {qd:?}: it does not restrict the \
-         velocity there (for |q̇|² = v0², the speed v0 must not be zero)"
+        "constraint {index} (numbered from 1) has ∂f/∂q̇ = 0 at t = {t} with q = {q:?}, q̇ = {qd:?}: it does not \
+         restrict the velocity there (for |q̇|² = v0², the speed v0 must not be zero)"
     )]
     DegenerateConstraint {
         /// Time.
         t: f64,
-        /// The constraint index `a`.
+        /// The constraint's number, from 1.
         index: usize,
         /// Position.
         q: Vec<f64>,
@@ -93,14 +124,41 @@ pub enum Error {
 
     /// The step size fell below what floating point can resolve.
     #[error(
-        "step size {h:e} too small at t = {t}: the solution changes faster than the tolerance allows \
-         (a singularity, or a stiff problem: try an implicit method such as Rodas4)"
+        "step size {h:e} too small at t = {t}: the solution changes faster than the tolerance allows there \
+         (a singularity of the model or of the motion, such as a collision or a blow-up in finite time; or a \
+         stiff problem: {advice})"
     )]
     StepSizeTooSmall {
         /// Time.
         t: f64,
         /// The step size.
         h: f64,
+        /// What to try, from the method's facts.
+        advice: &'static str,
+    },
+
+    /// The state left the floating-point range (overflowed to infinity or became NaN).
+    #[error(
+        "the state is no longer finite after a step from t = {t} (size {h:e}): the motion blows up there, or \
+         the model leaves its domain; the motion up to t is kept"
+    )]
+    NonFiniteState {
+        /// Time of the last finite state.
+        t: f64,
+        /// The last step size tried.
+        h: f64,
+    },
+
+    /// A recorded quantity is not finite.
+    #[error(
+        "{quantity} is not finite at t = {t} (the model's value leaves its domain there while the motion goes \
+         on); the motion before t is kept"
+    )]
+    NonFiniteSolution {
+        /// Time.
+        t: f64,
+        /// Which quantity (`q`, `q̇`, `q̈`, `μ`, `Φ`, `f`, `E`, `W_Φ`, `∫∂L/∂t dt`).
+        quantity: &'static str,
     },
 
     /// The step limit was reached.

@@ -8,15 +8,17 @@
 //!
 //! | step | where | what |
 //! |---|---|---|
-//! | model | [`model`] | [`Lagrangian`](model::Lagrangian), [`Constraints`](model::Constraints): written once over `R: Real` |
-//! | problem | [`Problem`] | the model with a consistent initial state, validated |
-//! | derivatives | [`equations::derivatives`] | `∂L/∂q`, `W = ∂²L/∂q̇²`, `(∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t`, `J = ∂f/∂q̇`, `(∂f/∂q) q̇ + ∂f/∂t` by num-dual |
-//! | block solve | [`equations::saddle`] | `[W −Jᵀ; J 0][q̈; μ] = [∂L/∂q − g; −c]`, complete pivoting, conditioning reported |
-//! | method | [`integrate`] | [`Dopri5`](integrate::Dopri5), [`Dop853`](integrate::Dop853), [`Rk4`](integrate::Rk4), ...: a trial step, its error, dense output |
+//! | model | [`model`] | [`Lagrangian`](model::Lagrangian) and [`Constraints`](model::Constraints) on `SVector` (sizes known when compiling), or [`DynModel`](model::DynModel) on slices (sizes known at run time): written once over `R: Real` |
+//! | problem | [`Problem`] | the model with a consistent initial state, validated; [`Problem::new`] or [`Problem::dynamic`], one type |
+//! | derivatives | [`equations::derivatives`] | `∂L/∂q`, `W = ∂²L/∂q̇²`, `(∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t`, `J = ∂f/∂q̇`, `(∂f/∂q) q̇ + ∂f/∂t` by num-dual, in the way that suits the model's flavour |
+//! | block solve | [`equations::saddle`] | `[W −Jᵀ; J 0][q̈; μ] = [∂L/∂q − g; −c]`, complete pivoting, conditioning reported; one engine for every model ([`equations::evaluate`]) |
+//! | method | [`integrate`] | [`Dopri5`](integrate::Dopri5), [`Dop853`](integrate::Dop853), [`Tsit5`](integrate::Tsit5), [`Rk4`](integrate::Rk4), [`Rodas4`](integrate::Rodas4): a recipe of facts ([`MethodInfo`](integrate::MethodInfo)), a trial step, its error, dense output |
 //! | driver | [`solve`] | step control, output, events, projection, statistics |
 //! | solution | [`Solution`] | `t, q, q̇, q̈, μ, Φ, f, E, W_Φ`, events, [`Stats`](integrate::system::Stats), [`Status`] |
 //!
-//! Conventions (Newton form, `d/dt ∂L/∂q̇ − ∂L/∂q = Jᵀμ = Φ`) are in `docs/conventions.md`.
+//! Conventions (Newton form, `d/dt ∂L/∂q̇ − ∂L/∂q = Jᵀμ = Φ`) are in `docs/conventions.md`. The
+//! guides: `docs/adding-a-constraint.md` (a new constraint in Rust), `docs/scenes.md` (the same in
+//! a scene file), `docs/adding-a-method.md` (a new integrator), `docs/formulation.md` (the maths).
 //!
 //! ## Example
 //!
@@ -45,7 +47,7 @@
 //! }
 //!
 //! let (q0, qd0) = (SVector::from([0.0, 5.0]), SVector::from([10.0, 0.0]));
-//! let ground = || Event::new("ground", |_t, q: &SVector<f64, 2>, _qd: &SVector<f64, 2>| q[1]).falling().terminal();
+//! let ground = || Event::new("ground", |_t, q: &[f64], _qd: &[f64]| q[1]).falling().terminal();
 //! let options = Options::until(10.0).tolerances(1e-10, 1e-10).event(ground());
 //!
 //! let uniform = Problem::new(ConstantSpeed { particle: Particle { g: 10.0 }, v0: 10.0 }, 0.0, q0, qd0)?;
@@ -61,8 +63,6 @@
 //! assert!((u.work[last] - 10.0 * (u.q[last][1] - 5.0)).abs() < 1e-8);
 //! # Ok::<(), chetaev::Error>(())
 //! ```
-pub mod backend;
-pub mod dynamic;
 pub mod equations;
 pub mod error;
 pub mod integrate;
@@ -72,6 +72,10 @@ pub mod solution;
 
 pub use error::Error;
 pub use integrate::driver::solve;
+/// The linear algebra the model traits are written in, re-exported so a user's version cannot clash.
+pub use nalgebra;
+/// The dual numbers behind [`Real`](model::Real), re-exported so a user's version cannot clash.
+pub use num_dual;
 pub use problem::Problem;
 pub use solution::{Solution, Status};
 
@@ -80,8 +84,9 @@ pub mod prelude {
     pub use crate::integrate::events::{Direction, Event};
     pub use crate::integrate::options::{Atol, Options, Output, Record};
     pub use crate::integrate::projection::Projection;
-    pub use crate::integrate::{Dop853, Dopri5, Method, Rk4, Rodas4};
-    pub use crate::model::{Constraints, Lagrangian, Model, Real, Unconstrained};
+    pub use crate::integrate::{AnyMethod, Controller, Dop853, Dopri5, Method, Rk4, Rodas4, Tsit5};
+    pub use crate::model::{Constraints, DynModel, Lagrangian, Model, Real, Unconstrained};
+    pub use crate::solution::Series;
     pub use crate::{solve, Error, Problem, Solution, Status};
     pub use nalgebra::{SMatrix, SVector};
 }

@@ -4,9 +4,24 @@
 //! evaluated with `f64` for values and with num-dual's dual numbers for every derivative the
 //! Chetaev equations need. Nothing else is asked of the user: no mass matrix, no Jacobian, no
 //! multiplier algebra.
+//!
+//! There are two flavours, for the two ways sizes become known, and one engine behind them:
+//!
+//! | flavour | user writes | sizes | becomes a [`Model`] by |
+//! |---|---|---|---|
+//! | static | [`Lagrangian<N>`] and [`Constraints<N, K>`] on `SVector` | when compiling | [`Problem::new`](crate::Problem::new) (wraps it in [`Fixed`]) |
+//! | run-time | [`DynModel`] on slices | at run time (scene files, generated models) | itself (every `DynModel` is a `Model`) |
+//!
+//! [`Model`] is what the engine needs of either flavour: every derivative block of `L` and `f` at
+//! a point, on slices. Everything above it (the block solve, the driver, events, projection,
+//! recording) exists once.
 
 use nalgebra::SVector;
 use num_dual::DualNum;
+
+use crate::equations::derivatives::{self, ConstraintBlocks, LagrangianBlocks};
+use crate::equations::saddle::SaddleFailure;
+use crate::equations::Workspace;
 
 /// A scalar the library can differentiate: `f64`, or any (nested) num-dual number over `f64`.
 ///
@@ -16,7 +31,7 @@ use num_dual::DualNum;
 pub trait Real: DualNum<f64> + Copy {}
 impl<T: DualNum<f64> + Copy> Real for T {}
 
-/// A Lagrangian `L(t, q, q̇)` on `N` generalised coordinates.
+/// A Lagrangian `L(t, q, q̇)` on `N` generalised coordinates (sizes known when compiling).
 ///
 /// `L` may depend on time and position in any smooth way and may contain terms linear in `q̇`
 /// (gyroscopic or magnetic ones). The Hessian `W = ∂²L/∂q̇²` must be regular on the tangent space
@@ -40,7 +55,7 @@ pub trait Lagrangian<const N: usize> {
 }
 
 /// `K` velocity constraints `f_a(t, q, q̇) = 0`, `a = 1..K`, possibly nonlinear in `q̇` and
-/// dependent on `q` and `t`.
+/// dependent on `q` and `t` (sizes known when compiling).
 ///
 /// The constraint force is Chetaev's, `Φ = Σ_a μ_a ∂f_a/∂q̇` (see `docs/conventions.md`). The
 /// Jacobian `J = ∂f/∂q̇` (shape `K × N`) must have full row rank along the motion.
@@ -89,8 +104,182 @@ impl<M, const N: usize> Constraints<N, 0> for Unconstrained<M> {
     }
 }
 
-/// A model: a Lagrangian on `N` coordinates with `K` constraints (`K = 0` for none).
+/// A Lagrangian with `K` constraints on `N` coordinates, sizes known only at run time (scene
+/// files, generated models). Every `DynModel` is a [`Model`]; build its problem with
+/// [`Problem::dynamic`](crate::Problem::dynamic).
 ///
-/// Implemented automatically for every type that implements [`Lagrangian`] and [`Constraints`].
-pub trait Model<const N: usize, const K: usize>: Lagrangian<N> + Constraints<N, K> {}
-impl<T: Lagrangian<N> + Constraints<N, K>, const N: usize, const K: usize> Model<N, K> for T {}
+/// ```
+/// use chetaev::prelude::*;
+///
+/// /// `n` unit masses in harmonic wells, their total speed held at `v0`: any `n` at run time.
+/// struct Chain { n: usize, v0: f64 }
+/// impl DynModel for Chain {
+///     fn sizes(&self) -> (usize, usize) { (self.n, 1) }
+///     fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+///         let mut l = R::zero();
+///         for i in 0..q.len() { l += qd[i] * qd[i] * 0.5 - q[i] * q[i] * 0.5; }
+///         l
+///     }
+///     fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+///         f[0] = qd.iter().fold(R::zero(), |a, v| a + *v * *v) - self.v0 * self.v0;
+///     }
+/// }
+/// let problem = Problem::dynamic(Chain { n: 3, v0: 1.0 }, 0.0, vec![0.0, 1.0, 0.0], vec![1.0, 0.0, 0.0])?;
+/// let sol = solve(&problem, Dop853::default(), &Options::until(2.0).tolerances(1e-10, 1e-10))?;
+/// assert!(sol.is_success() && sol.max_residual() < 1e-8);
+/// # Ok::<(), chetaev::Error>(())
+/// ```
+pub trait DynModel {
+    /// `(N, K)`: the number of coordinates and of constraints. Fixed for the model's lifetime.
+    fn sizes(&self) -> (usize, usize);
+    /// `L(t, q, q̇)`; `q` and `q̇` have length `N`.
+    fn lagrangian<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> R;
+    /// Writes `f(t, q, q̇)` (length `K`) to `f`. The default has no constraints.
+    fn constraints<R: Real>(&self, t: R, q: &[R], qd: &[R], f: &mut [R]) {
+        let _ = (t, q, qd, f);
+    }
+}
+
+/// What the equations engine needs of a model: its sizes and the derivative blocks of `L` and `f`
+/// at a point `(t, q, q̇)` given as slices of length `n`, for any scalar `T` (`f64` for values, a
+/// dual number when the engine differentiates the reduced equations once more).
+///
+/// Users do not implement it: a static model becomes one through [`Fixed`], and every
+/// [`DynModel`] is one. Each flavour takes its derivatives in the way that suits it (vector dual
+/// numbers on the stack for static sizes, scalar dual numbers for run-time sizes); see
+/// [`derivatives`].
+pub trait Model {
+    /// `(n, k)`: coordinates and velocity constraints.
+    fn sizes(&self) -> (usize, usize);
+
+    /// `L`, `p = ∂L/∂q̇`, `W = ∂²L/∂q̇²`, `∂L/∂q`, `g = (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t` and `∂L/∂t` into
+    /// `out` (whose vectors have the model's sizes).
+    fn lagrangian_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut LagrangianBlocks<T>);
+
+    /// `W = ∂²L/∂q̇²` alone (row-major `n × n`), for the projection's metric.
+    fn velocity_hessian<T: Real>(&self, t: T, q: &[T], qd: &[T], w: &mut [T]);
+
+    /// `f`, `J = ∂f/∂q̇` and `c = (∂f/∂q) q̇ + ∂f/∂t` into `out`; with `with_c = false` only `f` and
+    /// `J` (the projection needs no `c`). Never called when `k = 0`.
+    fn constraint_blocks<T: Real>(
+        &self,
+        t: T,
+        q: &[T],
+        qd: &[T],
+        with_c: bool,
+        out: &mut ConstraintBlocks<T>,
+    );
+
+    /// `f(t, q, q̇)` alone (length `k`).
+    fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]);
+
+    /// The reduced equations at `(t, q, q̇)` into `ws` (see [`equations::evaluate`]). The default
+    /// builds them from [`Model::lagrangian_blocks`] and [`Model::constraint_blocks`]; a flavour
+    /// may take a faster route to the same numbers (a static model keeps every block on the
+    /// stack with its sizes known to the compiler).
+    ///
+    /// [`equations::evaluate`]: crate::equations::evaluate
+    #[inline]
+    fn evaluate_into<T: Real>(
+        &self,
+        ws: &mut Workspace<T>,
+        t: T,
+        q: &[T],
+        qd: &[T],
+    ) -> Result<(), SaddleFailure> {
+        crate::equations::evaluate_blocks(self, ws, t, q, qd)
+    }
+}
+
+/// A static model (`Lagrangian<N> + Constraints<N, K>`) as a [`Model`]. [`Problem::new`] wraps
+/// the user's model in it; it dereferences to the user's model.
+///
+/// [`Problem::new`]: crate::Problem::new
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Fixed<M, const N: usize, const K: usize>(pub M);
+
+impl<M, const N: usize, const K: usize> std::ops::Deref for Fixed<M, N, K> {
+    type Target = M;
+    fn deref(&self) -> &M {
+        &self.0
+    }
+}
+
+impl<M, const N: usize, const K: usize> Model for Fixed<M, N, K>
+where
+    M: Lagrangian<N> + Constraints<N, K>,
+{
+    fn sizes(&self) -> (usize, usize) {
+        (N, K)
+    }
+
+    #[inline]
+    fn lagrangian_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut LagrangianBlocks<T>) {
+        derivatives::fixed::lagrangian_blocks::<M, T, N>(&self.0, t, q, qd, out);
+    }
+
+    fn velocity_hessian<T: Real>(&self, t: T, q: &[T], qd: &[T], w: &mut [T]) {
+        derivatives::fixed::velocity_hessian_into::<M, T, N>(&self.0, t, q, qd, w);
+    }
+
+    #[inline]
+    fn constraint_blocks<T: Real>(
+        &self,
+        t: T,
+        q: &[T],
+        qd: &[T],
+        with_c: bool,
+        out: &mut ConstraintBlocks<T>,
+    ) {
+        derivatives::fixed::constraint_blocks::<M, T, N, K>(&self.0, t, q, qd, with_c, out);
+    }
+
+    #[inline(never)]
+    fn evaluate_into<T: Real>(
+        &self,
+        ws: &mut Workspace<T>,
+        t: T,
+        q: &[T],
+        qd: &[T],
+    ) -> Result<(), SaddleFailure> {
+        crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, ws, t, q, qd)
+    }
+
+    fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]) {
+        let v = self.0.constraints(
+            t,
+            &SVector::from_column_slice(q),
+            &SVector::from_column_slice(qd),
+        );
+        f.copy_from_slice(v.as_slice());
+    }
+}
+
+impl<M: DynModel> Model for M {
+    fn sizes(&self) -> (usize, usize) {
+        DynModel::sizes(self)
+    }
+
+    fn lagrangian_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut LagrangianBlocks<T>) {
+        derivatives::scalar::lagrangian_blocks(self, t, q, qd, out);
+    }
+
+    fn velocity_hessian<T: Real>(&self, t: T, q: &[T], qd: &[T], w: &mut [T]) {
+        derivatives::scalar::velocity_hessian(self, t, q, qd, w);
+    }
+
+    fn constraint_blocks<T: Real>(
+        &self,
+        t: T,
+        q: &[T],
+        qd: &[T],
+        with_c: bool,
+        out: &mut ConstraintBlocks<T>,
+    ) {
+        derivatives::scalar::constraint_blocks(self, t, q, qd, with_c, out);
+    }
+
+    fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]) {
+        DynModel::constraints(self, t, q, qd, f);
+    }
+}

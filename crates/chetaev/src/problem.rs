@@ -2,65 +2,46 @@
 
 use nalgebra::SVector;
 
-use crate::equations::{dynamics, saddle::SaddleWorkspace};
+use crate::equations::{evaluate, Workspace};
 use crate::error::Error;
-use crate::model::Model;
+use crate::integrate::projection::{constraint_scale, project_velocity, Projection};
+use crate::integrate::system::locate;
+use crate::model::{Constraints, DynModel, Fixed, Lagrangian, Model, Unconstrained};
 
 /// Relative tolerance on the initial constraint residual: `|f_a| ≤ tol · |J_a|·|q̇|` with
 /// `J_a = ∂f_a/∂q̇` (or `≤ tol` where `|J_a|·|q̇|` vanishes) is accepted as consistent.
 pub const INITIAL_RESIDUAL_TOLERANCE: f64 = 1e-10;
 
-/// A model, an initial time and a consistent initial state `(q0, q̇0)`.
+/// A model, an initial time and a consistent initial state `(q0, q̇0)`, for a model of either
+/// flavour: [`Problem::new`] for static sizes, [`Problem::dynamic`] for run-time sizes. Both give
+/// the same `Problem`, solved by the same [`solve`](crate::solve).
 #[derive(Clone, Debug)]
-pub struct Problem<M, const N: usize, const K: usize> {
+pub struct Problem<M> {
     model: M,
     t0: f64,
-    q0: SVector<f64, N>,
-    qd0: SVector<f64, N>,
+    q0: Vec<f64>,
+    qd0: Vec<f64>,
 }
 
-impl<M: Model<N, K>, const N: usize, const K: usize> Problem<M, N, K> {
-    /// Builds a problem after checking that `t0`, `q0`, `q̇0` are finite, that `q̇0` satisfies the
-    /// constraints (see [`INITIAL_RESIDUAL_TOLERANCE`]) and that the Chetaev block system is regular
-    /// at the start.
+impl<M, const N: usize, const K: usize> Problem<Fixed<M, N, K>>
+where
+    M: Lagrangian<N> + Constraints<N, K>,
+{
+    /// Builds a problem for a static model after checking that `t0`, `q0`, `q̇0` are finite, that
+    /// `q̇0` satisfies the constraints (see [`INITIAL_RESIDUAL_TOLERANCE`]) and that the Chetaev
+    /// block system is regular at the start.
     pub fn new(
         model: M,
         t0: f64,
         q0: SVector<f64, N>,
         qd0: SVector<f64, N>,
     ) -> Result<Self, Error> {
-        check_finite("t0", std::slice::from_ref(&t0))?;
-        check_finite("q0", q0.as_slice())?;
-        check_finite("q̇0", qd0.as_slice())?;
-        let problem = Self { model, t0, q0, qd0 };
-        let d = problem.initial_dynamics()?;
-        let cd = crate::equations::derivatives::constraint_derivatives::<M, f64, N, K>(
-            &problem.model,
+        Self::from_model(
+            Fixed(model),
             t0,
-            &q0,
-            &qd0,
-        );
-        if d.f.iter().any(|f| !f.is_finite()) || !d.energy.is_finite() {
-            return Err(Error::NonFiniteEvaluation {
-                t: t0,
-                q: q0.as_slice().to_vec(),
-                qd: qd0.as_slice().to_vec(),
-            });
-        }
-        for a in 0..K {
-            let scale =
-                crate::integrate::projection::constraint_scale(cd.j.row(a).norm(), qd0.norm());
-            let tolerance = INITIAL_RESIDUAL_TOLERANCE * scale;
-            if d.f[a].is_nan() || d.f[a].abs() > tolerance {
-                return Err(Error::InconsistentInitialState {
-                    t: t0,
-                    index: a,
-                    residual: d.f[a],
-                    tolerance,
-                });
-            }
-        }
-        Ok(problem)
+            q0.as_slice().to_vec(),
+            qd0.as_slice().to_vec(),
+        )
     }
 
     /// Builds a problem whose initial velocity is first projected onto `f(t0, q0, ·) = 0`: the
@@ -73,14 +54,71 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Problem<M, N, K> {
         q0: SVector<f64, N>,
         qd0: SVector<f64, N>,
     ) -> Result<Self, Error> {
-        check_finite("t0", std::slice::from_ref(&t0))?;
-        check_finite("q0", q0.as_slice())?;
-        check_finite("q̇0", qd0.as_slice())?;
-        let mut ws = SaddleWorkspace::default();
-        let projected = crate::integrate::projection::project_velocity(
-            &model, &mut ws, t0, &q0, &qd0, 1e-14, 20,
-        )?;
-        Self::new(model, t0, q0, projected.qd)
+        Self::from_model_projected(
+            Fixed(model),
+            t0,
+            q0.as_slice().to_vec(),
+            qd0.as_slice().to_vec(),
+        )
+    }
+}
+
+impl<M: Lagrangian<N>, const N: usize> Problem<Fixed<Unconstrained<M>, N, 0>> {
+    /// The motion of `model` without constraints (`K = 0`): plain Euler–Lagrange equations.
+    pub fn unconstrained(
+        model: M,
+        t0: f64,
+        q0: SVector<f64, N>,
+        qd0: SVector<f64, N>,
+    ) -> Result<Self, Error> {
+        Self::new(Unconstrained(model), t0, q0, qd0)
+    }
+}
+
+impl<M: DynModel> Problem<M> {
+    /// Builds a problem for a run-time-sized model ([`DynModel`]), validated as [`Problem::new`]
+    /// validates a static one, and also checking the sizes: `N ≥ 1`, `K ≤ N`, and `q0`, `q̇0` of
+    /// length `N`.
+    pub fn dynamic(model: M, t0: f64, q0: Vec<f64>, qd0: Vec<f64>) -> Result<Self, Error> {
+        Self::from_model(model, t0, q0, qd0)
+    }
+
+    /// [`Problem::dynamic`] with the initial velocity first projected onto the constraints (the
+    /// explicit opt-in of [`Problem::with_projected_velocity`]).
+    pub fn dynamic_with_projected_velocity(
+        model: M,
+        t0: f64,
+        q0: Vec<f64>,
+        qd0: Vec<f64>,
+    ) -> Result<Self, Error> {
+        Self::from_model_projected(model, t0, q0, qd0)
+    }
+}
+
+impl<M: Model> Problem<M> {
+    /// Builds a problem for any [`Model`]; see [`Problem::new`] and [`Problem::dynamic`].
+    pub fn from_model(model: M, t0: f64, q0: Vec<f64>, qd0: Vec<f64>) -> Result<Self, Error> {
+        check_state(&model, t0, &q0, &qd0)?;
+        let problem = Self { model, t0, q0, qd0 };
+        problem.check_initial_state()?;
+        Ok(problem)
+    }
+
+    /// [`Problem::from_model`] with the initial velocity first projected onto the constraints.
+    pub fn from_model_projected(
+        model: M,
+        t0: f64,
+        q0: Vec<f64>,
+        mut qd0: Vec<f64>,
+    ) -> Result<Self, Error> {
+        check_state(&model, t0, &q0, &qd0)?;
+        let settings = Projection {
+            tol: 1e-14,
+            max_iterations: 20,
+        };
+        let mut ws = Workspace::for_model(&model);
+        project_velocity(&model, &mut ws, t0, &q0, &mut qd0, settings)?;
+        Self::from_model(model, t0, q0, qd0)
     }
 
     /// The model.
@@ -92,31 +130,129 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Problem<M, N, K> {
         self.t0
     }
     /// The initial position.
-    pub fn q0(&self) -> &SVector<f64, N> {
+    pub fn q0(&self) -> &[f64] {
         &self.q0
     }
     /// The initial velocity.
-    pub fn qd0(&self) -> &SVector<f64, N> {
+    pub fn qd0(&self) -> &[f64] {
         &self.qd0
     }
+    /// `(n, k)`: coordinates and constraints.
+    pub fn sizes(&self) -> (usize, usize) {
+        self.model.sizes()
+    }
 
-    fn initial_dynamics(&self) -> Result<crate::equations::Dynamics<f64, N, K>, Error> {
-        let mut ws = SaddleWorkspace::default();
-        dynamics(&self.model, &mut ws, self.t0, &self.q0, &self.qd0)
-            .map_err(|e| crate::integrate::system::locate(e, self.t0, &self.q0, &self.qd0))
+    /// The Chetaev equations at a state `(t, q, q̇)`, without a solve: `q̈`, `μ`, `Φ`, the residual
+    /// `f`, `L`, `E`, `∂L/∂t`, the power `q̇·Φ` and the block system's pivot ratio (its conditioning:
+    /// 1 is perfect, near [`SINGULAR_PIVOT_RATIO`](crate::equations::saddle::SINGULAR_PIVOT_RATIO)
+    /// is singular). For checking a new constraint at chosen states before integrating. The state
+    /// need not satisfy the constraints (`f` says how far it is off). A failure is the library's
+    /// [`Error`] with `t` and the state.
+    ///
+    /// ```
+    /// use chetaev::prelude::*;
+    ///
+    /// struct Uniform;
+    /// impl Lagrangian<2> for Uniform {
+    ///     fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+    ///         qd.dot(qd) * 0.5 - q[1] * 10.0
+    ///     }
+    /// }
+    /// impl Constraints<2, 1> for Uniform {
+    ///     fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+    ///         SVector::from([qd.dot(qd) - 100.0])
+    ///     }
+    /// }
+    /// let problem = Problem::new(Uniform, 0.0, SVector::from([0.0, 5.0]), SVector::from([10.0, 0.0]))?;
+    /// // Falling at 45°: J = 2q̇ and J q̈ = 0 give μ = g·ẏ / (2|q̇|²) in Newton form, negative (42.40).
+    /// let v = 10.0 / 2f64.sqrt();
+    /// let eq = problem.equations_at(0.3, &[3.0, 4.0], &[v, -v])?;
+    /// assert!((eq.mu[0] - 10.0 * -v / (2.0 * 100.0)).abs() < 1e-12);
+    /// assert!(eq.f[0].abs() < 1e-12 && eq.pivot_ratio > 0.1);
+    /// # Ok::<(), chetaev::Error>(())
+    /// ```
+    pub fn equations_at(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> Result<crate::equations::Dynamics<f64>, Error> {
+        check_state(&self.model, t, q, qd)?;
+        let mut ws = Workspace::for_model(&self.model);
+        let d = evaluate(&self.model, &mut ws, t, q, qd).map_err(|e| locate(e, t, q, qd))?;
+        Ok(d.clone())
+    }
+
+    /// Evaluates the equations at the initial state, checks that every value is finite and that
+    /// the initial velocity satisfies the constraints.
+    fn check_initial_state(&self) -> Result<(), Error> {
+        let (t0, q0, qd0) = (self.t0, &self.q0[..], &self.qd0[..]);
+        let mut ws = Workspace::for_model(&self.model);
+        let d = evaluate(&self.model, &mut ws, t0, q0, qd0).map_err(|e| locate(e, t0, q0, qd0))?;
+        if d.f.iter().any(|f| !f.is_finite()) || !d.energy.is_finite() || !d.l.is_finite() {
+            return Err(Error::NonFiniteEvaluation {
+                t: t0,
+                q: q0.to_vec(),
+                qd: qd0.to_vec(),
+            });
+        }
+        let (n, k) = self.model.sizes();
+        let qd_norm = norm(qd0);
+        let mut cb = crate::equations::derivatives::ConstraintBlocks::new(n, k);
+        if k > 0 {
+            self.model.constraint_blocks(t0, q0, qd0, false, &mut cb);
+        }
+        for a in 0..k {
+            let scale = constraint_scale(norm(&cb.j[a * n..(a + 1) * n]), qd_norm);
+            let tolerance = INITIAL_RESIDUAL_TOLERANCE * scale;
+            let residual = cb.f[a];
+            if residual.is_nan() || residual.abs() > tolerance {
+                return Err(Error::InconsistentInitialState {
+                    t: t0,
+                    index: a + 1,
+                    residual,
+                    tolerance,
+                });
+            }
+        }
+        Ok(())
     }
 }
 
-impl<M: crate::model::Lagrangian<N>, const N: usize> Problem<crate::model::Unconstrained<M>, N, 0> {
-    /// The motion of `model` without constraints (`K = 0`): plain Euler–Lagrange equations.
-    pub fn unconstrained(
-        model: M,
-        t0: f64,
-        q0: SVector<f64, N>,
-        qd0: SVector<f64, N>,
-    ) -> Result<Self, Error> {
-        Self::new(crate::model::Unconstrained(model), t0, q0, qd0)
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Checks the sizes of a model and its initial state, and that the state is finite.
+fn check_state<M: Model>(model: &M, t0: f64, q0: &[f64], qd0: &[f64]) -> Result<(), Error> {
+    let (n, k) = model.sizes();
+    if n == 0 {
+        return Err(Error::InvalidModel {
+            what: "the model has no coordinates (N = 0); give it at least one".to_string(),
+        });
     }
+    if k > n {
+        return Err(Error::InvalidModel {
+            what: format!(
+                "the model has {k} velocity constraints on {n} coordinates; at most N = {n} \
+                 independent constraints can hold"
+            ),
+        });
+    }
+    for (name, v) in [("q0", q0), ("q̇0", qd0)] {
+        if v.len() != n {
+            return Err(Error::InvalidModel {
+                what: format!(
+                    "{name} has {} entries, the model has N = {n} coordinates; give one per coordinate",
+                    v.len()
+                ),
+            });
+        }
+    }
+    check_finite("t0", std::slice::from_ref(&t0))?;
+    check_finite("q0", q0)?;
+    check_finite("q̇0", qd0)?;
+    Ok(())
 }
 
 /// Checks that every number in `values` is finite.

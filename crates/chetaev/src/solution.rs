@@ -1,11 +1,10 @@
 //! What happened: the recorded motion, its diagnostics, statistics and why it stopped.
 
-use nalgebra::SVector;
-
 use crate::error::Error;
 use crate::integrate::events::EventHit;
 use crate::integrate::options::Record;
-use crate::integrate::system::Stats;
+use crate::integrate::system::{ReducedOde, Stats};
+use crate::model::Model;
 
 /// Why the integration stopped.
 #[derive(Clone, Debug, PartialEq)]
@@ -21,29 +20,181 @@ pub enum Status {
     Failed(Error),
 }
 
-/// The motion and everything recorded along it. Vectors of diagnostics are empty when the
-/// [`Record`] level did not ask for them.
+/// A sequence of vectors of one width (`q`, `μ`, ...), one per recorded point, stored in one flat
+/// buffer so that recording never allocates a vector per point.
+///
+/// It reads like a `Vec` of slices: `sol.q[i][0]`, `sol.q.last()`, `sol.mu.iter()`; and by
+/// component: `sol.q.component(1)` is the time series of the second coordinate.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Series {
+    width: usize,
+    rows: usize,
+    data: Vec<f64>,
+}
+
+impl Series {
+    /// An empty series of vectors of length `width`.
+    pub fn new(width: usize) -> Self {
+        Self {
+            width,
+            rows: 0,
+            data: Vec::new(),
+        }
+    }
+
+    /// Appends one vector (its length must be the width).
+    pub fn push(&mut self, v: &[f64]) {
+        debug_assert_eq!(v.len(), self.width);
+        self.data.extend_from_slice(v);
+        self.rows += 1;
+    }
+
+    /// Removes every vector after the first `len`.
+    pub fn truncate(&mut self, len: usize) {
+        if len < self.rows {
+            self.rows = len;
+            self.data.truncate(len * self.width);
+        }
+    }
+
+    /// The length of each vector.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Number of vectors.
+    pub fn len(&self) -> usize {
+        self.rows
+    }
+
+    /// Whether there is none.
+    pub fn is_empty(&self) -> bool {
+        self.rows == 0
+    }
+
+    /// Vector `i`, if there is one.
+    pub fn get(&self, i: usize) -> Option<&[f64]> {
+        (i < self.rows).then(|| &self.data[i * self.width..(i + 1) * self.width])
+    }
+
+    /// The first vector.
+    pub fn first(&self) -> Option<&[f64]> {
+        self.get(0)
+    }
+
+    /// The last vector.
+    pub fn last(&self) -> Option<&[f64]> {
+        self.rows.checked_sub(1).and_then(|i| self.get(i))
+    }
+
+    /// The vectors in order.
+    pub fn iter(&self) -> SeriesIter<'_> {
+        SeriesIter {
+            series: self,
+            front: 0,
+            back: self.rows,
+        }
+    }
+
+    /// Component `j` of every vector, in order.
+    pub fn component(&self, j: usize) -> impl ExactSizeIterator<Item = f64> + '_ {
+        assert!(
+            j < self.width,
+            "component {j} of vectors of length {}",
+            self.width
+        );
+        (0..self.rows).map(move |i| self.data[i * self.width + j])
+    }
+
+    /// All values, vector after vector.
+    pub fn as_flat(&self) -> &[f64] {
+        &self.data
+    }
+
+    /// The vectors as owned `Vec`s.
+    pub fn to_vecs(&self) -> Vec<Vec<f64>> {
+        self.iter().map(<[f64]>::to_vec).collect()
+    }
+}
+
+impl<'a> IntoIterator for &'a Series {
+    type Item = &'a [f64];
+    type IntoIter = SeriesIter<'a>;
+    /// The vectors in order (`for mu in &sol.mu { ... }`).
+    fn into_iter(self) -> SeriesIter<'a> {
+        self.iter()
+    }
+}
+
+/// The vectors of a [`Series`] in order.
+#[derive(Clone, Debug)]
+pub struct SeriesIter<'a> {
+    series: &'a Series,
+    front: usize,
+    back: usize,
+}
+
+impl<'a> Iterator for SeriesIter<'a> {
+    type Item = &'a [f64];
+    fn next(&mut self) -> Option<&'a [f64]> {
+        (self.front < self.back).then(|| {
+            self.front += 1;
+            &self.series[self.front - 1]
+        })
+    }
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let n = self.back - self.front;
+        (n, Some(n))
+    }
+}
+
+impl DoubleEndedIterator for SeriesIter<'_> {
+    fn next_back(&mut self) -> Option<Self::Item> {
+        (self.front < self.back).then(|| {
+            self.back -= 1;
+            &self.series[self.back]
+        })
+    }
+}
+
+impl ExactSizeIterator for SeriesIter<'_> {}
+
+impl std::ops::Index<usize> for Series {
+    type Output = [f64];
+    fn index(&self, i: usize) -> &[f64] {
+        assert!(
+            i < self.rows,
+            "index {i} out of a series of {} vectors",
+            self.rows
+        );
+        &self.data[i * self.width..(i + 1) * self.width]
+    }
+}
+
+/// The motion and everything recorded along it, for a model of `n` coordinates and `k`
+/// constraints of any flavour. Series of diagnostics are empty when the [`Record`] level did not
+/// ask for them.
 #[derive(Clone, Debug)]
 #[must_use = "a solution carries a status that says whether the integration succeeded"]
-pub struct Solution<const N: usize, const K: usize> {
+pub struct Solution {
     /// The method that produced it.
     pub method: &'static str,
     /// What was recorded.
     pub record: Record,
     /// Output times.
     pub t: Vec<f64>,
-    /// `q` at the output times.
-    pub q: Vec<SVector<f64, N>>,
-    /// `q̇` at the output times.
-    pub qd: Vec<SVector<f64, N>>,
-    /// `q̈` ([`Record::Dynamics`] and above).
-    pub qdd: Vec<SVector<f64, N>>,
-    /// Multipliers `μ`, Newton form ([`Record::Dynamics`] and above).
-    pub mu: Vec<SVector<f64, K>>,
-    /// The Chetaev force `Φ = Jᵀμ` ([`Record::Dynamics`] and above).
-    pub phi: Vec<SVector<f64, N>>,
-    /// The constraint residual `f(t, q, q̇)` ([`Record::Dynamics`] and above).
-    pub residual: Vec<SVector<f64, K>>,
+    /// `q` at the output times (width `n`).
+    pub q: Series,
+    /// `q̇` at the output times (width `n`).
+    pub qd: Series,
+    /// `q̈` ([`Record::Dynamics`] and above; width `n`).
+    pub qdd: Series,
+    /// Multipliers `μ`, Newton form ([`Record::Dynamics`] and above; width `k`).
+    pub mu: Series,
+    /// The Chetaev force `Φ = Jᵀμ` ([`Record::Dynamics`] and above; width `n`).
+    pub phi: Series,
+    /// The constraint residual `f(t, q, q̇)` ([`Record::Dynamics`] and above; width `k`).
+    pub residual: Series,
     /// The energy `E = q̇·∂L/∂q̇ − L` ([`Record::Dynamics`] and above).
     pub energy: Vec<f64>,
     /// The work of the Chetaev force since the start, `W_Φ = ∫ q̇·Φ dt` ([`Record::Energy`]).
@@ -51,25 +202,27 @@ pub struct Solution<const N: usize, const K: usize> {
     /// `∫ ∂L/∂t dt` since the start ([`Record::Energy`]).
     pub dl_dt_integral: Vec<f64>,
     /// Located events, in the order they occurred.
-    pub events: Vec<EventHit<N>>,
+    pub events: Vec<EventHit>,
     /// Work counters.
     pub stats: Stats,
     /// Why it stopped.
     pub status: Status,
 }
 
-impl<const N: usize, const K: usize> Solution<N, K> {
-    pub(crate) fn new(method: &'static str, record: Record) -> Self {
+impl Solution {
+    /// An empty solution for a model with `n` coordinates and `k` constraints, recording at the
+    /// level `record`: for integrators outside the crate, which fill it with [`Solution::record`].
+    pub fn empty(method: &'static str, record: Record, n: usize, k: usize) -> Self {
         Self {
             method,
             record,
             t: Vec::new(),
-            q: Vec::new(),
-            qd: Vec::new(),
-            qdd: Vec::new(),
-            mu: Vec::new(),
-            phi: Vec::new(),
-            residual: Vec::new(),
+            q: Series::new(n),
+            qd: Series::new(n),
+            qdd: Series::new(n),
+            mu: Series::new(k),
+            phi: Series::new(n),
+            residual: Series::new(k),
             energy: Vec::new(),
             work: Vec::new(),
             dl_dt_integral: Vec::new(),
@@ -77,6 +230,106 @@ impl<const N: usize, const K: usize> Solution<N, K> {
             stats: Stats::default(),
             status: Status::Success,
         }
+    }
+
+    /// Records the state `y = [q, q̇, (W_Φ, ∫∂L/∂t dt)]` at `t`, with the diagnostics its
+    /// [`Record`] level asks for (evaluated by `ode`). Every recorded quantity must be finite:
+    /// otherwise nothing is recorded and the error is [`Error::NonFiniteSolution`], so every series
+    /// keeps the same length and nothing recorded is NaN.
+    pub fn record<M: Model + ?Sized>(
+        &mut self,
+        ode: &mut ReducedOde<'_, M>,
+        t: f64,
+        y: &[f64],
+    ) -> Result<(), Error> {
+        let n = self.n();
+        let (q, qd) = (&y[..n], &y[n..2 * n]);
+        let energy = self.record >= Record::Energy;
+        finite(t, "q", q)?;
+        finite(t, "q̇", qd)?;
+        if energy {
+            finite(t, "W_Φ", &y[2 * n..2 * n + 1])?;
+            finite(t, "∫∂L/∂t dt", &y[2 * n + 1..2 * n + 2])?;
+        }
+        if self.record >= Record::Dynamics {
+            let d = ode.evaluate(t, q, qd)?;
+            finite(t, "q̈", &d.qdd)?;
+            finite(t, "μ", &d.mu)?;
+            finite(t, "Φ", &d.phi)?;
+            finite(t, "f", &d.f)?;
+            finite(t, "E", std::slice::from_ref(&d.energy))?;
+            self.qdd.push(&d.qdd);
+            self.mu.push(&d.mu);
+            self.phi.push(&d.phi);
+            self.residual.push(&d.f);
+            self.energy.push(d.energy);
+        }
+        self.t.push(t);
+        self.q.push(q);
+        self.qd.push(qd);
+        if energy {
+            self.work.push(y[2 * n]);
+            self.dl_dt_integral.push(y[2 * n + 1]);
+        }
+        Ok(())
+    }
+
+    /// Writes the recorded motion as CSV: a header, then one row per recorded point with `t`, the
+    /// coordinates `q_1..q_n`, the velocities `qd_1..qd_n`, and, where recorded, `qdd_i`, `mu_a`,
+    /// `phi_i`, `f_a`, `E`, `W_Phi`, `int_dLdt`, and `balance` (the energy balance). Numbers are
+    /// written with full precision (Rust's shortest round-trip form).
+    pub fn write_csv<W: std::io::Write>(&self, mut w: W) -> std::io::Result<()> {
+        let (n, k) = (self.n(), self.k());
+        let mut header = vec!["t".to_string()];
+        fn names(prefix: &'static str, count: usize) -> impl Iterator<Item = String> {
+            (1..=count).map(move |i| format!("{prefix}_{i}"))
+        }
+        header.extend(names("q", n));
+        header.extend(names("qd", n));
+        let dynamics = !self.energy.is_empty();
+        let energy = !self.work.is_empty();
+        if dynamics {
+            header.extend(names("qdd", n));
+            header.extend(names("mu", k));
+            header.extend(names("phi", n));
+            header.extend(names("f", k));
+            header.push("E".to_string());
+        }
+        if energy {
+            header.extend(["W_Phi", "int_dLdt", "balance"].map(String::from));
+        }
+        writeln!(w, "{}", header.join(","))?;
+        let balance = self.energy_balance();
+        let mut row: Vec<f64> = Vec::with_capacity(header.len());
+        for (i, &t) in self.t.iter().enumerate() {
+            row.clear();
+            row.push(t);
+            row.extend_from_slice(&self.q[i]);
+            row.extend_from_slice(&self.qd[i]);
+            if dynamics {
+                row.extend_from_slice(&self.qdd[i]);
+                row.extend_from_slice(&self.mu[i]);
+                row.extend_from_slice(&self.phi[i]);
+                row.extend_from_slice(&self.residual[i]);
+                row.push(self.energy[i]);
+            }
+            if let (true, Some(b)) = (energy, balance.get(i)) {
+                row.extend([self.work[i], self.dl_dt_integral[i], *b]);
+            }
+            let text: Vec<String> = row.iter().map(|v| v.to_string()).collect();
+            writeln!(w, "{}", text.join(","))?;
+        }
+        Ok(())
+    }
+
+    /// Number of coordinates `n`.
+    pub fn n(&self) -> usize {
+        self.q.width()
+    }
+
+    /// Number of constraints `k`.
+    pub fn k(&self) -> usize {
+        self.mu.width()
     }
 
     /// Whether the end time or a terminal event was reached.
@@ -92,6 +345,16 @@ impl<const N: usize, const K: usize> Solution<N, K> {
         }
     }
 
+    /// The solution, or its error if the integration failed, so that `solve(...)?.ok()?` cannot
+    /// miss a failure. The partial motion is dropped with the error; keep the solution and read
+    /// [`Solution::error`] to have both.
+    pub fn ok(self) -> Result<Self, Error> {
+        match self.status {
+            Status::Failed(e) => Err(e),
+            _ => Ok(self),
+        }
+    }
+
     /// Number of recorded points.
     pub fn len(&self) -> usize {
         self.t.len()
@@ -103,9 +366,9 @@ impl<const N: usize, const K: usize> Solution<N, K> {
     }
 
     /// The last recorded `(t, q, q̇)`.
-    pub fn last(&self) -> Option<(f64, SVector<f64, N>, SVector<f64, N>)> {
+    pub fn last(&self) -> Option<(f64, &[f64], &[f64])> {
         let i = self.t.len().checked_sub(1)?;
-        Some((self.t[i], self.q[i], self.qd[i]))
+        Some((self.t[i], &self.q[i], &self.qd[i]))
     }
 
     /// The energy balance `E(t) − E(t0) − W_Φ(t) + ∫∂L/∂t dt`, which vanishes along an exact motion
@@ -121,10 +384,23 @@ impl<const N: usize, const K: usize> Solution<N, K> {
     }
 
     /// `max_i max_a |f_a|` over the recorded points ([`Record::Dynamics`] and above; 0 otherwise).
+    /// NaN if any residual is NaN: a maximum never hides one.
     pub fn max_residual(&self) -> f64 {
-        self.residual
-            .iter()
-            .flat_map(|f| f.iter())
-            .fold(0.0f64, |acc, v| acc.max(v.abs()))
+        self.residual.as_flat().iter().fold(0.0f64, |acc, v| {
+            if v.is_nan() || acc.is_nan() {
+                f64::NAN
+            } else {
+                acc.max(v.abs())
+            }
+        })
+    }
+}
+
+/// `Err(NonFiniteSolution)` unless every value is finite.
+fn finite(t: f64, quantity: &'static str, values: &[f64]) -> Result<(), Error> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(Error::NonFiniteSolution { t, quantity })
     }
 }

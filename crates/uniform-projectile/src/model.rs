@@ -5,6 +5,7 @@
 //! Chetaev equations (42.26), the multiplier (42.27) and the reduced equation (42.28) come out of
 //! `chetaev`'s automatic differentiation and block solve.
 
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 use crate::closed_form::Params;
@@ -45,12 +46,18 @@ impl Constraints<2, 1> for UniformProjectile {
     }
 }
 
+/// The uniform projectile as a problem.
+pub type UniformProblem = Problem<Fixed<UniformProjectile, 2, 1>>;
+
+/// The classical projectile as a problem.
+pub type ClassicalProblem = Problem<Fixed<Unconstrained<Projectile>, 2, 0>>;
+
 fn initial_state(p: &Params) -> (SVector<f64, 2>, SVector<f64, 2>) {
     (SVector::from([0.0, p.h0]), SVector::from([p.v0, 0.0]))
 }
 
 /// The uniform horizontal projectile from `(0, h0)` with velocity `(v0, 0)` at `t = 0`.
-pub fn uniform_problem(p: &Params) -> Result<Problem<UniformProjectile, 2, 1>, chetaev::Error> {
+pub fn uniform_problem(p: &Params) -> Result<UniformProblem, chetaev::Error> {
     let (q0, qd0) = initial_state(p);
     let model = UniformProjectile {
         particle: Projectile { m: p.m, g: p.g },
@@ -60,29 +67,27 @@ pub fn uniform_problem(p: &Params) -> Result<Problem<UniformProjectile, 2, 1>, c
 }
 
 /// The classical horizontal projectile from the same initial state.
-pub fn classical_problem(
-    p: &Params,
-) -> Result<Problem<Unconstrained<Projectile>, 2, 0>, chetaev::Error> {
+pub fn classical_problem(p: &Params) -> Result<ClassicalProblem, chetaev::Error> {
     let (q0, qd0) = initial_state(p);
     Problem::unconstrained(Projectile { m: p.m, g: p.g }, 0.0, q0, qd0)
 }
 
 /// The impact `y = 0`, reached from above; stops the integration.
-pub fn impact() -> Event<2> {
+pub fn impact() -> Event {
     Event::new("impact", |_t, q, _qd| q[1]).falling().terminal()
 }
 
 /// Per-component absolute tolerances scaled to the motion: positions by `max(h0, R_classical)`,
 /// velocities by `v0`, each times `rtol`. Needed where `h0` and the range differ by many orders of
 /// magnitude (the stiff and extreme scenes).
-pub fn scaled_atol(p: &Params, rtol: f64) -> (SVector<f64, 2>, SVector<f64, 2>) {
+pub fn scaled_atol(p: &Params, rtol: f64) -> ([f64; 2], [f64; 2]) {
     let t_fall = (2.0 * p.h0 / p.g).sqrt();
     let x_scale = (p.v0 * t_fall)
         .min(p.v0 * p.v0 / p.g)
         .max(f64::MIN_POSITIVE);
     let v_scale = p.v0.min((2.0 * p.g * p.h0).sqrt()).max(f64::MIN_POSITIVE);
     (
-        SVector::from([rtol * x_scale, rtol * p.h0]),
-        SVector::from([rtol * v_scale, rtol * v_scale]),
+        [rtol * x_scale, rtol * p.h0],
+        [rtol * v_scale, rtol * v_scale],
     )
 }

@@ -11,7 +11,7 @@ use chetaev::prelude::*;
 use serde::Serialize;
 
 use crate::closed_form::{classical, table, uniform, Kinematics, Params};
-use crate::model::{classical_problem, impact, uniform_problem};
+use crate::model::{classical_problem, impact, uniform_problem, UniformProblem};
 
 /// One quantity: numerical beside closed form.
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -310,12 +310,12 @@ const GL8: [(f64, f64); 8] = [
 
 /// Solves to the impact, then measures the length `s = ∫|q̇| dt` on the dense output by composite
 /// Gauss–Legendre quadrature (64 panels of 8 nodes).
-fn numerical_row<M: Model<2, K>, const K: usize, Me: Method + Copy>(
-    problem: &Problem<M, 2, K>,
+fn numerical_row<M: Model, Me: Method + Copy>(
+    problem: &Problem<M>,
     method: Me,
     tol: f64,
     t_max: f64,
-) -> Result<(Row, Solution<2, K>), Error> {
+) -> Result<(Row, Solution), Error> {
     let opts = Options::until(t_max).tolerances(tol, tol).event(impact());
     let sol = solve(problem, method, &opts)?;
     if let Some(e) = sol.error() {
@@ -326,7 +326,7 @@ fn numerical_row<M: Model<2, K>, const K: usize, Me: Method + Copy>(
         value: t_max,
         hint: "no impact before t_max",
     })?;
-    let (t_imp, q, qd) = (hit.t, hit.q, hit.qd);
+    let (t_imp, q, qd) = (hit.t, &hit.q, &hit.qd);
     let panels = 64;
     let mut times = Vec::with_capacity(panels * 8);
     let mut weights = Vec::with_capacity(panels * 8);
@@ -349,14 +349,14 @@ fn numerical_row<M: Model<2, K>, const K: usize, Me: Method + Copy>(
     let mut s = 0.0;
     for (i, t) in dense.t.iter().enumerate() {
         if let Some(j) = times.iter().position(|x| x == t) {
-            s += weights[j] * dense.qd[i].norm();
+            s += weights[j] * norm(&dense.qd[i]);
         }
     }
     Ok((
         Row {
             t: t_imp,
             r: q[0],
-            v_r: qd.norm(),
+            v_r: norm(qd),
             impact_angle_deg: (-qd[1]).atan2(qd[0]).to_degrees(),
             s,
         },
@@ -364,12 +364,12 @@ fn numerical_row<M: Model<2, K>, const K: usize, Me: Method + Copy>(
     ))
 }
 
-fn motion_errors<const K: usize>(
-    p: &Params,
-    sol: &Solution<2, K>,
-    k: &Kinematics,
-    uniform_motion: bool,
-) -> MotionErrors {
+/// The Euclidean norm.
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+fn motion_errors(p: &Params, sol: &Solution, k: &Kinematics, uniform_motion: bool) -> MotionErrors {
     let mut e = MotionErrors {
         points: sol.len(),
         ..Default::default()
@@ -394,21 +394,21 @@ fn motion_errors<const K: usize>(
                 classical::curvature(p, t),
             )
         };
-        let (q, qd, qdd) = (sol.q[i], sol.qd[i], sol.qdd[i]);
+        let (q, qd, qdd) = (&sol.q[i], &sol.qd[i], &sol.qdd[i]);
         e.x = e.x.max((q[0] - x[0]).abs() / k.range);
         e.y = e.y.max((q[1] - x[1]).abs() / p.h0);
         e.xd = e.xd.max((qd[0] - v[0]).abs() / p.v0);
         e.yd = e.yd.max((qd[1] - v[1]).abs() / k.impact_speed);
         e.xdd = e.xdd.max((qdd[0] - a[0]).abs() / p.g);
         e.ydd = e.ydd.max((qdd[1] - a[1]).abs() / p.g);
-        let kn = (qd[0] * qdd[1] - qdd[0] * qd[1]).abs() / qd.norm().powi(3);
+        let kn = (qd[0] * qdd[1] - qdd[0] * qd[1]).abs() / norm(qd).powi(3);
         e.curvature = e.curvature.max((kn - kappa).abs() / (p.g / (p.v0 * p.v0)));
         e.energy_balance = e.energy_balance.max(bal.abs() / e_scale);
         if uniform_motion {
             mu = mu
                 .max((sol.mu[i][0] - uniform::multiplier(p, t)).abs() / (p.m * p.g / (2.0 * p.v0)));
             phi = phi.max(
-                (sol.phi[i].norm() - uniform::chetaev_force_magnitude(p, t)).abs() / (p.m * p.g),
+                (norm(&sol.phi[i]) - uniform::chetaev_force_magnitude(p, t)).abs() / (p.m * p.g),
             );
             res = res.max(sol.residual[i][0].abs() / (p.v0 * p.v0));
             work = work.max((sol.work[i] - p.m * p.g * (q[1] - p.h0)).abs() / (p.m * p.g * p.h0));
@@ -440,10 +440,10 @@ pub fn log_slope(points: &[(f64, f64)]) -> f64 {
 }
 
 /// Largest error of the end state of the uniform motion at `t_end`, scaled as in [`WorkPoint`].
-fn end_error(p: &Params, sol: &Solution<2, 1>, t_end: f64, range: f64) -> f64 {
-    let (_, q, qd) = sol
-        .last()
-        .unwrap_or((0.0, SVector::zeros(), SVector::zeros()));
+fn end_error(p: &Params, sol: &Solution, t_end: f64, range: f64) -> f64 {
+    let Some((_, q, qd)) = sol.last() else {
+        return f64::NAN;
+    };
     let (x, v) = (uniform::position(p, t_end), uniform::velocity(p, t_end));
     ((q[0] - x[0]).abs() / range.max(p.h0))
         .max((q[1] - x[1]).abs() / range.max(p.h0))
@@ -454,10 +454,10 @@ fn end_error(p: &Params, sol: &Solution<2, 1>, t_end: f64, range: f64) -> f64 {
 /// Times one configuration: the median of repeated runs (at least 5, and until 20 ms have passed,
 /// at most 200).
 fn time_runs<Me: Method + Copy>(
-    problem: &Problem<crate::model::UniformProjectile, 2, 1>,
+    problem: &UniformProblem,
     method: Me,
-    opts: &Options<2>,
-) -> Result<(Solution<2, 1>, f64, usize), Error> {
+    opts: &Options,
+) -> Result<(Solution, f64, usize), Error> {
     let mut times = Vec::new();
     let start = Instant::now();
     let mut last = None;
@@ -479,7 +479,7 @@ fn time_runs<Me: Method + Copy>(
 
 fn work_precision_adaptive<Me: Method + Copy>(
     p: &Params,
-    problem: &Problem<crate::model::UniformProjectile, 2, 1>,
+    problem: &UniformProblem,
     method: Me,
     tolerances: &[f64],
     t_end: f64,
@@ -546,7 +546,7 @@ pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
     let mut orders = |name: &str,
                       expected: f64,
                       ks: std::ops::Range<u32>,
-                      run: &dyn Fn(f64) -> Result<Solution<2, 1>, Error>|
+                      run: &dyn Fn(f64) -> Result<Solution, Error>|
      -> Result<(), Error> {
         let mut pts = Vec::new();
         for k in ks {

@@ -98,10 +98,10 @@ fn run() -> Result<(), Box<dyn Error>> {
     let _ = writeln!(
         md,
         "## Cost of one right-hand side\n\nOne evaluation of the reduced equations with `f64` on a chain of `n` \
-         unit masses with anharmonic springs and `k` pair-speed constraints: static sizes \
-         (`chetaev::equations::dynamics` on `Chain<N, K>`) and sizes known at run time \
-         (`chetaev::dynamic::dynamics` on `DynChain`). Median of criterion's samples (95 % intervals \
-         in `rhs-cost.csv`).\n\n| n | static, k = 0 | static, k = 1 | static, k = n/2 | run-time, k = 0 | \
+         unit masses with anharmonic springs and `k` pair-speed constraints \
+         (`chetaev::equations::evaluate`): static sizes (`Chain<N, K>`) and sizes known at run time \
+         (`DynChain`, a `DynModel`), both from `chetaev_catalogue::benchmarks`. Median of \
+         criterion's samples (95 % intervals in `rhs-cost.csv`).\n\n| n | static, k = 0 | static, k = 1 | static, k = n/2 | run-time, k = 0 | \
          run-time, k = 1 | run-time, k = n/2 |\n|---|---|---|---|---|---|---|"
     );
     let mut csv = String::from("sizes,n,k,median_ns,ci_low_ns,ci_high_ns\n");
@@ -170,7 +170,8 @@ fn run() -> Result<(), Box<dyn Error>> {
         let _ = writeln!(
             md,
             "\n## Where one right-hand side of the paper's model goes\n\n`(N, K) = (2, 1)` at the state of `t = 0.5 s`; \
-             criterion medians.\n\n| part | time | share of `dynamics` |\n|---|---|---|"
+             criterion medians; `dynamics` is the whole right-hand side \
+             (`chetaev::equations::evaluate`).\n\n| part | time | share of `dynamics` |\n|---|---|---|"
         );
         let order = [
             "dynamics",
@@ -207,8 +208,8 @@ fn run() -> Result<(), Box<dyn Error>> {
             .map(|e| e.median_ns);
         let _ = writeln!(
             md,
-            "\n## An unused constraint, per right-hand side\n\nThe paper's particle, one `dynamics` \
-             evaluation; ratio to `K = 0`.\n\n| model | time | ratio |\n|---|---|---|"
+            "\n## An unused constraint, per right-hand side\n\nThe paper's particle, one evaluation of \
+             the reduced equations (`chetaev::equations::evaluate`); ratio to `K = 0`.\n\n| model | time | ratio |\n|---|---|---|"
         );
         for e in &overhead {
             let r = base.map_or("–".to_string(), |b| format!("{:.2}", e.median_ns / b));

@@ -3,16 +3,6 @@
 //! in parallel with rayon. Runs the sweep on 1 thread and on the requested number (default 2) and
 //! reports the speed-up. A progress bar is drawn when stdout is a terminal.
 //!
-//! ```sh
-//! cargo run --release -p chetaev-bench --bin ensemble
-//! cargo run --release -p chetaev-bench --bin ensemble -- --n 20 --out /tmp/ensemble
-//! ```
-
-//! `ensemble`: the ratio of the uniform to the classical range over a log-spaced grid of
-//! `(v0, h0)`, every point solved by `chetaev` to the impact and compared with the closed forms,
-//! in parallel with rayon. Runs the sweep on 1 thread and on the requested number (default 2) and
-//! reports the speed-up. A progress bar is drawn when stdout is a terminal.
-//!
 //! Writes `ensemble.md`, `ensemble.csv`, two SVG diagrams and `ensemble.json` (every point, from
 //! which `merge` writes the rest again) into `--out` (default `./chetaev-bench-out/ensemble`).
 //! With `--shard k/n` only the grid points `i` with `i mod n = k − 1` are solved and written to

@@ -38,7 +38,9 @@ use chetaev_bench::report::{
     ratio_markdown,
 };
 use chetaev_bench::scenes;
-use chetaev_bench::study::{curve, run_limit, run_scene, Outcome, Point, Scene, StudyConfig};
+use chetaev_bench::study::{
+    curve, run_limit, run_scene, Point, PointOutcome, StudyConfig, StudyScene,
+};
 use chetaev_plot::{Figure, Style};
 use clap::{Args, Parser, Subcommand};
 use serde_json::{json, Value};
@@ -314,7 +316,7 @@ enum Item {
 }
 
 /// A scene of the study, whatever its model and sizes.
-trait StudyScene {
+trait AnyScene {
     fn key(&self) -> &'static str;
     fn title(&self) -> &str;
     fn reference(&self) -> &str;
@@ -324,7 +326,7 @@ trait StudyScene {
     fn run(&mut self, config: &StudyConfig, setting: Setting) -> Vec<Point>;
 }
 
-impl<M: Model<N, K>, const N: usize, const K: usize> StudyScene for Scene<M, N, K> {
+impl<M: Model> AnyScene for StudyScene<M> {
     fn key(&self) -> &'static str {
         self.key
     }
@@ -375,7 +377,7 @@ trait LimitScene {
     fn run(&self, config: &StudyConfig, setting: Setting) -> Vec<Point>;
 }
 
-impl<M: Model<2, 1>> LimitScene for Scene<M, 2, 1> {
+impl<M: Model> LimitScene for StudyScene<M> {
     fn run(&self, config: &StudyConfig, setting: Setting) -> Vec<Point> {
         let (reduced, full) = (scenes::reduced_handwritten(), scenes::full_handwritten());
         let mut config = config.clone();
@@ -393,12 +395,9 @@ impl<M: Model<2, 1>> LimitScene for Scene<M, 2, 1> {
 }
 
 /// Boxes a scene, with the step counts of `Rk4` replaced where it runs `Rk4` and `rk4` says so.
-fn boxed<M, const N: usize, const K: usize>(
-    mut scene: Scene<M, N, K>,
-    rk4: Option<&Vec<usize>>,
-) -> Box<dyn StudyScene>
+fn boxed<M>(mut scene: StudyScene<M>, rk4: Option<&Vec<usize>>) -> Box<dyn AnyScene>
 where
-    M: Model<N, K> + 'static,
+    M: Model + 'static,
 {
     if let (Some(steps), Ok(_)) = (rk4, &scene.rk4_steps) {
         scene.rk4_steps = Ok(steps.clone());
@@ -409,7 +408,7 @@ where
 /// The scenes and settings of a study, and its items.
 struct Study {
     config: StudyConfig,
-    scenes: Vec<Box<dyn StudyScene>>,
+    scenes: Vec<Box<dyn AnyScene>>,
     limit: Box<dyn LimitScene>,
     limit_rk4_steps: Vec<usize>,
 }
@@ -485,7 +484,7 @@ impl Study {
 
 /// Comparison `i` of the overheads: an unused constraint, then diagnostics, each with `Dopri5`,
 /// `Dop853` and `Rodas4`.
-fn overhead(i: usize, b: &Budget) -> Result<Comparison, chetaev::Error> {
+fn overhead(i: usize, b: &Budget) -> Result<Comparison, chetaev_catalogue::Error> {
     let p = scenes::PAPER;
     match i {
         0 => constraint_overhead(&p, Dopri5::default(), 1e-8, b),
@@ -673,11 +672,11 @@ fn report(study: &Study, whole: &Part, out: &Path) -> Result<String, Box<dyn Err
 
     let skipped = all
         .iter()
-        .filter(|p| matches!(p.outcome, Outcome::Skipped(_)))
+        .filter(|p| matches!(p.outcome, PointOutcome::Skipped(_)))
         .count();
     let failed = all
         .iter()
-        .filter(|p| matches!(p.outcome, Outcome::Failed(_)))
+        .filter(|p| matches!(p.outcome, PointOutcome::Failed(_)))
         .count();
     let _ = writeln!(
         results,
@@ -771,7 +770,7 @@ fn comparison_row(md: &mut String, c: &Comparison) {
 
 /// A scene's CSV, diagram and Markdown from its points.
 fn study_report(
-    scene: &dyn StudyScene,
+    scene: &dyn AnyScene,
     points: &[Point],
     out: &Path,
     results: &mut String,
@@ -970,12 +969,14 @@ fn overheads_report(
     }
     let explicit: Vec<&Point> = all
         .iter()
-        .filter(|p| !p.method.starts_with("Rodas4") && !matches!(p.outcome, Outcome::Skipped(_)))
+        .filter(|p| {
+            !p.method.starts_with("Rodas4") && !matches!(p.outcome, PointOutcome::Skipped(_))
+        })
         .collect();
     let explicit_jac: usize = explicit.iter().map(|p| p.jacobian_evaluations).sum();
     let rodas: Vec<&Point> = all
         .iter()
-        .filter(|p| p.method == "Rodas4" && !matches!(p.outcome, Outcome::Skipped(_)))
+        .filter(|p| p.method == "Rodas4" && !matches!(p.outcome, PointOutcome::Skipped(_)))
         .collect();
     let rodas_jac: usize = rodas.iter().map(|p| p.jacobian_evaluations).sum();
     let _ = writeln!(

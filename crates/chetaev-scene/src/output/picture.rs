@@ -1,13 +1,14 @@
 //! The SVG pictures, drawn by `chetaev-plot`.
 
+use chetaev::solution::Series;
 use chetaev_plot::{Figure, Style};
 
 use super::quantity_values;
 use crate::run::Outcome;
 use crate::scene::{Picture, Scene};
 
-/// Column `j` of a list of rows.
-fn column(rows: &[Vec<f64>], j: usize) -> Vec<f64> {
+/// Component `j` of every vector of a series.
+fn column(rows: &Series, j: usize) -> Vec<f64> {
     rows.iter()
         .map(|r| r.get(j).copied().unwrap_or(f64::NAN))
         .collect()
@@ -20,7 +21,7 @@ fn series(t: &[f64], v: &[f64]) -> Vec<(f64, f64)> {
 pub(super) fn figure(scene: &Scene, out: &Outcome, which: Picture) -> Figure {
     let c = &scene.coordinates;
     let title = |what: &str| format!("{}: {what}", scene.name);
-    let against_t = |fig: Figure, names: Vec<String>, rows: &[Vec<f64>]| -> Figure {
+    let against_t = |fig: Figure, names: Vec<String>, rows: &Series| -> Figure {
         names.iter().enumerate().fold(fig, |f, (j, name)| {
             f.line(name, &series(&out.t, &column(rows, j)))
         })
@@ -37,7 +38,7 @@ pub(super) fn figure(scene: &Scene, out: &Outcome, which: Picture) -> Figure {
                 .line("", &pts);
             for e in &out.events {
                 f = f.line_styled(
-                    &e.name,
+                    out.event_name(e.index),
                     &[(e.q[0], e.q[1])],
                     Style {
                         width: 0.0,
@@ -74,11 +75,10 @@ pub(super) fn figure(scene: &Scene, out: &Outcome, which: Picture) -> Figure {
             &out.phi,
         ),
         Picture::Residual => {
-            let abs: Vec<Vec<f64>> = out
-                .residual
-                .iter()
-                .map(|r| r.iter().map(|v| v.abs()).collect())
-                .collect();
+            let mut abs = Series::new(out.residual.width());
+            for r in out.residual.iter() {
+                abs.push(&r.iter().map(|v| v.abs()).collect::<Vec<f64>>());
+            }
             against_t(
                 Figure::new(&title("constraint residual"))
                     .x_label("t")

@@ -7,7 +7,9 @@ use chetaev::prelude::{Atol, Status};
 
 use super::{quantity_values, summary_number as num, writes_quantities};
 use crate::run::Outcome;
-use crate::scene::{MethodSpec, Scene};
+use chetaev::integrate::{AnyMethod, Method};
+
+use crate::scene::Scene;
 
 /// `n` and the noun in the number that goes with it: `count(1, "step", "steps")` is "1 step".
 pub fn count(n: usize, one: &str, many: &str) -> String {
@@ -70,7 +72,7 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
                 method_key(scene)
             ),
         },
-        E::StepSizeTooSmall { t, h } => Failure {
+        E::StepSizeTooSmall { t, h, .. } => Failure {
             t: Some(*t),
             what: format!(
                 "the step size fell to {h:e}, below what floating point resolves: the motion changes \
@@ -199,7 +201,7 @@ pub fn non_finite(scene: &Scene, out: &Outcome) -> Vec<NonFinite> {
             });
         }
     };
-    let rows = |r: &[Vec<f64>]| {
+    let rows = |r: &chetaev::solution::Series| {
         r.iter()
             .filter(|r| r.iter().any(|v| !v.is_finite()))
             .count()
@@ -284,7 +286,7 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         Atol::PerComponent(_) => "atol per component".to_string(),
     };
     let method = match scene.solve.method {
-        MethodSpec::Rk4 { step } => format!("Rk4, step = {}", num(step)),
+        AnyMethod::Rk4(rk4) => format!("Rk4, step = {}", num(rk4.h)),
         m => format!("{}, rtol = {:e}, {tol}", m.name(), scene.solve.rtol),
     };
     let _ = writeln!(
@@ -311,7 +313,7 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         let width = out
             .events
             .iter()
-            .map(|e| e.name.chars().count())
+            .map(|e| out.event_name(e.index).chars().count())
             .max()
             .unwrap_or(0);
         for (i, e) in out.events.iter().enumerate() {
@@ -319,7 +321,7 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
             let _ = writeln!(
                 s,
                 "  {label:<8} {:<width$}  t = {}, {}",
-                e.name,
+                out.event_name(e.index),
                 num(e.t),
                 state_text(scene, &e.q, &e.qd)
             );

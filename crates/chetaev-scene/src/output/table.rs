@@ -1,6 +1,7 @@
 //! The CSV tables, written row by row as they are formed: a table of any length takes the memory
 //! of one row besides the recorded motion it is read from.
 
+use chetaev::solution::Series;
 use std::fmt;
 use std::io::{self, Write};
 
@@ -38,7 +39,7 @@ pub(super) fn csv_text(s: &str) -> String {
 /// Columns of a numeric table after `t`, read at output point `i` when the row is written.
 enum Part<'a> {
     /// The first `n` entries of each row: `q`, `q̇`, `μ`, ...
-    Rows(&'a [Vec<f64>], usize),
+    Rows(&'a Series, usize),
     /// One value per output point: `E`, `W_Φ`, ...
     Column(&'a [f64]),
     /// An output quantity, evaluated at the recorded state.
@@ -105,7 +106,7 @@ pub(super) fn write_table<W: Write>(
         for part in &parts {
             match part {
                 Part::Rows(rows, n) => {
-                    let row = rows.get(i).map_or(&[][..], Vec::as_slice);
+                    let row = rows.get(i).unwrap_or(&[]);
                     for j in 0..*n {
                         field(w, row.get(j).copied())?;
                     }
@@ -138,7 +139,12 @@ fn write_events<W: Write>(w: &mut W, scene: &Scene, out: &Outcome) -> io::Result
     }
     writeln!(w)?;
     for e in &out.events {
-        write!(w, "{},{}", csv_text(&e.name), CsvNumber(e.t))?;
+        write!(
+            w,
+            "{},{}",
+            csv_text(out.event_name(e.index)),
+            CsvNumber(e.t)
+        )?;
         for v in e.q.iter().chain(&e.qd) {
             write!(w, ",{}", CsvNumber(*v))?;
         }

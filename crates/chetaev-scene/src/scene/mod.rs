@@ -24,9 +24,7 @@ use chetaev::prelude::Record;
 
 use crate::error::{Error, SourceFile};
 
-pub use spec::{
-    EventSpec, GridEnd, MethodSpec, OutputSpec, Picture, Scene, SolveSpec, Table, Times,
-};
+pub use spec::{EventSpec, GridEnd, OutputSpec, Picture, Scene, SolveSpec, Table, Times};
 
 /// The most times an output grid may have.
 pub const MAX_OUTPUT_TIMES: i64 = 10_000_000;

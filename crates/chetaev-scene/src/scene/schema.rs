@@ -72,6 +72,7 @@ pub(crate) struct RawSolve {
 pub(crate) enum MethodName {
     Dopri5,
     Dop853,
+    Tsit5,
     Rk4,
     Rodas4,
 }

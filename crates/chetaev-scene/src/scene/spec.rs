@@ -57,45 +57,11 @@ pub(crate) struct Spans {
     pub quantities: Vec<Range<usize>>,
 }
 
-/// The integration method and its options.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MethodSpec {
-    /// Dormand–Prince 5(4).
-    Dopri5 {
-        /// Stop with a stiffness error when the test fires.
-        stiffness_detection: bool,
-    },
-    /// Dormand–Prince 8(5,3).
-    Dop853 {
-        /// Stop with a stiffness error when the test fires.
-        stiffness_detection: bool,
-    },
-    /// Classical Runge–Kutta with a fixed step.
-    Rk4 {
-        /// The step size.
-        step: f64,
-    },
-    /// Hairer and Wanner's Rosenbrock method RODAS (implicit, for stiff problems).
-    Rodas4,
-}
-
-impl MethodSpec {
-    /// The method's name as in the literature.
-    pub fn name(&self) -> &'static str {
-        match self {
-            MethodSpec::Dopri5 { .. } => "Dopri5",
-            MethodSpec::Dop853 { .. } => "Dop853",
-            MethodSpec::Rk4 { .. } => "Rk4",
-            MethodSpec::Rodas4 => "Rodas4",
-        }
-    }
-}
-
 /// `[solve]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolveSpec {
     /// The method.
-    pub method: MethodSpec,
+    pub method: chetaev::integrate::AnyMethod,
     /// The end time.
     pub t_end: f64,
     /// Relative tolerance.

@@ -11,9 +11,7 @@ use toml::Spanned;
 use super::schema::{
     MethodName, Number, RawAtol, RawDirection, RawOutput, RawScene, RawSolve, RawTimes,
 };
-use super::spec::{
-    EventSpec, GridEnd, MethodSpec, OutputSpec, Picture, Scene, SolveSpec, Spans, Table, Times,
-};
+use super::spec::{EventSpec, GridEnd, OutputSpec, Picture, Scene, SolveSpec, Spans, Table, Times};
 use super::MAX_OUTPUT_TIMES;
 use crate::error::{Error, SourceFile};
 use crate::expr::{is_function, Expr, Symbols, RESERVED};
@@ -364,19 +362,23 @@ impl Builder {
             }
             (None, _) => 0.0,
         };
+        use chetaev::integrate::{AnyMethod, Dop853, Dopri5, Rk4, Rodas4, Tsit5};
         let method = match method_name {
-            MethodName::Dopri5 => MethodSpec::Dopri5 {
+            MethodName::Dopri5 => AnyMethod::Dopri5(Dopri5 {
                 stiffness_detection: stiffness.unwrap_or(true),
-            },
-            MethodName::Dop853 => MethodSpec::Dop853 {
+                ..Dopri5::default()
+            }),
+            MethodName::Dop853 => AnyMethod::Dop853(Dop853 {
                 stiffness_detection: stiffness.unwrap_or(true),
-            },
-            MethodName::Rk4 => MethodSpec::Rk4 { step },
-            MethodName::Rodas4 => MethodSpec::Rodas4,
+                ..Dop853::default()
+            }),
+            MethodName::Tsit5 => AnyMethod::Tsit5(Tsit5),
+            MethodName::Rk4 => AnyMethod::Rk4(Rk4::new(step)),
+            MethodName::Rodas4 => AnyMethod::Rodas4(Rodas4),
         };
         let t_end = self.number(&raw.t_end, constants, "solve.t_end")?;
         spans.insert("t_end", raw.t_end.span());
-        let defaults = chetaev::prelude::Options::<1>::until(0.0);
+        let defaults = chetaev::prelude::Options::until(0.0);
         let rtol = match &raw.rtol {
             Some(r) => {
                 spans.insert("rtol", r.span());

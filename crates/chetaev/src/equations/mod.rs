@@ -9,90 +9,240 @@
 //! The multipliers are eliminated at every evaluation by the block solve of [`saddle`], with
 //! every derivative of `L` and `f` from [`derivatives`]. The reduced equations keep only
 //! `df/dt = 0`, so `f` itself may drift; see the projection option of the driver.
+//!
+//! This is the one equations engine: it works on slices with the sizes of the [`Model`], whatever
+//! the flavour the model was written in.
 
 pub mod derivatives;
 pub mod saddle;
 
-use nalgebra::SVector;
-
 use crate::model::{Model, Real};
-use derivatives::{constraint_derivatives, lagrangian_derivatives};
+use derivatives::{ConstraintBlocks, LagrangianBlocks};
 use saddle::{SaddleFailure, SaddleWorkspace};
 
 /// Everything known at one point `(t, q, q̇)` after the multipliers are eliminated.
-#[derive(Clone, Copy, Debug)]
-pub struct Dynamics<T, const N: usize, const K: usize> {
-    /// `q̈`, shape `N`.
-    pub qdd: SVector<T, N>,
-    /// `μ`, shape `K` (Newton form, see the module docs).
-    pub mu: SVector<T, K>,
-    /// The Chetaev force `Φ = Jᵀμ = Σ_a μ_a ∂f_a/∂q̇`, shape `N`.
-    pub phi: SVector<T, N>,
-    /// The constraint residual `f`, shape `K`.
-    pub f: SVector<T, K>,
+#[derive(Clone, Debug)]
+pub struct Dynamics<T> {
+    /// `q̈`, length `n`.
+    pub qdd: Vec<T>,
+    /// `μ`, length `k` (Newton form, see the module docs).
+    pub mu: Vec<T>,
+    /// The Chetaev force `Φ = Jᵀμ = Σ_a μ_a ∂f_a/∂q̇`, length `n`.
+    pub phi: Vec<T>,
+    /// The constraint residual `f`, length `k`.
+    pub f: Vec<T>,
     /// `L`.
     pub l: T,
     /// The energy `E = q̇·∂L/∂q̇ − L`.
     pub energy: T,
     /// `∂L/∂t`.
     pub dl_dt: T,
+    /// The power of the Chetaev force, `q̇·Φ`; `dE/dt = q̇·Φ − ∂L/∂t`.
+    pub power: T,
     /// Smallest over largest pivot of the block solve.
     pub pivot_ratio: f64,
 }
 
-impl<T: Real, const N: usize, const K: usize> Dynamics<T, N, K> {
-    /// The power of the Chetaev force, `q̇·Φ`. With `E` as above, `dE/dt = q̇·Φ − ∂L/∂t`.
-    pub fn power(&self, qd: &SVector<T, N>) -> T {
-        qd.dot(&self.phi)
+/// Scratch space of the equations engine for one model's sizes, reused across evaluations so the
+/// hot path never allocates; it also holds the last evaluation's [`Dynamics`].
+#[derive(Clone, Debug)]
+pub struct Workspace<T> {
+    n: usize,
+    k: usize,
+    lagrangian: LagrangianBlocks<T>,
+    constraints: ConstraintBlocks<T>,
+    saddle: SaddleWorkspace<T>,
+    dynamics: Dynamics<T>,
+}
+
+impl<T: Real> Workspace<T> {
+    /// Scratch space for `n` coordinates and `k` constraints.
+    pub fn new(n: usize, k: usize) -> Self {
+        Self {
+            n,
+            k,
+            // Made on first use by the route that needs them (a static model never does).
+            lagrangian: LagrangianBlocks::new(0),
+            constraints: ConstraintBlocks::new(0, 0),
+            saddle: SaddleWorkspace::default(),
+            dynamics: Dynamics {
+                qdd: vec![T::zero(); n],
+                mu: vec![T::zero(); k],
+                phi: vec![T::zero(); n],
+                f: vec![T::zero(); k],
+                l: T::zero(),
+                energy: T::zero(),
+                dl_dt: T::zero(),
+                power: T::zero(),
+                pivot_ratio: 1.0,
+            },
+        }
+    }
+
+    /// Scratch space for `model`'s sizes.
+    pub fn for_model<M: Model + ?Sized>(model: &M) -> Self {
+        let (n, k) = model.sizes();
+        Self::new(n, k)
+    }
+
+    /// The result of the last successful [`evaluate`].
+    pub fn dynamics(&self) -> &Dynamics<T> {
+        &self.dynamics
+    }
+
+    pub(crate) fn saddle(&mut self) -> &mut SaddleWorkspace<T> {
+        &mut self.saddle
     }
 }
 
-/// Evaluates the reduced Chetaev equations at `(t, q, q̇)`: builds the block system from the
-/// derivatives of `L` and `f` and solves it for `q̈` and `μ`.
+/// Evaluates the reduced Chetaev equations at `(t, q, q̇)` (slices of length `n`): builds the
+/// block system from the derivatives of `L` and `f` and solves it for `q̈` and `μ`,
 ///
-/// With `K = 0` no constraint derivative is taken and the system is `W q̈ = ∂L/∂q − g`.
+/// ```text
+/// [ W   −Jᵀ ] [ q̈ ]   [ ∂L/∂q − g ]
+/// [ J    0  ] [ μ ] = [    −c     ]
+/// ```
+///
+/// With `k = 0` no constraint derivative is taken and the system is `W q̈ = ∂L/∂q − g`. The result
+/// is in [`Workspace::dynamics`] (and returned).
 #[inline]
-pub fn dynamics<M, T, const N: usize, const K: usize>(
+pub fn evaluate<'w, M, T>(
     model: &M,
-    ws: &mut SaddleWorkspace<T>,
+    ws: &'w mut Workspace<T>,
     t: T,
-    q: &SVector<T, N>,
-    qd: &SVector<T, N>,
-) -> Result<Dynamics<T, N, K>, SaddleFailure>
+    q: &[T],
+    qd: &[T],
+) -> Result<&'w Dynamics<T>, SaddleFailure>
 where
-    M: Model<N, K> + ?Sized,
+    M: Model + ?Sized,
     T: Real,
 {
-    let ld = lagrangian_derivatives(model, t, q, qd);
-    let r = ld.dl_dq - ld.g;
-    let energy = qd.dot(&ld.p) - ld.l;
-    if K == 0 {
-        let j = nalgebra::SMatrix::<T, K, N>::zeros();
-        let s = SVector::<T, K>::zeros();
-        let sol = saddle::solve(ws, &ld.w, &j, &r, &s)?;
-        return Ok(Dynamics {
-            qdd: sol.qdd,
-            mu: sol.mu,
-            phi: SVector::zeros(),
-            f: s,
-            l: ld.l,
-            energy,
-            dl_dt: ld.dl_dt,
-            pivot_ratio: sol.pivot_ratio,
-        });
+    model.evaluate_into(ws, t, q, qd)?;
+    Ok(&ws.dynamics)
+}
+
+/// [`evaluate`] from the blocks of [`Model::lagrangian_blocks`] and [`Model::constraint_blocks`]
+/// on slices: the route of every model that has no faster one.
+#[inline]
+pub fn evaluate_blocks<M, T>(
+    model: &M,
+    ws: &mut Workspace<T>,
+    t: T,
+    q: &[T],
+    qd: &[T],
+) -> Result<(), SaddleFailure>
+where
+    M: Model + ?Sized,
+    T: Real,
+{
+    let Workspace {
+        n,
+        k,
+        lagrangian: lb,
+        constraints: cb,
+        saddle: sw,
+        dynamics: d,
+    } = ws;
+    let (n, k) = (*n, *k);
+    if lb.p.len() != n {
+        *lb = LagrangianBlocks::new(n);
+        *cb = ConstraintBlocks::new(n, k);
     }
-    let cd = constraint_derivatives::<M, T, N, K>(model, t, q, qd);
-    let s = -cd.c;
-    let sol = saddle::solve(ws, &ld.w, &cd.j, &r, &s)?;
-    let phi = cd.j.tr_mul(&sol.mu);
-    Ok(Dynamics {
-        qdd: sol.qdd,
-        mu: sol.mu,
-        phi,
-        f: cd.f,
-        l: ld.l,
-        energy,
-        dl_dt: ld.dl_dt,
-        pivot_ratio: sol.pivot_ratio,
-    })
+    model.lagrangian_blocks(t, q, qd, lb);
+    if k > 0 {
+        model.constraint_blocks(t, q, qd, true, cb);
+    }
+    // The values themselves, not only their derivatives: a model that leaves its domain may keep
+    // finite derivatives while `L` or `f` turns NaN.
+    if !lb.l.re().is_finite() || cb.f.iter().any(|f| !f.re().is_finite()) {
+        return Err(SaddleFailure::NonFinite);
+    }
+    let pivot_ratio = saddle::solve_blocks(
+        sw,
+        n,
+        k,
+        |i, m| lb.w[i * n + m],
+        |a, i| cb.j[a * n + i],
+        |i| lb.dl_dq[i] - lb.g[i],
+        |a| -cb.c[a],
+    )?;
+    let x = sw.solution();
+    d.qdd.copy_from_slice(&x[..n]);
+    d.mu.copy_from_slice(&x[n..n + k]);
+    let mut power = T::zero();
+    let mut p_qd = T::zero();
+    for (i, (phi_i, (&qd_i, &p_i))) in d.phi.iter_mut().zip(qd.iter().zip(&lb.p)).enumerate() {
+        let mut phi = T::zero();
+        for (a, &mu_a) in d.mu.iter().enumerate() {
+            phi += cb.j[a * n + i] * mu_a;
+        }
+        *phi_i = phi;
+        power += qd_i * phi;
+        p_qd += qd_i * p_i;
+    }
+    d.f.copy_from_slice(&cb.f);
+    d.l = lb.l;
+    d.energy = p_qd - lb.l;
+    d.dl_dt = lb.dl_dt;
+    d.power = power;
+    d.pivot_ratio = pivot_ratio;
+    Ok(())
+}
+
+/// [`evaluate`] for a static model: the same equations and the same block solve, with every block
+/// a fixed-size `SVector`/`SMatrix` on the stack, so the sizes are known to the compiler
+/// throughout.
+#[inline(always)]
+pub(crate) fn evaluate_fixed<M, T, const N: usize, const K: usize>(
+    model: &M,
+    ws: &mut Workspace<T>,
+    t: T,
+    q: &[T],
+    qd: &[T],
+) -> Result<(), SaddleFailure>
+where
+    M: crate::model::Lagrangian<N> + crate::model::Constraints<N, K> + ?Sized,
+    T: Real,
+{
+    use nalgebra::{SMatrix, SVector};
+    let q = SVector::<T, N>::from_column_slice(q);
+    let qd = SVector::<T, N>::from_column_slice(qd);
+    let ld = derivatives::lagrangian_derivatives(model, t, &q, &qd);
+    let r = ld.dl_dq - ld.g;
+    let (f, j, c) = if K == 0 {
+        (
+            SVector::<T, K>::zeros(),
+            SMatrix::<T, K, N>::zeros(),
+            SVector::<T, K>::zeros(),
+        )
+    } else {
+        let cd = derivatives::constraint_derivatives::<M, T, N, K>(model, t, &q, &qd);
+        (cd.f, cd.j, cd.c)
+    };
+    if !ld.l.re().is_finite() || f.iter().any(|f| !f.re().is_finite()) {
+        return Err(SaddleFailure::NonFinite);
+    }
+    let pivot_ratio = saddle::solve_blocks(
+        &mut ws.saddle,
+        N,
+        K,
+        |i, m| ld.w[(i, m)],
+        |a, i| j[(a, i)],
+        |i| r[i],
+        |a| -c[a],
+    )?;
+    let x = ws.saddle.solution();
+    let d = &mut ws.dynamics;
+    d.qdd.copy_from_slice(&x[..N]);
+    d.mu.copy_from_slice(&x[N..N + K]);
+    let mu = SVector::<T, K>::from_column_slice(&d.mu);
+    let phi = j.tr_mul(&mu);
+    d.phi.copy_from_slice(phi.as_slice());
+    d.f.copy_from_slice(f.as_slice());
+    d.l = ld.l;
+    d.energy = qd.dot(&ld.p) - ld.l;
+    d.dl_dt = ld.dl_dt;
+    d.power = qd.dot(&phi);
+    d.pivot_ratio = pivot_ratio;
+    Ok(())
 }

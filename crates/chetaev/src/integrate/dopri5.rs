@@ -5,7 +5,9 @@
 //! S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I*, 2nd ed., Springer 1993,
 //! Sections II.5, II.6 and IV.2 (the code DOPRI5).
 
-use super::{combine, system::OdeSystem, ErrorNorm, Method, Stepper, StiffnessTest};
+use super::{
+    combine, system::OdeSystem, Controller, ErrorNorm, Method, MethodInfo, Stepper, StiffnessTest,
+};
 use crate::error::Error;
 
 const C2: f64 = 1.0 / 5.0;
@@ -45,36 +47,64 @@ const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
+/// `h·|λ|` where the stability region of DOPRI5 meets the negative real axis (about 3.3); the
+/// stiffness test of the code DOPRI5 compares against 3.25.
+const STIFF_H_LAMBDA: f64 = 3.25;
+
 /// Dormand–Prince 5(4): explicit, adaptive, fifth order, with fourth-order dense output.
 ///
 /// The default choice for non-stiff problems at moderate tolerances (down to about `1e-10`).
-#[derive(Clone, Copy, Debug)]
+/// Step-size control is Hairer's DOPRI5's: a PI controller with `β = 0.04`, step ratios in
+/// `[0.2, 10]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(default))]
 pub struct Dopri5 {
     /// Stop with [`Error::Stiff`] when the stiffness test fires on 15 accepted steps (default on).
     pub stiffness_detection: bool,
+    /// Test every this many accepted steps until stiffness is suspected, then every step (1000, as
+    /// DOPRI5's `NSTIFF`).
+    pub stiffness_interval: u32,
 }
 
 impl Default for Dopri5 {
     fn default() -> Self {
         Self {
             stiffness_detection: true,
+            stiffness_interval: 1000,
         }
     }
 }
 
 impl Method for Dopri5 {
     type Stepper = Dopri5Stepper;
-    fn name(&self) -> &'static str {
-        "Dopri5"
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            name: "Dopri5",
+            order: 5,
+            embedded_order: Some(4),
+            control_order: 5,
+            dense_order: 4,
+            stability_size: 3.3,
+            needs_jacobian: false,
+            fixed_step: None,
+            controller: Controller::pi(0.2, 10.0, 0.04),
+            advice:
+                "for tolerances below about 1e-10 Dop853 is cheaper; for a stiff problem use Rodas4",
+        }
     }
     fn stepper(&self, dim: usize) -> Dopri5Stepper {
         Dopri5Stepper {
             k: std::array::from_fn(|_| vec![0.0; dim]),
             ytmp: vec![0.0; dim],
             ysti: vec![0.0; dim],
-            err: vec![0.0; dim],
             rcont: std::array::from_fn(|_| vec![0.0; dim]),
-            stiffness: StiffnessTest::new(self.stiffness_detection, 3.25),
+            stiffness: StiffnessTest::new(
+                self.stiffness_detection,
+                STIFF_H_LAMBDA,
+                self.stiffness_interval,
+            ),
+            dense: true,
         }
     }
 }
@@ -85,16 +115,13 @@ pub struct Dopri5Stepper {
     k: [Vec<f64>; 7],
     ytmp: Vec<f64>,
     ysti: Vec<f64>,
-    err: Vec<f64>,
     rcont: [Vec<f64>; 5],
     stiffness: StiffnessTest,
+    /// Whether `accept` builds the dense-output coefficients.
+    dense: bool,
 }
 
 impl Stepper for Dopri5Stepper {
-    fn control_order(&self) -> Option<u32> {
-        Some(5)
-    }
-
     fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
         sys.rhs(t, y, &mut self.k[0])
     }
@@ -132,11 +159,15 @@ impl Stepper for Dopri5Stepper {
             &[(A71, k1), (A73, k3), (A74, k4), (A75, k5), (A76, k6)],
         );
         sys.rhs(t + h, y_new, k7)?;
-        for i in 0..y.len() {
-            self.err[i] =
+        // The error estimate, weighted and summed in one pass (no error vector is stored).
+        let mut sum = 0.0;
+        for i in 0..norm.len() {
+            let e =
                 h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+            let r = e / norm.scale(i, y[i], y_new[i]);
+            sum += r * r;
         }
-        Ok(norm.norm(&self.err, y, y_new))
+        Ok((sum / norm.len() as f64).sqrt())
     }
 
     fn accept<S: OdeSystem>(
@@ -149,7 +180,14 @@ impl Stepper for Dopri5Stepper {
     ) -> Result<(), Error> {
         let [k1, _, k3, k4, k5, k6, k7] = &self.k;
         // h·|λ| from the last two stages, which share the node t + h.
-        self.stiffness.observe(h, k7, k6, y_new, &self.ysti);
+        if self.stiffness.wants_test() {
+            self.stiffness.observe(h, k7, k6, y_new, &self.ysti);
+        }
+        if !self.dense {
+            let (head, tail) = self.k.split_at_mut(6);
+            head[0].copy_from_slice(&tail[0]);
+            return Ok(());
+        }
         let [r1, r2, r3, r4, r5] = &mut self.rcont;
         for i in 0..y.len() {
             let dy = y_new[i] - y[i];
@@ -177,5 +215,9 @@ impl Stepper for Dopri5Stepper {
 
     fn stiffness(&self) -> Option<f64> {
         self.stiffness.detected()
+    }
+
+    fn set_dense_output(&mut self, needed: bool) {
+        self.dense = needed;
     }
 }

@@ -1,26 +1,22 @@
-//! The driver: step-size control, output, events and projection, the same for every method.
+//! The driver: step-size control, output, events and projection, the same for every method and
+//! every model.
 
-use super::events::{locate_root, EventHit};
+use super::events::{crosses, locate_root, Direction, EventHit};
 use super::options::{Atol, Options, Output, Record};
 use super::projection::project_velocity;
-use super::system::{split, ChetaevOde, OdeSystem, Stats};
-use super::{ErrorNorm, Method, Stepper};
+use super::system::{OdeSystem, ReducedOde, Stats};
+use super::{Controller, ErrorNorm, Method, MethodInfo, Stepper};
 use crate::error::Error;
 use crate::model::Model;
 use crate::problem::{check_finite, Problem};
 use crate::solution::{Solution, Status};
 
-/// Step-size controller: safety factor and bounds on the change of `h` per step.
-const SAFETY: f64 = 0.9;
-const FAC_MIN: f64 = 0.2;
-const FAC_MAX: f64 = 10.0;
-
 /// Integrates `problem` with `method` as `options` ask.
 ///
 /// Bad options are an `Err`. A failure during the integration (a singular block system, a model
 /// evaluating to NaN, a step size too small, the step limit, stiffness detected by an explicit
-/// method) is the [`Status::Failed`] of the returned solution, which keeps everything computed
-/// up to that point.
+/// method) is the [`Status::Failed`] of the returned solution, which keeps everything computed up
+/// to that point, including the last accepted state.
 ///
 /// ```
 /// use chetaev::prelude::*;
@@ -46,153 +42,177 @@ const FAC_MAX: f64 = 10.0;
 /// assert!((t_impact - (0.5f64.exp()).acosh()).abs() < 1e-8);
 /// # Ok::<(), chetaev::Error>(())
 /// ```
-pub fn solve<M, Me, const N: usize, const K: usize>(
-    problem: &Problem<M, N, K>,
-    method: Me,
-    options: &Options<N>,
-) -> Result<Solution<N, K>, Error>
+pub fn solve<M, Me>(problem: &Problem<M>, method: Me, options: &Options) -> Result<Solution, Error>
 where
-    M: Model<N, K>,
+    M: Model,
     Me: Method,
 {
-    validate(options)?;
-    method.validate()?;
+    let (n, k) = problem.sizes();
     let t0 = problem.t0();
-    let mut sys = ChetaevOde::new(problem.model(), options.record >= Record::Energy);
+    let settings = LoopSettings::new(options, &method, t0, 2 * n)?;
+    let mut sys = ReducedOde::new(problem.model(), options.record >= Record::Energy);
     let mut y = vec![0.0; sys.dim()];
-    y[..N].copy_from_slice(problem.q0().as_slice());
-    y[N..2 * N].copy_from_slice(problem.qd0().as_slice());
-    let norm = error_norm(options, N);
+    y[..n].copy_from_slice(problem.q0());
+    y[n..2 * n].copy_from_slice(problem.qd0());
 
-    let mut sol = Solution::new(method.name(), options.record);
+    let mut sol = Solution::empty(settings.info.name, options.record, n, k);
     let mut hooks = ChetaevHooks {
         sol: &mut sol,
         options,
+        n,
         event_evaluations: 0,
     };
-    let (outcome, counts) = drive(&mut sys, &mut hooks, method, t0, &mut y, &norm, options);
-    let event_evaluations = hooks.event_evaluations;
+    let mut counts = Stats::default();
+    let mut t_last = t0;
+    let outcome = step_loop(
+        &mut sys,
+        &mut hooks,
+        &method,
+        t0,
+        &mut y,
+        &settings,
+        &mut counts,
+        &mut t_last,
+    );
     if let Err(e) = outcome {
-        sol.status = Status::Failed(e);
+        // Keep the last accepted state, wherever the output was asked for; a failure to record it
+        // (its own evaluation failing) leaves the error as it is.
+        if hooks.sol.t.last() != Some(&t_last) {
+            let _ = hooks.record(&mut sys, t_last, &y);
+        }
+        hooks.sol.status = Status::Failed(e);
     }
+    let event_evaluations = hooks.event_evaluations;
     sol.stats = counts.merged(sys.stats, event_evaluations);
     Ok(sol)
 }
 
-pub(crate) fn validate<const N: usize>(o: &Options<N>) -> Result<(), Error> {
-    check_finite("t_end", std::slice::from_ref(&o.t_end))?;
-    let positive = |name: &'static str, v: f64, hint: &'static str| {
-        if v.is_finite() && v > 0.0 {
-            Ok(())
-        } else {
-            Err(Error::InvalidOption {
-                name,
-                value: v,
-                hint,
-            })
-        }
-    };
-    if !(o.rtol.is_finite() && o.rtol >= 0.0) {
-        return Err(Error::InvalidOption {
-            name: "rtol",
-            value: o.rtol,
-            hint:
-                "the relative tolerance must be finite and non-negative; 1e-6 to 1e-13 are typical",
-        });
-    }
-    let atols: Vec<f64> = match &o.atol {
-        Atol::Scalar(a) => vec![*a],
-        Atol::PerComponent(v) => {
-            if v.len() != 2 * N {
-                return Err(Error::InvalidOption {
-                    name: "atol (length)",
-                    value: v.len() as f64,
-                    hint: "give one absolute tolerance per component of (q, q̇), 2N in all",
-                });
+/// What the step loop is asked to do, validated once for every driver.
+pub(crate) struct LoopSettings<'o> {
+    pub t_end: f64,
+    pub norm: ErrorNorm,
+    pub output: &'o Output,
+    pub max_steps: usize,
+    pub initial_step: Option<f64>,
+    pub max_step: Option<f64>,
+    pub info: MethodInfo,
+    pub controller: Controller,
+    pub event_samples: usize,
+}
+
+impl<'o> LoopSettings<'o> {
+    /// Validates the options for a system with `controlled` components under error control,
+    /// starting at `t0`, with `method`.
+    fn new<Me: Method>(
+        o: &'o Options,
+        method: &Me,
+        t0: f64,
+        controlled: usize,
+    ) -> Result<Self, Error> {
+        method.validate()?;
+        let info = method.info();
+        check_finite("t_end", std::slice::from_ref(&o.t_end))?;
+        let positive = |name: &'static str, v: f64, hint: &'static str| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(Error::InvalidOption {
+                    name,
+                    value: v,
+                    hint,
+                })
             }
-            v.clone()
-        }
-    };
-    for a in atols {
-        if !(a.is_finite() && a >= 0.0) || (a == 0.0 && o.rtol == 0.0) {
+        };
+        if !(o.rtol.is_finite() && o.rtol >= 0.0) {
             return Err(Error::InvalidOption {
-                name: "atol",
-                value: a,
-                hint: "absolute tolerances must be finite and non-negative, and not zero together with rtol",
+                name: "rtol",
+                value: o.rtol,
+                hint: "the relative tolerance must be finite and non-negative; 1e-6 to 1e-13 are typical",
             });
         }
+        if o.rtol < 100.0 * f64::EPSILON && o.rtol != 0.0 {
+            return Err(Error::InvalidOption {
+                name: "rtol",
+                value: o.rtol,
+                hint: "below 100 ulps (2.2e-14) no step size can meet the tolerance in f64; use 1e-13 or more",
+            });
+        }
+        let atol = match &o.atol {
+            Atol::Scalar(a) => vec![*a; controlled],
+            Atol::PerComponent(v) => {
+                if v.len() != controlled {
+                    return Err(Error::InvalidOption {
+                        name: "atol (length)",
+                        value: v.len() as f64,
+                        hint: "give one absolute tolerance per controlled component: for a model, the n \
+                               positions then the n velocities, 2n in all",
+                    });
+                }
+                v.clone()
+            }
+        };
+        for &a in &atol {
+            if !(a.is_finite() && a >= 0.0) {
+                return Err(Error::InvalidOption {
+                    name: "atol",
+                    value: a,
+                    hint: "absolute tolerances must be finite and non-negative",
+                });
+            }
+            if o.rtol == 0.0 && a < 1e-300 {
+                return Err(Error::InvalidOption {
+                    name: "atol",
+                    value: a,
+                    hint: "with rtol = 0 the absolute tolerance alone sets the accuracy, and it must be \
+                           positive and representable; give rtol > 0, or an atol such as 1e-12",
+                });
+            }
+        }
+        if let Some(h) = o.initial_step {
+            positive("initial_step", h.abs(), "a finite non-zero first step")?;
+        }
+        if let Some(h) = o.max_step {
+            positive("max_step", h, "a finite positive bound")?;
+        }
+        if o.max_steps == 0 {
+            return Err(Error::InvalidOption {
+                name: "max_steps",
+                value: 0.0,
+                hint: "allow at least one step",
+            });
+        }
+        if let Output::Times(ts) = &o.output {
+            check_finite("output time", ts)?;
+            let (lo, hi) = (t0.min(o.t_end), t0.max(o.t_end));
+            if let Some(&time) = ts.iter().find(|&&s| s < lo || s > hi) {
+                return Err(Error::OutputTimeOutOfRange {
+                    time,
+                    t0,
+                    t_end: o.t_end,
+                });
+            }
+        }
+        if let Some(p) = &o.projection {
+            positive(
+                "projection tol",
+                p.tol,
+                "a small positive relative residual such as 1e-14",
+            )?;
+        }
+        let controller = o.controller.unwrap_or(info.controller);
+        controller.validate()?;
+        Ok(Self {
+            t_end: o.t_end,
+            norm: ErrorNorm::new(o.rtol, atol),
+            output: &o.output,
+            max_steps: o.max_steps,
+            initial_step: o.initial_step,
+            max_step: o.max_step,
+            info,
+            controller,
+            event_samples: o.event_samples,
+        })
     }
-    if o.rtol < 100.0 * f64::EPSILON && o.rtol != 0.0 {
-        return Err(Error::InvalidOption {
-            name: "rtol",
-            value: o.rtol,
-            hint: "below 100 ulps (2.2e-14) no step size can meet the tolerance in f64; use 1e-13 or more",
-        });
-    }
-    if let Some(h) = o.initial_step {
-        positive("initial_step", h.abs(), "a finite non-zero first step")?;
-    }
-    if let Some(h) = o.max_step {
-        positive("max_step", h, "a finite positive bound")?;
-    }
-    if o.max_steps == 0 {
-        return Err(Error::InvalidOption {
-            name: "max_steps",
-            value: 0.0,
-            hint: "allow at least one step",
-        });
-    }
-    if let Output::Times(ts) = &o.output {
-        check_finite("output time", ts)?;
-    }
-    if let Some(p) = &o.projection {
-        positive(
-            "projection tol",
-            p.tol,
-            "a small positive relative residual such as 1e-14",
-        )?;
-    }
-    Ok(())
-}
-
-fn error_norm<const N: usize>(o: &Options<N>, n: usize) -> ErrorNorm {
-    let atol = match &o.atol {
-        Atol::Scalar(a) => vec![*a; 2 * n],
-        Atol::PerComponent(v) => v.clone(),
-    };
-    ErrorNorm::new(o.rtol, atol)
-}
-
-/// Runs the step loop with the settings of `options`; returns the outcome and the loop's counts
-/// (accepted and rejected steps).
-pub(crate) fn drive<S: OdeSystem, H: Hooks<S>, Me: Method, const N: usize>(
-    sys: &mut S,
-    hooks: &mut H,
-    method: Me,
-    t0: f64,
-    y: &mut [f64],
-    norm: &ErrorNorm,
-    options: &Options<N>,
-) -> (Result<(), Error>, Stats) {
-    let settings = LoopSettings {
-        output: &options.output,
-        max_steps: options.max_steps,
-        initial_step: options.initial_step,
-        max_step: options.max_step,
-    };
-    let mut counts = Stats::default();
-    let outcome = step_loop(
-        sys,
-        hooks,
-        method,
-        t0,
-        options.t_end,
-        y,
-        norm,
-        &settings,
-        &mut counts,
-    );
-    (outcome, counts)
 }
 
 /// What the step loop needs beyond the right-hand side: recording, event functions, projection.
@@ -203,8 +223,8 @@ pub(crate) trait Hooks<S: OdeSystem> {
     fn n_events(&self) -> usize;
     /// The value of event function `i` at `(t, y)`.
     fn event_value(&mut self, i: usize, t: f64, y: &[f64]) -> Result<f64, Error>;
-    /// Whether going from `g0` to `g1` is a crossing of event `i` that counts.
-    fn crosses(&self, i: usize, g0: f64, g1: f64) -> bool;
+    /// Which crossings of event `i` count.
+    fn direction(&self, i: usize) -> Direction;
     /// Whether event `i` stops the integration.
     fn is_terminal(&self, i: usize) -> bool;
     /// Event `i` happened at `(t, y)`.
@@ -215,53 +235,17 @@ pub(crate) trait Hooks<S: OdeSystem> {
     fn project(&mut self, sys: &mut S, t: f64, y: &mut [f64]) -> Result<bool, Error>;
 }
 
-/// The driver's settings that do not depend on the model.
-pub(crate) struct LoopSettings<'o> {
-    pub output: &'o Output,
-    pub max_steps: usize,
-    pub initial_step: Option<f64>,
-    pub max_step: Option<f64>,
-}
-
 /// The Chetaev driver's hooks: the solution being recorded and the user's options.
-struct ChetaevHooks<'s, const N: usize, const K: usize> {
-    sol: &'s mut Solution<N, K>,
-    options: &'s Options<N>,
+struct ChetaevHooks<'s> {
+    sol: &'s mut Solution,
+    options: &'s Options,
+    n: usize,
     event_evaluations: usize,
 }
 
-impl<M: Model<N, K>, const N: usize, const K: usize> Hooks<ChetaevOde<'_, M, N, K>>
-    for ChetaevHooks<'_, N, K>
-{
-    fn record(
-        &mut self,
-        sys: &mut ChetaevOde<'_, M, N, K>,
-        t: f64,
-        y: &[f64],
-    ) -> Result<(), Error> {
-        let (q, qd) = split::<N>(y);
-        // Evaluate before pushing anything, so a failure leaves every recorded vector the same length.
-        let d = if self.options.record >= Record::Dynamics {
-            Some(sys.evaluate(t, &q, &qd)?)
-        } else {
-            None
-        };
-        let sol = &mut *self.sol;
-        sol.t.push(t);
-        sol.q.push(q);
-        sol.qd.push(qd);
-        if let Some(d) = d {
-            sol.qdd.push(d.qdd);
-            sol.mu.push(d.mu);
-            sol.phi.push(d.phi);
-            sol.residual.push(d.f);
-            sol.energy.push(d.energy);
-        }
-        if self.options.record >= Record::Energy {
-            sol.work.push(y[2 * N]);
-            sol.dl_dt_integral.push(y[2 * N + 1]);
-        }
-        Ok(())
+impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
+    fn record(&mut self, sys: &mut ReducedOde<'_, M>, t: f64, y: &[f64]) -> Result<(), Error> {
+        self.sol.record(sys, t, y)
     }
 
     fn n_events(&self) -> usize {
@@ -269,9 +253,9 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Hooks<ChetaevOde<'_, M, N, 
     }
 
     fn event_value(&mut self, i: usize, t: f64, y: &[f64]) -> Result<f64, Error> {
-        let (q, qd) = split::<N>(y);
+        let n = self.n;
         self.event_evaluations += 1;
-        let v = (self.options.events[i].g)(t, &q, &qd);
+        let v = (self.options.events[i].g)(t, &y[..n], &y[n..2 * n]);
         if v.is_finite() {
             Ok(v)
         } else {
@@ -283,8 +267,8 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Hooks<ChetaevOde<'_, M, N, 
         }
     }
 
-    fn crosses(&self, i: usize, g0: f64, g1: f64) -> bool {
-        self.options.events[i].crosses(g0, g1)
+    fn direction(&self, i: usize) -> Direction {
+        self.options.events[i].direction
     }
 
     fn is_terminal(&self, i: usize) -> bool {
@@ -292,8 +276,13 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Hooks<ChetaevOde<'_, M, N, 
     }
 
     fn event_hit(&mut self, i: usize, t: f64, y: &[f64]) {
-        let (q, qd) = split::<N>(y);
-        self.sol.events.push(EventHit { index: i, t, q, qd });
+        let n = self.n;
+        self.sol.events.push(EventHit {
+            index: i,
+            t,
+            q: y[..n].to_vec(),
+            qd: y[n..2 * n].to_vec(),
+        });
     }
 
     fn terminated(&mut self, i: usize) {
@@ -302,22 +291,22 @@ impl<M: Model<N, K>, const N: usize, const K: usize> Hooks<ChetaevOde<'_, M, N, 
 
     fn project(
         &mut self,
-        sys: &mut ChetaevOde<'_, M, N, K>,
+        sys: &mut ReducedOde<'_, M>,
         t: f64,
         y: &mut [f64],
     ) -> Result<bool, Error> {
         let Some(p) = self.options.projection else {
             return Ok(false);
         };
-        if K == 0 {
+        if sys.model.sizes().1 == 0 {
             return Ok(false);
         }
-        let (q, qd) = split::<N>(y);
-        let r = project_velocity(sys.model, &mut sys.ws, t, &q, &qd, p.tol, p.max_iterations)?;
+        let n = self.n;
+        let (q, rest) = y.split_at_mut(n);
+        let iterations = project_velocity(sys.model, &mut sys.ws, t, q, &mut rest[..n], p)?;
         sys.stats.projections += 1;
-        sys.stats.projection_iterations += r.iterations;
-        y[N..2 * N].copy_from_slice(r.qd.as_slice());
-        Ok(r.iterations > 0)
+        sys.stats.projection_iterations += iterations;
+        Ok(iterations > 0)
     }
 }
 
@@ -338,6 +327,8 @@ pub struct OdeOptions {
     pub max_steps: usize,
     /// Where to record.
     pub output: Output,
+    /// Step-size controller; the method's own when `None`.
+    pub controller: Option<Controller>,
 }
 
 impl OdeOptions {
@@ -351,6 +342,7 @@ impl OdeOptions {
             max_step: None,
             max_steps: 1_000_000,
             output: Output::Steps,
+            controller: None,
         }
     }
 
@@ -359,6 +351,21 @@ impl OdeOptions {
         self.rtol = rtol;
         self.atol = Atol::Scalar(atol);
         self
+    }
+
+    /// The same settings as [`Options`] (with no events, projection or diagnostics).
+    fn as_options(&self) -> Options {
+        Options {
+            t_end: self.t_end,
+            rtol: self.rtol,
+            atol: self.atol.clone(),
+            initial_step: self.initial_step,
+            max_step: self.max_step,
+            max_steps: self.max_steps,
+            output: self.output.clone(),
+            controller: self.controller,
+            ..Options::until(self.t_end).record(Record::State)
+        }
     }
 }
 
@@ -392,8 +399,8 @@ impl<S: OdeSystem> Hooks<S> for PlainHooks<'_> {
     fn event_value(&mut self, _i: usize, _t: f64, _y: &[f64]) -> Result<f64, Error> {
         Ok(0.0)
     }
-    fn crosses(&self, _i: usize, _g0: f64, _g1: f64) -> bool {
-        false
+    fn direction(&self, _i: usize) -> Direction {
+        Direction::Either
     }
     fn is_terminal(&self, _i: usize) -> bool {
         false
@@ -415,7 +422,6 @@ pub fn solve_ode<S: OdeSystem, Me: Method>(
     y0: &[f64],
     options: &OdeOptions,
 ) -> Result<OdeSolution, Error> {
-    method.validate()?;
     check_finite("t0", std::slice::from_ref(&t0))?;
     check_finite("y0", y0)?;
     if y0.len() != sys.dim() {
@@ -425,69 +431,74 @@ pub fn solve_ode<S: OdeSystem, Me: Method>(
             hint: "the initial state must have the system's dimension",
         });
     }
-    let n = sys.controlled_dim();
-    let atol = match &options.atol {
-        Atol::Scalar(a) => vec![*a; n],
-        Atol::PerComponent(v) => v.clone(),
-    };
-    let mut check = Options::<0>::until(options.t_end).tolerances(options.rtol, 1.0);
-    check.initial_step = options.initial_step;
-    check.max_step = options.max_step;
-    check.max_steps = options.max_steps;
-    check.output = options.output.clone();
-    validate(&check)?;
-    if atol.len() != n || atol.iter().any(|a| !(a.is_finite() && *a >= 0.0)) {
-        return Err(Error::InvalidOption {
-            name: "atol",
-            value: atol.len() as f64,
-            hint: "absolute tolerances must be finite, non-negative, one per controlled component",
-        });
-    }
-    let norm = ErrorNorm::new(options.rtol, atol);
+    let o = options.as_options();
+    let settings = LoopSettings::new(&o, &method, t0, sys.controlled_dim())?;
     let mut sol = OdeSolution {
         t: Vec::new(),
         y: Vec::new(),
         stats: Stats::default(),
         error: None,
     };
-    let settings = LoopSettings {
-        output: &options.output,
-        max_steps: options.max_steps,
-        initial_step: options.initial_step,
-        max_step: options.max_step,
-    };
     let mut y = y0.to_vec();
     let mut counts = Stats::default();
+    let mut t_last = t0;
     let outcome = step_loop(
         sys,
         &mut PlainHooks { sol: &mut sol },
-        method,
+        &method,
         t0,
-        options.t_end,
         &mut y,
-        &norm,
         &settings,
         &mut counts,
+        &mut t_last,
     );
+    if outcome.is_err() && sol.t.last() != Some(&t_last) {
+        sol.t.push(t_last);
+        sol.y.push(y.clone());
+    }
     sol.error = outcome.err();
     sol.stats = counts;
     Ok(sol)
 }
 
+/// Whether a trial step's outcome means "the step left the model's domain or the floating-point
+/// range": such a step is retried smaller rather than failing at once.
+fn left_domain(trial: &Result<f64, Error>, y_new: &[f64]) -> bool {
+    match trial {
+        Ok(e) => !e.is_finite() || y_new.iter().any(|v| !v.is_finite()),
+        Err(Error::NonFiniteEvaluation { .. }) => true,
+        Err(_) => false,
+    }
+}
+
+/// Per-event state of the step loop: the value at the last step end, and whether the function was
+/// exactly zero at the start and has not left zero yet.
+struct EventState {
+    g: Vec<f64>,
+    zero_at_start: Vec<bool>,
+    /// Scratch for the samples of one step.
+    pts: Vec<(f64, f64)>,
+}
+
 /// The step loop shared by every driver: step-size control, dense output at requested times, event
-/// location, projection and recording.
+/// location, projection and recording. `y` holds the last accepted state on return, and `t_last`
+/// its time.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     sys: &mut S,
     hooks: &mut H,
-    method: Me,
+    method: &Me,
     t0: f64,
-    t_end: f64,
     y: &mut [f64],
-    norm: &ErrorNorm,
     settings: &LoopSettings<'_>,
     counts: &mut Stats,
+    t_last: &mut f64,
 ) -> Result<(), Error> {
+    let t_end = settings.t_end;
+    let norm = &settings.norm;
+    let info = &settings.info;
+    let controller = &settings.controller;
+    *t_last = t0;
     hooks.record(sys, t0, y)?;
     if t_end == t0 {
         return Ok(());
@@ -495,14 +506,18 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     let dir = (t_end - t0).signum();
     let dim = y.len();
     let mut stepper = method.stepper(dim);
-    stepper.set_dense_output(hooks.n_events() > 0 || matches!(settings.output, Output::Times(_)));
+    let n_events = hooks.n_events();
+    stepper.set_dense_output(n_events > 0 || matches!(settings.output, Output::Times(_)));
     stepper.reset(sys, t0, y)?;
 
-    let n_events = hooks.n_events();
-    let mut g_old = vec![0.0; n_events];
-    let mut g_new = vec![0.0; n_events];
-    for (i, g) in g_old.iter_mut().enumerate() {
-        *g = hooks.event_value(i, t0, y)?;
+    let mut events = EventState {
+        g: vec![0.0; n_events],
+        zero_at_start: vec![false; n_events],
+        pts: Vec::with_capacity(settings.event_samples + 2),
+    };
+    for i in 0..n_events {
+        events.g[i] = hooks.event_value(i, t0, y)?;
+        events.zero_at_start[i] = events.g[i] == 0.0;
     }
     let mut pending_times: Vec<f64> = match settings.output {
         Output::Times(ts) => {
@@ -521,22 +536,24 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         .unwrap_or(f64::INFINITY)
         .min((t_end - t0).abs());
 
-    let mut h = match stepper.fixed_step() {
+    let mut h = match info.fixed_step {
         Some(h) => h,
         None => match settings.initial_step {
             Some(h) => h.abs(),
-            None => initial_step(sys, t0, y, t_end, norm, dir)?,
+            None => initial_step(sys, t0, y, t_end, norm, dir, info.order)?,
         },
     }
     .min(h_max)
         * dir;
 
+    let adaptive = info.fixed_step.is_none();
+    let q = info.control_order;
     let mut t = t0;
     let mut y_new = vec![0.0; dim];
     let mut buf = vec![0.0; dim];
     let mut steps = 0usize;
     let mut rejected_last = false;
-    let order = stepper.control_order();
+    let mut err_prev = 1e-4f64;
     loop {
         if steps >= settings.max_steps {
             return Err(Error::MaxSteps {
@@ -552,34 +569,36 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
             h = remaining;
         }
         if h.abs() <= 4.0 * f64::EPSILON * t.abs() && !last {
-            return Err(Error::StepSizeTooSmall { t, h });
+            return Err(Error::StepSizeTooSmall {
+                t,
+                h,
+                advice: info.advice,
+            });
         }
         let trial = stepper.try_step(sys, t, h, y, &mut y_new, norm);
-        let err = match trial {
-            Ok(e) if e.is_finite() => e,
-            Ok(_) | Err(Error::NonFiniteEvaluation { .. }) if order.is_some() => {
-                // A trial stage left the model's domain: retry with a smaller step.
-                counts.rejected_steps += 1;
-                h *= 0.25;
-                rejected_last = true;
-                if h.abs() <= 4.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
-                    return Err(trial.err().unwrap_or(Error::StepSizeTooSmall { t, h }));
-                }
-                continue;
+        if left_domain(&trial, &y_new) {
+            if !adaptive {
+                return Err(match trial {
+                    Err(e) => e,
+                    Ok(_) => Error::NonFiniteState { t, h },
+                });
             }
-            Ok(_) => {
-                return Err(Error::NonFiniteEvaluation {
-                    t: t + h,
-                    q: y_new.clone(),
-                    qd: Vec::new(),
-                })
-            }
-            Err(e) => return Err(e),
-        };
-        if err > 1.0 && order.is_some() {
+            // A trial stage left the model's domain or the floating-point range: retry smaller.
             counts.rejected_steps += 1;
-            let p = order.unwrap_or(1) as f64;
-            h *= (SAFETY * err.powf(-1.0 / p)).clamp(FAC_MIN, 1.0);
+            h *= 0.25;
+            rejected_last = true;
+            if h.abs() <= 4.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
+                return Err(match trial {
+                    Err(e) => e,
+                    Ok(_) => Error::NonFiniteState { t, h },
+                });
+            }
+            continue;
+        }
+        let err = trial?;
+        if adaptive && err > 1.0 {
+            counts.rejected_steps += 1;
+            h *= controller.rejected(err, q);
             rejected_last = true;
             continue;
         }
@@ -589,52 +608,30 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         stepper.accept(sys, t, h, y, &y_new)?;
         let t_new = if last { t_end } else { t + h };
         if let Some(h_lambda) = stepper.stiffness() {
-            hooks.record(sys, t_new, &y_new)?;
+            y.copy_from_slice(&y_new);
+            *t_last = t_new;
+            hooks.record(sys, t_new, y)?;
             return Err(Error::Stiff {
                 t: t_new,
                 h_lambda,
-                suggestion: stepper.stiff_alternative(),
+                suggestion: "Rodas4",
             });
         }
 
         // Events on the dense output of [t, t_new].
-        let mut terminal: Option<(usize, f64)> = None;
-        if n_events > 0 {
-            for (i, g) in g_new.iter_mut().enumerate() {
-                *g = hooks.event_value(i, t_new, &y_new)?;
-            }
-            let mut hits: Vec<(usize, f64)> = Vec::new();
-            for i in 0..n_events {
-                if !hooks.crosses(i, g_old[i], g_new[i]) {
-                    continue;
-                }
-                let mut failure = None;
-                let mut at = |s: f64| {
-                    stepper.interpolate((s - t) / h, &mut buf);
-                    match hooks.event_value(i, s, &buf) {
-                        Ok(v) => v,
-                        Err(e) => {
-                            failure.get_or_insert(e);
-                            f64::NAN
-                        }
-                    }
-                };
-                let (ts, _) = locate_root(&mut at, t, g_old[i], t_new, g_new[i]);
-                if let Some(e) = failure {
-                    return Err(e);
-                }
-                hits.push((i, ts));
-            }
-            hits.sort_by(|a, b| (dir * a.1).total_cmp(&(dir * b.1)));
-            for &(i, ts) in &hits {
-                if hooks.is_terminal(i) {
-                    terminal = Some((i, ts));
-                    break;
-                }
-                stepper.interpolate((ts - t) / h, &mut buf);
-                hooks.event_hit(i, ts, &buf);
-            }
-        }
+        let terminal = if n_events > 0 {
+            find_events::<S, H, _>(
+                hooks,
+                &mut stepper,
+                &mut events,
+                (t, t_new, h, dir),
+                &y_new,
+                &mut buf,
+                settings.event_samples,
+            )?
+        } else {
+            None
+        };
         let t_stop = terminal.map_or(t_new, |(_, ts)| ts);
 
         // Dense output at requested times up to the stop (an event point and the final point are
@@ -665,8 +662,10 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
                 y_new.copy_from_slice(y);
             }
             hooks.project(sys, ts, &mut y_new)?;
-            hooks.event_hit(i, ts, &y_new);
-            hooks.record(sys, ts, &y_new)?;
+            y.copy_from_slice(&y_new);
+            *t_last = ts;
+            hooks.event_hit(i, ts, y);
+            hooks.record(sys, ts, y)?;
             hooks.terminated(i);
             return Ok(());
         }
@@ -674,23 +673,18 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         if hooks.project(sys, t_new, &mut y_new)? {
             stepper.reset(sys, t_new, &y_new)?;
         }
-        if last || matches!(settings.output, Output::Steps) {
-            hooks.record(sys, t_new, &y_new)?;
-        }
-        std::mem::swap(&mut g_old, &mut g_new);
         y.copy_from_slice(&y_new);
         t = t_new;
+        *t_last = t;
+        if last || matches!(settings.output, Output::Steps) {
+            hooks.record(sys, t, y)?;
+        }
         if last {
             return Ok(());
         }
-        if let Some(p) = order {
-            let fac_max = if rejected_last { 1.0 } else { FAC_MAX };
-            let fac = if err > 0.0 {
-                SAFETY * err.powf(-1.0 / p as f64)
-            } else {
-                FAC_MAX
-            };
-            h *= fac.clamp(FAC_MIN, fac_max);
+        if adaptive {
+            h *= controller.accepted(err, err_prev, q, rejected_last);
+            err_prev = err.max(1e-4);
             if h.abs() > h_max {
                 h = h_max * dir;
             }
@@ -699,8 +693,189 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     }
 }
 
-/// Hairer's starting step (Solving ODEs I, II.4): balances `h·|F|` against the tolerance and the
-/// second derivative estimated from one Euler step.
+/// Looks for zeros of the event functions on the dense output of the accepted step `[t, t_new]`.
+///
+/// Each function is sampled at `samples` equally spaced interior points and at `t_new`. A sign
+/// change between neighbouring samples is a crossing, located by regula falsi. Where the samples
+/// keep their sign but `|g|` has a local minimum at an interior sample, the function may have
+/// crossed zero twice in between (a trajectory grazing a level): the extremum of `g` there is
+/// searched by golden section, and if `g` changes sign at it both crossings are located. So a pair
+/// of crossings is found whenever the extremum between them is bracketed by samples; a pair is
+/// missed only when both zeros and the extremum lie within one sampling interval at a step's end.
+/// Non-terminal events are reported in time order; returns the first terminal one.
+///
+/// An event function exactly zero at the start time fires there when it leaves zero in a counted
+/// direction (a projectile launched downward from the ground hits it at once), and otherwise counts
+/// its crossings from the sign it takes when it leaves zero.
+#[allow(clippy::too_many_arguments)]
+fn find_events<S: OdeSystem, H: Hooks<S>, St: Stepper>(
+    hooks: &mut H,
+    stepper: &mut St,
+    events: &mut EventState,
+    (t, t_new, h, dir): (f64, f64, f64, f64),
+    y_new: &[f64],
+    buf: &mut [f64],
+    samples: usize,
+) -> Result<Option<(usize, f64)>, Error> {
+    let n_events = events.g.len();
+    let mut hits: Vec<(usize, f64)> = Vec::new();
+    let mut pts = std::mem::take(&mut events.pts);
+    for i in 0..n_events {
+        let direction = hooks.direction(i);
+        let terminal = hooks.is_terminal(i);
+        let mut value = |hooks: &mut H, stepper: &mut St, buf: &mut [f64], s: f64| {
+            stepper.interpolate((s - t) / h, buf);
+            hooks.event_value(i, s, buf)
+        };
+        pts.clear();
+        pts.push((t, events.g[i]));
+        for s in 1..=samples {
+            let b = t + h * (s as f64 / (samples + 1) as f64);
+            pts.push((b, value(hooks, stepper, buf, b)?));
+        }
+        let g_end = hooks.event_value(i, t_new, y_new)?;
+        pts.push((t_new, g_end));
+        events.g[i] = g_end;
+
+        let mut start = 0;
+        if events.zero_at_start[i] {
+            let Some(j) = pts.iter().position(|p| p.1 != 0.0) else {
+                continue;
+            };
+            events.zero_at_start[i] = false;
+            let leaves_counted = match direction {
+                Direction::Either => true,
+                Direction::Rising => pts[j].1 > 0.0,
+                Direction::Falling => pts[j].1 < 0.0,
+            };
+            if leaves_counted {
+                hits.push((i, pts[j - 1].0));
+                if terminal {
+                    continue;
+                }
+            }
+            start = j;
+        }
+
+        for j in start..pts.len() - 1 {
+            let ((a, ga), (b, gb)) = (pts[j], pts[j + 1]);
+            if crosses(direction, ga, gb) {
+                hits.push((i, root(hooks, stepper, buf, &mut value, (a, ga), (b, gb))?));
+                if terminal {
+                    break;
+                }
+                continue;
+            }
+            // A grazing approach: |g| smallest at the interior sample b, one sign throughout.
+            let Some(&(c, gc)) = pts.get(j + 2) else {
+                continue;
+            };
+            let one_sign = (ga > 0.0 && gb > 0.0 && gc > 0.0) || (ga < 0.0 && gb < 0.0 && gc < 0.0);
+            if !(one_sign && gb.abs() < ga.abs() && gb.abs() <= gc.abs()) {
+                continue;
+            }
+            let Some((x, gx)) = dip(hooks, stepper, buf, &mut value, (a, b, c), gb)? else {
+                continue;
+            };
+            if crosses(direction, ga, gx) {
+                hits.push((i, root(hooks, stepper, buf, &mut value, (a, ga), (x, gx))?));
+                if terminal {
+                    break;
+                }
+            }
+            if crosses(direction, gx, gc) {
+                hits.push((i, root(hooks, stepper, buf, &mut value, (x, gx), (c, gc))?));
+                if terminal {
+                    break;
+                }
+            }
+        }
+    }
+    events.pts = pts;
+    hits.sort_by(|a, b| (dir * a.1).total_cmp(&(dir * b.1)));
+    for &(i, ts) in &hits {
+        if hooks.is_terminal(i) {
+            return Ok(Some((i, ts)));
+        }
+        stepper.interpolate((ts - t) / h, buf);
+        hooks.event_hit(i, ts, buf);
+    }
+    Ok(None)
+}
+
+/// The crossing of `g` between `(a, g(a))` and `(b, g(b))`, by regula falsi on the dense output.
+fn root<H, St>(
+    hooks: &mut H,
+    stepper: &mut St,
+    buf: &mut [f64],
+    value: &mut impl FnMut(&mut H, &mut St, &mut [f64], f64) -> Result<f64, Error>,
+    (a, ga): (f64, f64),
+    (b, gb): (f64, f64),
+) -> Result<f64, Error> {
+    let mut failure = None;
+    let at = |s: f64| match value(hooks, stepper, buf, s) {
+        Ok(v) => v,
+        Err(e) => {
+            failure.get_or_insert(e);
+            f64::NAN
+        }
+    };
+    let (r, _) = locate_root(at, a, ga, b, gb);
+    match failure {
+        Some(e) => Err(e),
+        None => Ok(r),
+    }
+}
+
+/// Golden-section search for a sign change of `g` on `[a, c]`, where `g(b)` (`a < b < c` in the
+/// direction of integration) has the sign of `g` at both ends and the smallest magnitude of the
+/// three: minimises `|g|` along the dip and stops as soon as `g` changes sign. Returns that point
+/// and its value, or `None` when the extremum keeps the sign.
+fn dip<H, St>(
+    hooks: &mut H,
+    stepper: &mut St,
+    buf: &mut [f64],
+    value: &mut impl FnMut(&mut H, &mut St, &mut [f64], f64) -> Result<f64, Error>,
+    (a, b, c): (f64, f64, f64),
+    gb: f64,
+) -> Result<Option<(f64, f64)>, Error> {
+    const R: f64 = 0.381_966_011_250_105_1; // 2 − φ
+    let s = gb.signum();
+    let (mut lo, mut hi) = (a, c);
+    let (mut x, mut fx) = (b, s * gb);
+    for _ in 0..60 {
+        if (hi - lo).abs() <= 8.0 * f64::EPSILON * x.abs().max(1.0) {
+            break;
+        }
+        // Probe the larger of the two sub-intervals around the best point.
+        let u = if (hi - x).abs() > (x - lo).abs() {
+            x + R * (hi - x)
+        } else {
+            x - R * (x - lo)
+        };
+        let gu = value(hooks, stepper, buf, u)?;
+        if s * gu <= 0.0 {
+            return Ok(Some((u, gu)));
+        }
+        if s * gu < fx {
+            if (u - x) * (hi - lo) > 0.0 {
+                lo = x;
+            } else {
+                hi = x;
+            }
+            (x, fx) = (u, s * gu);
+        } else if (u - x) * (hi - lo) > 0.0 {
+            hi = u;
+        } else {
+            lo = u;
+        }
+    }
+    Ok(None)
+}
+
+/// Hairer's starting step (Solving ODEs I, II.4, the routine `HINIT` of DOPRI5 and DOP853): balances
+/// `h·|F|` against the tolerance and the second derivative estimated from one Euler step, for a
+/// method of order `order`.
 fn initial_step<S: OdeSystem>(
     sys: &mut S,
     t0: f64,
@@ -708,9 +883,10 @@ fn initial_step<S: OdeSystem>(
     t_end: f64,
     norm: &ErrorNorm,
     dir: f64,
+    order: u32,
 ) -> Result<f64, Error> {
     let dim = y0.len();
-    let p = 5.0f64;
+    let p = order as f64;
     let mut f0 = vec![0.0; dim];
     sys.rhs(t0, y0, &mut f0)?;
     let zeros = vec![0.0; dim];

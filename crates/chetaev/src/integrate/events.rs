@@ -2,8 +2,6 @@
 
 use std::sync::Arc;
 
-use nalgebra::SVector;
-
 use super::options::EventFn;
 
 /// Which sign changes of `g` count.
@@ -20,22 +18,32 @@ pub enum Direction {
 /// An event: a function `g(t, q, q̇)` whose zeros are located, a direction, and whether it stops
 /// the integration.
 #[derive(Clone)]
-pub struct Event<const N: usize> {
+pub struct Event {
     /// A name for reports.
     pub name: String,
     /// The event function.
-    pub g: EventFn<N>,
+    pub g: EventFn,
     /// Which crossings count.
     pub direction: Direction,
     /// Whether the integration stops at the first crossing.
     pub terminal: bool,
 }
 
-impl<const N: usize> Event<N> {
+impl std::fmt::Debug for Event {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Event")
+            .field("name", &self.name)
+            .field("direction", &self.direction)
+            .field("terminal", &self.terminal)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Event {
     /// An event with function `g`, counting crossings in both directions, not terminal.
     pub fn new(
         name: impl Into<String>,
-        g: impl Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> f64 + Send + Sync + 'static,
+        g: impl Fn(f64, &[f64], &[f64]) -> f64 + Send + Sync + 'static,
     ) -> Self {
         Self {
             name: name.into(),
@@ -62,11 +70,6 @@ impl<const N: usize> Event<N> {
         self.terminal = true;
         self
     }
-
-    /// Whether going from `g0` to `g1` (in the direction of integration) is a crossing that counts.
-    pub(crate) fn crosses(&self, g0: f64, g1: f64) -> bool {
-        crosses(self.direction, g0, g1)
-    }
 }
 
 /// Whether going from `g0` to `g1` (in the direction of integration) is a crossing in `direction`.
@@ -85,15 +88,15 @@ pub(crate) fn crosses(direction: Direction, g0: f64, g1: f64) -> bool {
 
 /// A located event.
 #[derive(Clone, Debug, PartialEq)]
-pub struct EventHit<const N: usize> {
+pub struct EventHit {
     /// Index of the event in the options.
     pub index: usize,
     /// The time of the zero of `g`.
     pub t: f64,
     /// Position at that time.
-    pub q: SVector<f64, N>,
+    pub q: Vec<f64>,
     /// Velocity at that time.
-    pub qd: SVector<f64, N>,
+    pub qd: Vec<f64>,
 }
 
 /// Finds a root of `g` in `[a, b]` (either order) given `g(a) = ga`, `g(b) = gb` of opposite signs
@@ -164,11 +167,11 @@ mod tests {
 
     #[test]
     fn direction_filters_crossings() {
-        let e = Event::<1>::new("x", |_, q, _| q[0]).falling();
-        assert!(e.crosses(1.0, -1.0));
-        assert!(!e.crosses(-1.0, 1.0));
-        assert!(!e.crosses(0.0, -1.0));
-        let e = Event::<1>::new("x", |_, q, _| q[0]).rising();
-        assert!(e.crosses(-1.0, 0.0));
+        let e = Event::new("x", |_, q, _| q[0]).falling();
+        assert!(crosses(e.direction, 1.0, -1.0));
+        assert!(!crosses(e.direction, -1.0, 1.0));
+        assert!(!crosses(e.direction, 0.0, -1.0));
+        let e = Event::new("x", |_, q, _| q[0]).rising();
+        assert!(crosses(e.direction, -1.0, 0.0));
     }
 }

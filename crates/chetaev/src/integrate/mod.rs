@@ -1,9 +1,12 @@
 //! Integration: the methods, and the driver that owns step control, output, events and projection.
 //!
-//! A method ([`Dopri5`], [`Dop853`], [`Rk4`], ...) is a small value holding only its own options.
-//! It produces a [`Stepper`] that knows how to take one trial step on an [`OdeSystem`], estimate its
-//! error, and interpolate inside the last accepted step. It never sees the physics; the driver
-//! ([`solve`](crate::solve)) never sees a tableau.
+//! A method ([`Dopri5`], [`Dop853`], [`Tsit5`], [`Rk4`], [`Rodas4`]) is a small value holding only
+//! its own options, and a recipe: its facts in one place ([`MethodInfo`]: orders, stability size,
+//! whether it needs a Jacobian, its step-size [`Controller`], the advice when it fails) and a
+//! [`Stepper`] that takes one trial step on an [`OdeSystem`], estimates its error and interpolates
+//! inside the last accepted step. It never sees the physics; the driver ([`solve`](crate::solve))
+//! never sees a tableau. `docs/adding-a-method.md` shows how a method is added; every method runs
+//! the same conformance suite.
 
 pub mod dop853;
 pub mod dopri5;
@@ -14,38 +17,157 @@ pub mod projection;
 pub mod rk4;
 pub mod rodas4;
 pub mod system;
+pub mod tsit5;
+
+#[cfg(test)]
+mod conformance;
 
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use rk4::Rk4;
 pub use rodas4::Rodas4;
+pub use tsit5::Tsit5;
 
 use crate::error::Error;
 use system::OdeSystem;
+
+/// The facts of a method, declared in one place beside its tableau. The driver reads them (the
+/// initial step uses `order`, step control uses `control_order` and `controller`), the advice on
+/// failure reads them, and the conformance suite checks them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MethodInfo {
+    /// The name, as in the literature.
+    pub name: &'static str,
+    /// The order `p` of the step.
+    pub order: u32,
+    /// The order of the embedded solution of the error estimate (`None` for a fixed-step method).
+    pub embedded_order: Option<u32>,
+    /// The exponent `q` of step-size control, `h_new ∝ err^(−1/q)`: the lower order of the pair
+    /// plus one for most embedded pairs, the order itself for DOP853's combined estimate.
+    pub control_order: u32,
+    /// The order of the dense output (the local error of the interpolant is `O(h^(dense_order+1))`).
+    pub dense_order: u32,
+    /// Where the stability region meets the negative real axis, `|hλ|` (`f64::INFINITY` for an
+    /// A-stable method); the stiffness test of explicit methods compares against it.
+    pub stability_size: f64,
+    /// Whether the method evaluates the Jacobian of the right-hand side (implicit methods).
+    pub needs_jacobian: bool,
+    /// The fixed step size of a method without error control.
+    pub fixed_step: Option<f64>,
+    /// The step-size controller the method calls for.
+    pub controller: Controller,
+    /// What to try when this method fails on a problem (shown with the error).
+    pub advice: &'static str,
+}
+
+/// A step-size controller: after a step with weighted error `err` (`≤ 1` accepts), the next step is
+///
+/// ```text
+/// h_new = h · clamp(safety · err^(−α) · err_prev^β, fac_min, fac_max),   α = 1/q − 0.75 β,
+/// ```
+///
+/// with `q` the method's control order and `err_prev` the error of the last accepted step (at least
+/// `1e-4`). `β = 0` is the classical (I) controller; `β > 0` is the PI controller of Gustafsson as
+/// in Hairer's DOPRI5 (Hairer, Nørsett, Wanner I, Section II.4, and IV.2 for `β = 0.04`). After a
+/// rejection the step never grows, and a rejected step shrinks by `clamp(safety · err^(−α),
+/// fac_min, 1)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Controller {
+    /// Safety factor (Hairer's `SAFE`, 0.9).
+    pub safety: f64,
+    /// Smallest step ratio (Hairer's `1/FAC1`... his `FAC1`: 0.2 in DOPRI5, 0.333 in DOP853).
+    pub fac_min: f64,
+    /// Largest step ratio (Hairer's `FAC2`: 10 in DOPRI5, 6 in DOP853).
+    pub fac_max: f64,
+    /// The PI controller's `β` (Hairer's `BETA`; 0 for the I controller).
+    pub beta: f64,
+}
+
+impl Controller {
+    /// The classical controller with safety 0.9 and step ratios in `[fac_min, fac_max]`.
+    pub const fn i(fac_min: f64, fac_max: f64) -> Self {
+        Self {
+            safety: 0.9,
+            fac_min,
+            fac_max,
+            beta: 0.0,
+        }
+    }
+
+    /// The PI controller with safety 0.9, step ratios in `[fac_min, fac_max]` and `β`.
+    pub const fn pi(fac_min: f64, fac_max: f64, beta: f64) -> Self {
+        Self {
+            safety: 0.9,
+            fac_min,
+            fac_max,
+            beta,
+        }
+    }
+
+    /// Checks the controller's numbers.
+    pub fn validate(&self) -> Result<(), Error> {
+        let ok = self.safety > 0.0
+            && self.safety <= 1.0
+            && self.fac_min > 0.0
+            && self.fac_min < 1.0
+            && self.fac_max > 1.0
+            && self.fac_max.is_finite()
+            && (0.0..0.2).contains(&self.beta);
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::InvalidOption {
+                name: "controller",
+                value: self.safety,
+                hint: "a controller needs 0 < safety ≤ 1, 0 < fac_min < 1 < fac_max < ∞ and 0 ≤ β < 0.2 \
+                       (Hairer's codes: safety 0.9, factors 0.2 and 10, β = 0.04)",
+            })
+        }
+    }
+
+    /// The step ratio after an accepted step with error `err`, with `alpha = 1/q − 0.75 β`.
+    #[inline]
+    pub(crate) fn accepted(&self, err: f64, err_prev: f64, q: u32, rejected_last: bool) -> f64 {
+        let alpha = 1.0 / q as f64 - 0.75 * self.beta;
+        let fac_max = if rejected_last { 1.0 } else { self.fac_max };
+        if err <= 0.0 {
+            return fac_max;
+        }
+        let mut fac = self.safety * err.powf(-alpha);
+        if self.beta != 0.0 {
+            fac *= err_prev.powf(self.beta);
+        }
+        fac.clamp(self.fac_min, fac_max)
+    }
+
+    /// The step ratio after a rejected step with error `err > 1`.
+    #[inline]
+    pub(crate) fn rejected(&self, err: f64, q: u32) -> f64 {
+        let alpha = 1.0 / q as f64 - 0.75 * self.beta;
+        (self.safety * err.powf(-alpha)).clamp(self.fac_min, 1.0)
+    }
+}
 
 /// A named integration method from the literature, with its options.
 pub trait Method {
     /// The stepper it runs.
     type Stepper: Stepper;
-    /// The method's name, as in the literature.
-    fn name(&self) -> &'static str;
+    /// The method's facts.
+    fn info(&self) -> MethodInfo;
     /// A stepper for a system of dimension `dim`, with its work vectors allocated once.
     fn stepper(&self, dim: usize) -> Self::Stepper;
     /// Checks the method's own options.
     fn validate(&self) -> Result<(), Error> {
         Ok(())
     }
+    /// The method's name, as in the literature.
+    fn name(&self) -> &'static str {
+        self.info().name
+    }
 }
 
 /// One integration method's step, error estimate and dense output.
 pub trait Stepper {
-    /// The order `p` of the step-size exponent `1/p` (the lower order of an embedded pair plus one);
-    /// `None` for a fixed-step method.
-    fn control_order(&self) -> Option<u32>;
-    /// The step size of a fixed-step method.
-    fn fixed_step(&self) -> Option<f64> {
-        None
-    }
     /// Prepares stepping from `(t, y)` (evaluates `F(t, y)` where the method reuses it). Called
     /// before the first step and whenever the state was changed from outside (projection).
     fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error>;
@@ -80,9 +202,152 @@ pub trait Stepper {
     fn stiffness(&self) -> Option<f64> {
         None
     }
-    /// The implicit method to suggest when this one detects stiffness.
-    fn stiff_alternative(&self) -> &'static str {
-        "Rodas4"
+}
+
+/// Every method of the crate as one value, for choosing a method at run time (scene files,
+/// command lines, sweeps). It is itself a [`Method`]: `solve(&problem, AnyMethod::Dop853(Dop853::default()), &options)`.
+/// With the `serde` feature it is (de)serialisable, as `{"method": "dop853"}` and the method's
+/// options beside it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "method", rename_all = "lowercase"))]
+#[non_exhaustive]
+pub enum AnyMethod {
+    /// [`Dopri5`].
+    Dopri5(Dopri5),
+    /// [`Dop853`].
+    Dop853(Dop853),
+    /// [`Tsit5`].
+    Tsit5(Tsit5),
+    /// [`Rk4`].
+    Rk4(Rk4),
+    /// [`Rodas4`].
+    Rodas4(Rodas4),
+}
+
+impl AnyMethod {
+    /// Every method with its default options (`Rk4` with step `rk4_step`), in the order of the
+    /// list above. The conformance suite runs on each.
+    pub fn all(rk4_step: f64) -> Vec<AnyMethod> {
+        vec![
+            AnyMethod::Dopri5(Dopri5::default()),
+            AnyMethod::Dop853(Dop853::default()),
+            AnyMethod::Tsit5(Tsit5),
+            AnyMethod::Rk4(Rk4::new(rk4_step)),
+            AnyMethod::Rodas4(Rodas4),
+        ]
+    }
+
+    /// The method of this name (case-insensitive: `dopri5`, `dop853`, `tsit5`, `rodas4`; `rk4`
+    /// takes its step `rk4_step`), with default options.
+    pub fn from_name(name: &str, rk4_step: Option<f64>) -> Result<AnyMethod, Error> {
+        Ok(match name.to_ascii_lowercase().as_str() {
+            "dopri5" => AnyMethod::Dopri5(Dopri5::default()),
+            "dop853" => AnyMethod::Dop853(Dop853::default()),
+            "tsit5" => AnyMethod::Tsit5(Tsit5),
+            "rodas4" => AnyMethod::Rodas4(Rodas4),
+            "rk4" => match rk4_step {
+                Some(h) => AnyMethod::Rk4(Rk4::new(h)),
+                None => {
+                    return Err(Error::InvalidOption {
+                        name: "Rk4::h",
+                        value: f64::NAN,
+                        hint: "Rk4 has a fixed step: give its step size",
+                    })
+                }
+            },
+            _ => {
+                return Err(Error::UnknownMethod {
+                    name: name.to_string(),
+                })
+            }
+        })
+    }
+}
+
+/// Expands to a `match` over the variants of [`AnyMethod`] (or [`AnyStepper`]), binding the inner
+/// value to `$m`.
+macro_rules! each_method {
+    ($value:expr, $enum:ident, $m:ident => $body:expr) => {
+        match $value {
+            $enum::Dopri5($m) => $body,
+            $enum::Dop853($m) => $body,
+            $enum::Tsit5($m) => $body,
+            $enum::Rk4($m) => $body,
+            $enum::Rodas4($m) => $body,
+        }
+    };
+}
+
+impl Method for AnyMethod {
+    type Stepper = AnyStepper;
+    fn info(&self) -> MethodInfo {
+        each_method!(self, AnyMethod, m => m.info())
+    }
+    fn stepper(&self, dim: usize) -> AnyStepper {
+        match self {
+            AnyMethod::Dopri5(m) => AnyStepper::Dopri5(m.stepper(dim)),
+            AnyMethod::Dop853(m) => AnyStepper::Dop853(m.stepper(dim)),
+            AnyMethod::Tsit5(m) => AnyStepper::Tsit5(m.stepper(dim)),
+            AnyMethod::Rk4(m) => AnyStepper::Rk4(m.stepper(dim)),
+            AnyMethod::Rodas4(m) => AnyStepper::Rodas4(m.stepper(dim)),
+        }
+    }
+    fn validate(&self) -> Result<(), Error> {
+        each_method!(self, AnyMethod, m => m.validate())
+    }
+}
+
+/// The stepper of an [`AnyMethod`]. Made once per solve, so the size of its largest variant
+/// (Dop853's sixteen stage vectors, held by value) costs nothing that matters.
+#[derive(Clone, Debug)]
+#[allow(clippy::large_enum_variant)]
+pub enum AnyStepper {
+    /// [`Dopri5`]'s.
+    Dopri5(dopri5::Dopri5Stepper),
+    /// [`Dop853`]'s.
+    Dop853(dop853::Dop853Stepper),
+    /// [`Tsit5`]'s.
+    Tsit5(tsit5::Tsit5Stepper),
+    /// [`Rk4`]'s.
+    Rk4(rk4::Rk4Stepper),
+    /// [`Rodas4`]'s.
+    Rodas4(rodas4::Rodas4Stepper),
+}
+
+impl Stepper for AnyStepper {
+    fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
+        each_method!(self, AnyStepper, s => s.reset(sys, t, y))
+    }
+    fn try_step<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h: f64,
+        y: &[f64],
+        y_new: &mut [f64],
+        norm: &ErrorNorm,
+    ) -> Result<f64, Error> {
+        each_method!(self, AnyStepper, s => s.try_step(sys, t, h, y, y_new, norm))
+    }
+    fn accept<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        h: f64,
+        y: &[f64],
+        y_new: &[f64],
+    ) -> Result<(), Error> {
+        each_method!(self, AnyStepper, s => s.accept(sys, t, h, y, y_new))
+    }
+    fn interpolate(&self, theta: f64, out: &mut [f64]) {
+        each_method!(self, AnyStepper, s => s.interpolate(theta, out))
+    }
+    fn set_dense_output(&mut self, needed: bool) {
+        each_method!(self, AnyStepper, s => s.set_dense_output(needed))
+    }
+    fn stiffness(&self) -> Option<f64> {
+        each_method!(self, AnyStepper, s => s.stiffness())
     }
 }
 
@@ -98,6 +363,12 @@ impl ErrorNorm {
     /// A norm with one relative tolerance and one absolute tolerance per controlled component.
     pub fn new(rtol: f64, atol: Vec<f64>) -> Self {
         Self { rtol, atol }
+    }
+
+    /// The scale `atol_i + rtol·max(|y_i|, |ŷ_i|)` of component `i`.
+    #[inline(always)]
+    pub fn scale(&self, i: usize, y: f64, y_new: f64) -> f64 {
+        self.atol[i] + self.rtol * y.abs().max(y_new.abs())
     }
 
     /// `Σ_i (e_i / sc_i)²` over the controlled components.
@@ -130,36 +401,49 @@ impl ErrorNorm {
 }
 
 /// Hairer's stiffness test for explicit Runge–Kutta methods (Hairer & Wanner II, Section IV.2, and
-/// the codes DOPRI5 and DOP853): on each accepted step `h·|λ|` is estimated from two stages `k_a`,
-/// `k_b` evaluated at the same node from states `y_a`, `y_b`, as `|h|·|k_a − k_b| / |y_a − y_b|`;
-/// the problem is stiff after 15 steps above the boundary of the method's stability region, and the
-/// count restarts after 6 steps below it.
-#[derive(Clone, Copy, Debug)]
+/// the codes DOPRI5 and DOP853): `h·|λ|` is estimated from two stages `k_a`, `k_b` evaluated at the
+/// same node from states `y_a`, `y_b`, as `|h|·|k_a − k_b| / |y_a − y_b|`; the problem is stiff
+/// after 15 tested steps above the boundary of the method's stability region, and the count
+/// restarts after 6 steps below it. As in the codes, only every `interval`-th accepted step is
+/// tested until one is found above the boundary; from then on every step is.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct StiffnessTest {
     enabled: bool,
     boundary: f64,
+    interval: u32,
+    accepted: u32,
     stiff_steps: u32,
     nonstiff_steps: u32,
     h_lambda: f64,
 }
 
 impl StiffnessTest {
-    /// A test against the stability boundary `boundary` (3.25 for DOPRI5, 6.1 for DOP853).
-    pub(crate) fn new(enabled: bool, boundary: f64) -> Self {
+    /// A test against the stability boundary `boundary` (3.25 for DOPRI5, 6.1 for DOP853), on
+    /// every `interval`-th step (1000 in the codes) until stiffness is suspected.
+    pub(crate) fn new(enabled: bool, boundary: f64, interval: u32) -> Self {
         Self {
             enabled,
             boundary,
+            interval: interval.max(1),
+            accepted: 0,
             stiff_steps: 0,
             nonstiff_steps: 0,
             h_lambda: 0.0,
         }
     }
 
-    /// Updates the test after an accepted step of size `h`.
-    pub(crate) fn observe(&mut self, h: f64, k_a: &[f64], k_b: &[f64], y_a: &[f64], y_b: &[f64]) {
+    /// Whether the step about to be accepted is tested (so the stepper computes the estimate).
+    #[inline]
+    pub(crate) fn wants_test(&mut self) -> bool {
         if !self.enabled {
-            return;
+            return false;
         }
+        self.accepted += 1;
+        self.stiff_steps > 0 || self.accepted % self.interval == 0
+    }
+
+    /// Updates the test after an accepted step of size `h`; call only when [`Self::wants_test`].
+    pub(crate) fn observe(&mut self, h: f64, k_a: &[f64], k_b: &[f64], y_a: &[f64], y_b: &[f64]) {
         let (mut num, mut den) = (0.0, 0.0);
         for i in 0..k_a.len() {
             num += (k_a[i] - k_b[i]).powi(2);
@@ -194,5 +478,47 @@ pub(crate) fn combine(out: &mut [f64], y: &[f64], h: f64, terms: &[(f64, &[f64])
             acc += a * k[i];
         }
         out[i] = y[i] + h * acc;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn any_method_names_round_trip() -> Result<(), Error> {
+        for m in AnyMethod::all(0.01) {
+            let name = m.name().to_ascii_lowercase();
+            let back = AnyMethod::from_name(&name, Some(0.01))?;
+            assert_eq!(back.info(), m.info());
+        }
+        assert!(matches!(
+            AnyMethod::from_name("euler", None),
+            Err(Error::UnknownMethod { .. })
+        ));
+        assert!(AnyMethod::from_name("rk4", None).is_err());
+        Ok(())
+    }
+
+    #[cfg(feature = "serde")]
+    #[test]
+    fn any_method_serialises_with_its_options() -> Result<(), Box<dyn std::error::Error>> {
+        for m in AnyMethod::all(0.01) {
+            let text = serde_json::to_string(&m)?;
+            let back: AnyMethod = serde_json::from_str(&text)?;
+            assert_eq!(back.info(), m.info(), "{text}");
+        }
+        let m: AnyMethod = serde_json::from_str(r#"{"method": "dop853"}"#)?;
+        assert_eq!(m.name(), "Dop853");
+        let m: AnyMethod =
+            serde_json::from_str(r#"{"method": "dopri5", "stiffness_detection": false}"#)?;
+        assert!(matches!(
+            m,
+            AnyMethod::Dopri5(Dopri5 {
+                stiffness_detection: false,
+                ..
+            })
+        ));
+        Ok(())
     }
 }

@@ -2,18 +2,17 @@
 
 use std::sync::Arc;
 
-use nalgebra::SVector;
-
 use super::events::Event;
 use super::projection::Projection;
+use super::Controller;
 
 /// Absolute tolerance: one number for every component, or one per component of `(q, q̇)`
-/// (length `2N`: the `N` positions, then the `N` velocities).
+/// (length `2n`: the `n` positions, then the `n` velocities).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Atol {
     /// The same absolute tolerance for every component.
     Scalar(f64),
-    /// One absolute tolerance per component of `(q, q̇)`, length `2N`.
+    /// One absolute tolerance per component of `(q, q̇)`, length `2n`.
     PerComponent(Vec<f64>),
 }
 
@@ -43,7 +42,7 @@ pub enum Record {
 
 /// Options of one solve. Build with [`Options::until`] and the builder methods.
 #[derive(Clone)]
-pub struct Options<const N: usize> {
+pub struct Options {
     /// The end time; earlier than the start time integrates backward.
     pub t_end: f64,
     /// Relative tolerance.
@@ -61,12 +60,20 @@ pub struct Options<const N: usize> {
     /// What to record.
     pub record: Record,
     /// Event functions.
-    pub events: Vec<Event<N>>,
+    pub events: Vec<Event>,
     /// Projection onto `f = 0` after each accepted step and at every recorded point (off by default).
     pub projection: Option<Projection>,
+    /// Interior points of each step at which event functions are sampled on the dense output
+    /// (besides the step's end), so that a function crossing zero twice within one step is seen
+    /// when its zeros are more than `h/(event_samples + 1)` apart. Default 4.
+    pub event_samples: usize,
+    /// Step-size controller; the method's own (its [`MethodInfo::controller`]) when `None`.
+    ///
+    /// [`MethodInfo::controller`]: super::MethodInfo::controller
+    pub controller: Option<Controller>,
 }
 
-impl<const N: usize> std::fmt::Debug for Options<N> {
+impl std::fmt::Debug for Options {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Options")
             .field("t_end", &self.t_end)
@@ -79,11 +86,13 @@ impl<const N: usize> std::fmt::Debug for Options<N> {
             .field("record", &self.record)
             .field("events", &self.events.len())
             .field("projection", &self.projection)
+            .field("event_samples", &self.event_samples)
+            .field("controller", &self.controller)
             .finish()
     }
 }
 
-impl<const N: usize> Options<N> {
+impl Options {
     /// Integrate to `t_end` with `rtol = 1e-6`, `atol = 1e-9`, output at every step, everything
     /// recorded, no events, no projection.
     pub fn until(t_end: f64) -> Self {
@@ -98,6 +107,8 @@ impl<const N: usize> Options<N> {
             record: Record::Energy,
             events: Vec::new(),
             projection: None,
+            event_samples: 4,
+            controller: None,
         }
     }
 
@@ -108,12 +119,33 @@ impl<const N: usize> Options<N> {
         self
     }
 
-    /// Sets one absolute tolerance per component: `q` first, then `q̇`.
-    pub fn atol_per_component(mut self, atol_q: SVector<f64, N>, atol_qd: SVector<f64, N>) -> Self {
-        let mut v = atol_q.as_slice().to_vec();
-        v.extend_from_slice(atol_qd.as_slice());
+    /// Sets one absolute tolerance per component: the `n` positions `q` first, then the `n`
+    /// velocities `q̇` (checked against the model's sizes by [`solve`](crate::solve)).
+    pub fn atol_per_component(mut self, atol_q: &[f64], atol_qd: &[f64]) -> Self {
+        let mut v = atol_q.to_vec();
+        v.extend_from_slice(atol_qd);
         self.atol = Atol::PerComponent(v);
         self
+    }
+
+    /// Records on `count` equally spaced times from the start time `t0` to the end time,
+    /// both included (`count ≥ 2`).
+    pub fn output_grid(self, t0: f64, count: usize) -> Self {
+        let t_end = self.t_end;
+        let times = match count {
+            0 => Vec::new(),
+            1 => vec![t_end],
+            _ => (0..count)
+                .map(|i| {
+                    if i + 1 == count {
+                        t_end
+                    } else {
+                        t0 + (t_end - t0) * (i as f64 / (count - 1) as f64)
+                    }
+                })
+                .collect(),
+        };
+        self.output_times(times)
     }
 
     /// Records at these times only.
@@ -135,7 +167,7 @@ impl<const N: usize> Options<N> {
     }
 
     /// Adds an event function.
-    pub fn event(mut self, event: Event<N>) -> Self {
+    pub fn event(mut self, event: Event) -> Self {
         self.events.push(event);
         self
     }
@@ -163,8 +195,20 @@ impl<const N: usize> Options<N> {
         self.max_steps = n;
         self
     }
+
+    /// Sets the number of interior points of each step at which event functions are sampled.
+    pub fn event_samples(mut self, samples: usize) -> Self {
+        self.event_samples = samples;
+        self
+    }
+
+    /// Replaces the method's step-size controller.
+    pub fn controller(mut self, controller: Controller) -> Self {
+        self.controller = Some(controller);
+        self
+    }
 }
 
-/// An event function `g(t, q, q̇)`, shared so options can be cloned across a parameter sweep.
-pub type EventFn<const N: usize> =
-    Arc<dyn Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> f64 + Send + Sync>;
+/// An event function `g(t, q, q̇)` on slices of length `n`, shared so options can be cloned across
+/// a parameter sweep.
+pub type EventFn = Arc<dyn Fn(f64, &[f64], &[f64]) -> f64 + Send + Sync>;

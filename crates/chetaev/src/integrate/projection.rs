@@ -12,12 +12,10 @@
 //! the same block system as the equations of motion, so it needs no new assumption. Positions are
 //! not touched: velocity constraints do not restrict them.
 
-use nalgebra::SVector;
-
-use crate::equations::derivatives::{constraint_derivatives, velocity_hessian};
-use crate::equations::saddle::{self, SaddleFailure, SaddleWorkspace};
+use crate::equations::saddle::{self, SaddleFailure};
+use crate::equations::Workspace;
 use crate::error::Error;
-use crate::integrate::system::locate_slices;
+use crate::integrate::system::locate;
 use crate::model::Model;
 
 /// Options of the projection onto `f = 0`. Opt-in: see [`Options::project`](super::options::Options::project).
@@ -41,17 +39,6 @@ impl Default for Projection {
     }
 }
 
-/// The result of a projection.
-#[derive(Clone, Copy, Debug)]
-pub struct Projected<const N: usize> {
-    /// The projected velocity.
-    pub qd: SVector<f64, N>,
-    /// Newton iterations done (each one derivative evaluation and block solve).
-    pub iterations: usize,
-    /// `max_a |f_a|` relative to `|J_a|·|q̇|` at the projected velocity.
-    pub residual: f64,
-}
-
 /// The natural scale `|J_a|·|q̇|` of constraint `a` (1 where it vanishes), against which residuals
 /// are measured.
 pub(crate) fn constraint_scale(j_row_norm: f64, qd_norm: f64) -> f64 {
@@ -63,57 +50,36 @@ pub(crate) fn constraint_scale(j_row_norm: f64, qd_norm: f64) -> f64 {
     }
 }
 
-/// Projects `q̇` onto `f(t, q, ·) = 0` in the metric `W`; see the module docs.
-pub fn project_velocity<M: Model<N, K>, const N: usize, const K: usize>(
+/// Projects `q̇` (in place, length `n`) onto `f(t, q, ·) = 0` in the metric `W`; see the module
+/// docs. Returns the Newton iterations done (each one derivative evaluation and block solve).
+pub fn project_velocity<M: Model + ?Sized>(
     model: &M,
-    ws: &mut SaddleWorkspace<f64>,
+    ws: &mut Workspace<f64>,
     t: f64,
-    q: &SVector<f64, N>,
-    qd: &SVector<f64, N>,
-    tol: f64,
-    max_iterations: usize,
-) -> Result<Projected<N>, Error> {
-    let mut v = *qd;
-    let outcome = newton_projection(
-        N,
-        K,
-        v.as_mut_slice(),
-        Projection {
-            tol,
-            max_iterations,
-        },
+    q: &[f64],
+    qd: &mut [f64],
+    settings: Projection,
+) -> Result<usize, Error> {
+    let (n, k) = model.sizes();
+    if k == 0 {
+        return Ok(0);
+    }
+    let mut blocks = crate::equations::derivatives::ConstraintBlocks::new(n, k);
+    newton_projection(
+        n,
+        k,
+        qd,
+        settings,
         ws,
         |qd, f, j| {
-            let cd = constraint_derivatives::<M, f64, N, K>(
-                model,
-                t,
-                q,
-                &SVector::from_column_slice(qd),
-            );
-            f.copy_from_slice(cd.f.as_slice());
-            for a in 0..K {
-                for i in 0..N {
-                    j[a * N + i] = cd.j[(a, i)];
-                }
-            }
+            model.constraint_blocks(t, q, qd, false, &mut blocks);
+            f.copy_from_slice(&blocks.f);
+            j.copy_from_slice(&blocks.j);
         },
-        |qd, w| {
-            let (_, _, wm) = velocity_hessian(model, t, q, &SVector::from_column_slice(qd));
-            for i in 0..N {
-                for m in 0..N {
-                    w[i * N + m] = wm[(i, m)];
-                }
-            }
-        },
-    );
-    match outcome {
-        Ok((iterations, residual)) => Ok(Projected {
-            qd: v,
-            iterations,
-            residual,
-        }),
-        Err(e) => Err(e.locate(t, q.as_slice(), v.as_slice())),
-    }
+        |qd, w| model.velocity_hessian(t, q, qd, w),
+    )
+    .map(|(iterations, _)| iterations)
+    .map_err(|e| e.locate(t, q, qd))
 }
 
 /// Why a Newton projection stopped without converging.
@@ -134,7 +100,7 @@ impl ProjectionFailure {
     /// The error, with the time and state where it happened.
     pub(crate) fn locate(self, t: f64, q: &[f64], qd: &[f64]) -> Error {
         match self {
-            Self::Saddle(e) => locate_slices(e, t, q, qd),
+            Self::Saddle(e) => locate(e, t, q, qd),
             Self::NotConverged {
                 residual,
                 iterations,
@@ -155,7 +121,7 @@ pub(crate) fn newton_projection(
     k: usize,
     qd: &mut [f64],
     settings: Projection,
-    ws: &mut SaddleWorkspace<f64>,
+    ws: &mut Workspace<f64>,
     mut constraints: impl FnMut(&[f64], &mut [f64], &mut [f64]),
     mut metric: impl FnMut(&[f64], &mut [f64]),
 ) -> Result<(usize, f64), ProjectionFailure> {
@@ -190,7 +156,7 @@ pub(crate) fn newton_projection(
         previous = residual;
         metric(qd, &mut w);
         saddle::solve_blocks(
-            ws,
+            ws.saddle(),
             n,
             k,
             |i, m| w[i * n + m],
@@ -199,7 +165,7 @@ pub(crate) fn newton_projection(
             |a| -f[a],
         )
         .map_err(ProjectionFailure::Saddle)?;
-        let step = &ws.solution()[..n];
+        let step = &ws.saddle().solution()[..n];
         let step_norm = norm(step);
         for (v, dv) in qd.iter_mut().zip(step) {
             *v += dv;

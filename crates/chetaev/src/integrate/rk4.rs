@@ -3,12 +3,13 @@
 //! Tableau: W. Kutta, "Beitrag zur näherungsweisen Integration totaler Differentialgleichungen",
 //! Z. Math. Phys. 46 (1901) 435–453; Hairer, Nørsett, Wanner, *Solving ODEs I*, Table II.1.2.
 
-use super::{combine, system::OdeSystem, ErrorNorm, Method, Stepper};
+use super::{combine, system::OdeSystem, Controller, ErrorNorm, Method, MethodInfo, Stepper};
 use crate::error::Error;
 
 /// Classical Runge–Kutta, fourth order, fixed step `h` (the last step is shortened to end exactly
 /// at the end time). No error control: the accuracy is whatever `h` gives.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Rk4 {
     /// The step size (positive; the driver applies the direction of integration).
     pub h: f64,
@@ -23,12 +24,24 @@ impl Rk4 {
 
 impl Method for Rk4 {
     type Stepper = Rk4Stepper;
-    fn name(&self) -> &'static str {
-        "Rk4"
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            name: "Rk4",
+            order: 4,
+            embedded_order: None,
+            control_order: 4,
+            dense_order: 3,
+            stability_size: 2.78,
+            needs_jacobian: false,
+            fixed_step: Some(self.h),
+            controller: Controller::i(0.2, 10.0),
+            advice:
+                "Rk4 has no error control: halve the step to check the error, or use Dopri5 or \
+                     Dop853 with a tolerance",
+        }
     }
     fn stepper(&self, dim: usize) -> Rk4Stepper {
         Rk4Stepper {
-            h: self.h,
             k: std::array::from_fn(|_| vec![0.0; dim]),
             ytmp: vec![0.0; dim],
             y0: vec![0.0; dim],
@@ -53,7 +66,6 @@ impl Method for Rk4 {
 /// The working state of [`Rk4`].
 #[derive(Clone, Debug)]
 pub struct Rk4Stepper {
-    h: f64,
     k: [Vec<f64>; 4],
     ytmp: Vec<f64>,
     y0: Vec<f64>,
@@ -63,14 +75,6 @@ pub struct Rk4Stepper {
 }
 
 impl Stepper for Rk4Stepper {
-    fn control_order(&self) -> Option<u32> {
-        None
-    }
-
-    fn fixed_step(&self) -> Option<f64> {
-        Some(self.h)
-    }
-
     fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
         sys.rhs(t, y, &mut self.k[0])
     }

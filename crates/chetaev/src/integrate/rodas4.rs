@@ -31,7 +31,7 @@
 
 use nalgebra::{DMatrix, DVectorViewMut, Dyn, LU};
 
-use super::{combine, system::OdeSystem, ErrorNorm, Method, Stepper};
+use super::{combine, system::OdeSystem, Controller, ErrorNorm, Method, MethodInfo, Stepper};
 use crate::error::Error;
 
 const GAMMA: f64 = 0.25;
@@ -95,13 +95,27 @@ const D35: f64 = -0.6594389125716872e+01;
 /// reports with [`Error::Stiff`]. Every step uses the exact Jacobian of the reduced equations and
 /// their exact time derivative (nested dual numbers), so the order is attained on non-autonomous
 /// problems as well. It has no options: the step-size control is the driver's.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Rodas4;
 
 impl Method for Rodas4 {
     type Stepper = Rodas4Stepper;
-    fn name(&self) -> &'static str {
-        "Rodas4"
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            name: "Rodas4",
+            order: 4,
+            embedded_order: Some(3),
+            control_order: 4,
+            dense_order: 3,
+            stability_size: f64::INFINITY,
+            needs_jacobian: true,
+            fixed_step: None,
+            controller: Controller::i(0.2, 10.0),
+            advice:
+                "on a non-stiff problem Dopri5 or Dop853 is cheaper; a failing Rodas4 run often \
+                     means a singularity of the model near the failure",
+        }
     }
     fn stepper(&self, dim: usize) -> Rodas4Stepper {
         Rodas4Stepper {
@@ -180,10 +194,6 @@ impl Rodas4Stepper {
 }
 
 impl Stepper for Rodas4Stepper {
-    fn control_order(&self) -> Option<u32> {
-        Some(4)
-    }
-
     fn reset<S: OdeSystem>(&mut self, _sys: &mut S, _t: f64, _y: &[f64]) -> Result<(), Error> {
         // F, J and ∂F/∂t are evaluated by the step at its starting point, and reused only while
         // that point stays the same.

@@ -1,14 +1,13 @@
 //! The reduced Chetaev equations as a first-order ODE on flat `f64` slices, which is all an
 //! integrator sees.
 //!
-//! State layout: `y = [q (N), q̇ (N)]`, followed, when the energy balance is recorded, by two
+//! State layout: `y = [q (n), q̇ (n)]`, followed, when the energy balance is recorded, by two
 //! quadratures `[W_Φ, ∫∂L/∂t dt]` with `dW_Φ/dt = q̇·Φ`. The quadratures are outside error
 //! control, so recording them never changes the motion.
 
-use nalgebra::SVector;
 use num_dual::Dual64;
 
-use crate::equations::{dynamics, saddle::SaddleFailure, saddle::SaddleWorkspace, Dynamics};
+use crate::equations::{evaluate, saddle::SaddleFailure, Dynamics, Workspace};
 use crate::error::Error;
 use crate::model::Model;
 
@@ -38,7 +37,7 @@ pub trait OdeSystem {
 pub struct Stats {
     /// Evaluations of the reduced right-hand side by the integrator.
     pub rhs_evaluations: usize,
-    /// Evaluations of the exact Jacobian (each costs `2·dim + 1` dual right-hand sides).
+    /// Evaluations of the exact Jacobian (each costs `2n + 1` dual evaluations of the equations).
     pub jacobian_evaluations: usize,
     /// LU decompositions of the implicit methods' iteration matrix.
     pub lu_decompositions: usize,
@@ -69,24 +68,14 @@ impl Stats {
     }
 }
 
-/// Adds `t` and the state to a failure of the block solve.
-pub(crate) fn locate<const N: usize>(
-    e: SaddleFailure,
-    t: f64,
-    q: &SVector<f64, N>,
-    qd: &SVector<f64, N>,
-) -> Error {
-    locate_slices(e, t, q.as_slice(), qd.as_slice())
-}
-
-/// [`locate`] for states held as slices.
-pub(crate) fn locate_slices(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
+/// Adds `t` and the state to a failure of the block solve. Constraints are numbered from 1.
+pub(crate) fn locate(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
     let (q, qd) = (q.to_vec(), qd.to_vec());
     match e {
         SaddleFailure::NonFinite => Error::NonFiniteEvaluation { t, q, qd },
         SaddleFailure::ZeroConstraintRow { row } => Error::DegenerateConstraint {
             t,
-            index: row,
+            index: row + 1,
             q,
             qd,
         },
@@ -99,69 +88,75 @@ pub(crate) fn locate_slices(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> 
     }
 }
 
-/// The reduced equations of one model, with scratch space and counters.
-pub(crate) struct ChetaevOde<'a, M, const N: usize, const K: usize> {
-    pub model: &'a M,
-    pub ws: SaddleWorkspace<f64>,
-    pub energy: bool,
+/// The reduced Chetaev equations of one model as a first-order system on `y = [q, q̇]` (and, with
+/// `energy`, the two quadratures `[W_Φ, ∫∂L/∂t dt]`), with scratch space and counters: what the
+/// driver integrates, and what another integrator (a backend) can integrate.
+pub struct ReducedOde<'a, M: ?Sized> {
+    pub(crate) model: &'a M,
+    pub(crate) n: usize,
+    pub(crate) ws: Workspace<f64>,
+    /// Scratch space for the dual evaluations of the Jacobian, made on first use.
+    jac_ws: Option<Workspace<Dual64>>,
+    energy: bool,
+    /// The work done so far.
     pub stats: Stats,
 }
 
-impl<'a, M: Model<N, K>, const N: usize, const K: usize> ChetaevOde<'a, M, N, K> {
+impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
+    /// The reduced equations of `model`; with `energy` the state carries the two quadratures of
+    /// the energy balance.
     pub fn new(model: &'a M, energy: bool) -> Self {
         Self {
             model,
-            ws: SaddleWorkspace::default(),
+            n: model.sizes().0,
+            ws: Workspace::for_model(model),
+            jac_ws: None,
             energy,
             stats: Stats::default(),
         }
     }
 
+    /// Whether the state carries the energy quadratures.
+    pub fn has_energy(&self) -> bool {
+        self.energy
+    }
+
+    /// The number of coordinates `n`.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
     /// The full dynamics at a state, for output (counted as an output evaluation).
-    pub fn evaluate(
-        &mut self,
-        t: f64,
-        q: &SVector<f64, N>,
-        qd: &SVector<f64, N>,
-    ) -> Result<Dynamics<f64, N, K>, Error> {
+    pub fn evaluate(&mut self, t: f64, q: &[f64], qd: &[f64]) -> Result<&Dynamics<f64>, Error> {
         self.stats.output_evaluations += 1;
-        dynamics(self.model, &mut self.ws, t, q, qd).map_err(|e| locate(e, t, q, qd))
+        evaluate(self.model, &mut self.ws, t, q, qd).map_err(|e| locate(e, t, q, qd))
     }
 }
 
-/// Splits a flat state into `q` and `q̇`.
-#[inline(always)]
-pub(crate) fn split<const N: usize>(y: &[f64]) -> (SVector<f64, N>, SVector<f64, N>) {
-    (
-        SVector::<f64, N>::from_column_slice(&y[..N]),
-        SVector::<f64, N>::from_column_slice(&y[N..2 * N]),
-    )
-}
-
-impl<M: Model<N, K>, const N: usize, const K: usize> OdeSystem for ChetaevOde<'_, M, N, K> {
+impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
     fn dim(&self) -> usize {
         if self.energy {
-            2 * N + 2
+            2 * self.n + 2
         } else {
-            2 * N
+            2 * self.n
         }
     }
 
     fn controlled_dim(&self) -> usize {
-        2 * N
+        2 * self.n
     }
 
     #[inline]
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
         self.stats.rhs_evaluations += 1;
-        let (q, qd) = split::<N>(y);
-        let d =
-            dynamics(self.model, &mut self.ws, t, &q, &qd).map_err(|e| locate(e, t, &q, &qd))?;
-        dy[..N].copy_from_slice(qd.as_slice());
-        dy[N..2 * N].copy_from_slice(d.qdd.as_slice());
+        let n = self.n;
+        let (q, qd) = (&y[..n], &y[n..2 * n]);
+        let d = evaluate(self.model, &mut self.ws, t, q, qd).map_err(|e| locate(e, t, q, qd))?;
+        dy[..n].copy_from_slice(qd);
+        dy[n..2 * n].copy_from_slice(&d.qdd);
         if self.energy {
-            dy[2 * N] = d.power(&qd);
-            dy[2 * N + 1] = d.dl_dt;
+            dy[2 * n] = d.power;
+            dy[2 * n + 1] = d.dl_dt;
         }
         Ok(())
     }
@@ -178,42 +173,47 @@ impl<M: Model<N, K>, const N: usize, const K: usize> OdeSystem for ChetaevOde<'_
         dfdt: &mut [f64],
     ) -> Result<(), Error> {
         self.stats.jacobian_evaluations += 1;
-        let dim = self.dim();
-        let mut ws = SaddleWorkspace::<Dual64>::default();
-        // One forward pass per direction: y_j for j < 2N, then t. The quadratures do not feed back.
-        for dir in 0..=2 * N {
+        let (n, dim) = (self.n, self.dim());
+        let model = self.model;
+        let ws = self
+            .jac_ws
+            .get_or_insert_with(|| Workspace::for_model(model));
+        let mut q = vec![Dual64::from(0.0); n];
+        let mut qd = vec![Dual64::from(0.0); n];
+        // One forward pass per direction: y_j for j < 2n, then t. The quadratures do not feed back.
+        for dir in 0..=2 * n {
             let seed = |i: usize| if i == dir { 1.0 } else { 0.0 };
-            let q = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(y[i], seed(i)));
-            let qd = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(y[N + i], seed(N + i)));
-            let td = Dual64::new(t, seed(2 * N));
-            let (qr, qdr) = split::<N>(y);
-            let d =
-                dynamics(self.model, &mut ws, td, &q, &qd).map_err(|e| locate(e, t, &qr, &qdr))?;
-            let mut col = |row: usize, v: f64| {
-                if dir < 2 * N {
+            for i in 0..n {
+                q[i] = Dual64::new(y[i], seed(i));
+                qd[i] = Dual64::new(y[n + i], seed(n + i));
+            }
+            let td = Dual64::new(t, seed(2 * n));
+            let d = evaluate(model, ws, td, &q, &qd)
+                .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
+            let mut put = |row: usize, v: f64| {
+                if dir < 2 * n {
                     jac[row * dim + dir] = v;
                 } else {
                     dfdt[row] = v;
                 }
             };
-            for i in 0..N {
-                col(i, qd[i].eps);
-                col(N + i, d.qdd[i].eps);
+            for (i, (v, a)) in qd.iter().zip(&d.qdd).enumerate() {
+                put(i, v.eps);
+                put(n + i, a.eps);
             }
             if self.energy {
-                col(2 * N, d.power(&qd).eps);
-                col(2 * N + 1, d.dl_dt.eps);
+                put(2 * n, d.power.eps);
+                put(2 * n + 1, d.dl_dt.eps);
             }
         }
         if self.energy {
             for row in 0..dim {
-                jac[row * dim + 2 * N] = 0.0;
-                jac[row * dim + 2 * N + 1] = 0.0;
+                jac[row * dim + 2 * n] = 0.0;
+                jac[row * dim + 2 * n + 1] = 0.0;
             }
         }
         if jac.iter().chain(dfdt.iter()).any(|v| !v.is_finite()) {
-            let (q, qd) = split::<N>(y);
-            return Err(locate(SaddleFailure::NonFinite, t, &q, &qd));
+            return Err(locate(SaddleFailure::NonFinite, t, &y[..n], &y[n..2 * n]));
         }
         Ok(())
     }

@@ -1,8 +1,5 @@
-//! Every derivative of `L` and `f` the Chetaev equations need, by forward-mode automatic
-//! differentiation. This is the one place where num-dual's types appear.
-//!
-//! All functions are generic over the outer scalar `T`: `f64` for values, and a dual number when
-//! the caller differentiates the reduced equations once more (the Jacobian of the implicit methods).
+//! Derivatives of a static model (`Lagrangian<N> + Constraints<N, K>`) by vector dual numbers,
+//! which carry every direction at once and live on the stack.
 //!
 //! The Lagrangian takes three passes, each with the smallest dual type that carries its result:
 //!
@@ -16,12 +13,14 @@
 //! so a directional derivative suffices. The work is `O(N²)` for A and `O(N)` for B and C.
 //!
 //! The constraints take two passes: `DualVec<N>` over `q̇` (`f` and `J = ∂f/∂q̇`), and a scalar
-//! dual along the direction `(q̇, 1)` (`(∂f/∂q) q̇ + ∂f/∂t`). With `K = 0` neither runs.
+//! dual along the direction `(q̇, 1)` (`(∂f/∂q) q̇ + ∂f/∂t`).
 
 use nalgebra::{Const, SMatrix, SVector, U1};
 use num_dual::{Derivative, Dual, Dual2Vec, DualVec, HyperDualVec};
 
 use crate::model::{Constraints, Lagrangian, Real};
+
+use super::{ConstraintBlocks, LagrangianBlocks};
 
 /// The Lagrangian and its derivatives at one point `(t, q, q̇)`.
 #[derive(Clone, Copy, Debug)]
@@ -221,39 +220,120 @@ where
     M: Constraints<N, K> + ?Sized,
     T: Real,
 {
-    let n = Const::<N>;
-
-    // J from a gradient over q̇.
-    type D<T, const N: usize> = DualVec<T, f64, Const<N>>;
-    let td = D::<T, N>::from_re(t);
-    let qdual: SVector<D<T, N>, N> = q.map(D::from_re);
-    let mut qdd: SVector<D<T, N>, N> = qd.map(D::from_re);
-    for (i, x) in qdd.iter_mut().enumerate() {
-        x.eps = Derivative::derivative_generic(n, U1, i);
-    }
-    let fd = model.constraints(td, &qdual, &qdd);
-    let f = fd.map(|fa| fa.re);
-    let j = SMatrix::<T, K, N>::from_fn(|a, i| fd[a].eps.unwrap_generic(n, U1)[i]);
-
-    // (∂f/∂q) q̇ + ∂f/∂t from one directional derivative along (δq, δt) = (q̇, 1).
-    let te = Dual::<T, f64>::new(t, T::one());
-    let qe: SVector<Dual<T, f64>, N> = SVector::from_fn(|i, _| Dual::new(q[i], qd[i]));
-    let qde: SVector<Dual<T, f64>, N> = qd.map(Dual::from_re);
-    let c = model.constraints(te, &qe, &qde).map(|fa| fa.eps);
-
+    let (f, j) = constraint_jacobian::<M, T, N, K>(model, t, q, qd);
+    let c = constraint_direction::<M, T, N, K>(model, t, q, qd);
     ConstraintDerivatives { f, j, c }
 }
 
-/// Evaluates `f` alone (no derivatives), for residuals.
-#[inline]
-pub fn constraint_values<M, const N: usize, const K: usize>(
+/// `f` and `J = ∂f/∂q̇` (shape `K × N`) from one gradient pass over `q̇`.
+#[inline(always)]
+fn constraint_jacobian<M, T, const N: usize, const K: usize>(
     model: &M,
-    t: f64,
-    q: &SVector<f64, N>,
-    qd: &SVector<f64, N>,
-) -> SVector<f64, K>
+    t: T,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+) -> (SVector<T, K>, SMatrix<T, K, N>)
 where
     M: Constraints<N, K> + ?Sized,
+    T: Real,
 {
-    model.constraints(t, q, qd)
+    let n = Const::<N>;
+    type D<T, const N: usize> = DualVec<T, f64, Const<N>>;
+    let td = D::<T, N>::from_re(t);
+    let qdual: SVector<D<T, N>, N> = q.map(D::from_re);
+    let mut qdv: SVector<D<T, N>, N> = qd.map(D::from_re);
+    for (i, x) in qdv.iter_mut().enumerate() {
+        x.eps = Derivative::derivative_generic(n, U1, i);
+    }
+    let fd = model.constraints(td, &qdual, &qdv);
+    let f = fd.map(|fa| fa.re);
+    let j = SMatrix::<T, K, N>::from_fn(|a, i| fd[a].eps.unwrap_generic(n, U1)[i]);
+    (f, j)
+}
+
+/// `c = (∂f/∂q) q̇ + ∂f/∂t` from one directional derivative along `(δq, δt) = (q̇, 1)`.
+#[inline(always)]
+fn constraint_direction<M, T, const N: usize, const K: usize>(
+    model: &M,
+    t: T,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+) -> SVector<T, K>
+where
+    M: Constraints<N, K> + ?Sized,
+    T: Real,
+{
+    let te = Dual::<T, f64>::new(t, T::one());
+    let qe: SVector<Dual<T, f64>, N> = SVector::from_fn(|i, _| Dual::new(q[i], qd[i]));
+    let qde: SVector<Dual<T, f64>, N> = qd.map(Dual::from_re);
+    model.constraints(te, &qe, &qde).map(|fa| fa.eps)
+}
+
+/// [`lagrangian_derivatives`] on slices of length `N`, into `out`.
+#[inline(always)]
+pub(crate) fn lagrangian_blocks<M, T, const N: usize>(
+    model: &M,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    out: &mut LagrangianBlocks<T>,
+) where
+    M: Lagrangian<N> + ?Sized,
+    T: Real,
+{
+    let q = SVector::<T, N>::from_column_slice(q);
+    let qd = SVector::<T, N>::from_column_slice(qd);
+    let d = lagrangian_derivatives(model, t, &q, &qd);
+    out.l = d.l;
+    out.p.copy_from_slice(d.p.as_slice());
+    // W is symmetric: its column-major storage is its row-major layout.
+    out.w.copy_from_slice(d.w.as_slice());
+    out.dl_dq.copy_from_slice(d.dl_dq.as_slice());
+    out.g.copy_from_slice(d.g.as_slice());
+    out.dl_dt = d.dl_dt;
+}
+
+/// `W = ∂²L/∂q̇²` on slices, into `w` (row-major `N × N`).
+pub(crate) fn velocity_hessian_into<M, T, const N: usize>(
+    model: &M,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    w: &mut [T],
+) where
+    M: Lagrangian<N> + ?Sized,
+    T: Real,
+{
+    let q = SVector::<T, N>::from_column_slice(q);
+    let qd = SVector::<T, N>::from_column_slice(qd);
+    let (_, _, wm) = velocity_hessian(model, t, &q, &qd);
+    w.copy_from_slice(wm.as_slice());
+}
+
+/// [`constraint_derivatives`] on slices, into `out` (`J` row-major `K × N`).
+#[inline(always)]
+pub(crate) fn constraint_blocks<M, T, const N: usize, const K: usize>(
+    model: &M,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    with_c: bool,
+    out: &mut ConstraintBlocks<T>,
+) where
+    M: Constraints<N, K> + ?Sized,
+    T: Real,
+{
+    let q = SVector::<T, N>::from_column_slice(q);
+    let qd = SVector::<T, N>::from_column_slice(qd);
+    let (f, j) = constraint_jacobian::<M, T, N, K>(model, t, &q, &qd);
+    out.f.copy_from_slice(f.as_slice());
+    for a in 0..K {
+        for i in 0..N {
+            out.j[a * N + i] = j[(a, i)];
+        }
+    }
+    if with_c {
+        let c = constraint_direction::<M, T, N, K>(model, t, &q, &qd);
+        out.c.copy_from_slice(c.as_slice());
+    }
 }

@@ -1,0 +1,143 @@
+//! Derivatives of a run-time-sized model ([`DynModel`]) by scalar dual numbers, one direction (or
+//! pair of directions) per pass:
+//!
+//! | pass | dual type | passes | gives |
+//! |---|---|---|---|
+//! | A | `HyperDual` on `(q̇_i, q̇_j)`, `i ≤ j` | `n(n+1)/2` | `W_ij`, `p_i`, `L` |
+//! | B | `HyperDual` on `q̇_i` and the direction `(q̇, 1)` | `n` | `g_i`, `∂L/∂q·q̇ + ∂L/∂t` |
+//! | C | `Dual` on `q_i` | `n` | `∂L/∂q_i` |
+//! | D | `Dual` on `q̇_i` | `n` (`k > 0` only) | column `i` of `J`, `f` |
+//! | E | `Dual` along `(q̇, 1)` | 1 (`k > 0` only) | `c` |
+//!
+//! so one evaluation calls the Lagrangian `n(n+1)/2 + 2n` times, against 3 times for a static
+//! model, whose vector dual numbers carry all directions at once.
+
+use num_dual::{Dual, HyperDual};
+
+use super::{ConstraintBlocks, LagrangianBlocks};
+use crate::model::{DynModel, Real};
+
+/// Pass A: `W` (row-major `n × n`) into `w`, `p = ∂L/∂q̇` into `p` (when given); returns `L`.
+fn hessian_pass<M: DynModel + ?Sized, T: Real>(
+    model: &M,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    w: &mut [T],
+    mut p: Option<&mut [T]>,
+) -> T {
+    type H<T> = HyperDual<T, f64>;
+    let n = q.len();
+    let th = H::from_re(t);
+    let qh: Vec<H<T>> = q.iter().map(|&x| H::from_re(x)).collect();
+    let mut qdh: Vec<H<T>> = qd.iter().map(|&x| H::from_re(x)).collect();
+    let mut l = T::zero();
+    for i in 0..n {
+        for j in i..n {
+            qdh[i].eps1 = T::one();
+            qdh[j].eps2 += T::one();
+            let v = model.lagrangian(th, &qh, &qdh);
+            qdh[i].eps1 = T::zero();
+            qdh[j].eps2 = T::zero();
+            w[i * n + j] = v.eps1eps2;
+            w[j * n + i] = v.eps1eps2;
+            if i == j {
+                if let Some(p) = p.as_deref_mut() {
+                    p[i] = v.eps1;
+                }
+                l = v.re;
+            }
+        }
+    }
+    l
+}
+
+/// `W = ∂²L/∂q̇²` (row-major `n × n`) into `w`.
+pub(crate) fn velocity_hessian<M: DynModel + ?Sized, T: Real>(
+    model: &M,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    w: &mut [T],
+) {
+    hessian_pass(model, t, q, qd, w, None);
+}
+
+/// Every block of `L` at `(t, q, q̇)` into `out`: passes A, B and C.
+pub(crate) fn lagrangian_blocks<M: DynModel + ?Sized, T: Real>(
+    model: &M,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    out: &mut LagrangianBlocks<T>,
+) {
+    let n = q.len();
+    out.l = hessian_pass(model, t, q, qd, &mut out.w, Some(&mut out.p));
+
+    // Pass B: g_i, and the directional derivative ∂L/∂q·q̇ + ∂L/∂t.
+    type H<T> = HyperDual<T, f64>;
+    let th = H::new(t, T::zero(), T::one(), T::zero());
+    let qh: Vec<H<T>> = (0..n)
+        .map(|i| H::new(q[i], T::zero(), qd[i], T::zero()))
+        .collect();
+    let mut qdh: Vec<H<T>> = qd.iter().map(|&x| H::from_re(x)).collect();
+    let mut dl_dir = T::zero();
+    for i in 0..n {
+        qdh[i].eps1 = T::one();
+        let v = model.lagrangian(th, &qh, &qdh);
+        qdh[i].eps1 = T::zero();
+        out.g[i] = v.eps1eps2;
+        dl_dir = v.eps2;
+    }
+
+    // Pass C: ∂L/∂q.
+    type D<T> = Dual<T, f64>;
+    let td = D::from_re(t);
+    let mut qdl: Vec<D<T>> = q.iter().map(|&x| D::from_re(x)).collect();
+    let qdd: Vec<D<T>> = qd.iter().map(|&x| D::from_re(x)).collect();
+    for i in 0..n {
+        qdl[i].eps = T::one();
+        out.dl_dq[i] = model.lagrangian(td, &qdl, &qdd).eps;
+        qdl[i].eps = T::zero();
+    }
+    let dl_dq_qd = out
+        .dl_dq
+        .iter()
+        .zip(qd)
+        .fold(T::zero(), |acc, (a, b)| acc + *a * *b);
+    out.dl_dt = dl_dir - dl_dq_qd;
+}
+
+/// `f`, `J` (row-major `k × n`) and, with `with_c`, `c` into `out`: passes D and E.
+pub(crate) fn constraint_blocks<M: DynModel + ?Sized, T: Real>(
+    model: &M,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    with_c: bool,
+    out: &mut ConstraintBlocks<T>,
+) {
+    type D<T> = Dual<T, f64>;
+    let (n, k) = (q.len(), out.f.len());
+    let td = D::from_re(t);
+    let qdl: Vec<D<T>> = q.iter().map(|&x| D::from_re(x)).collect();
+    let mut qdd: Vec<D<T>> = qd.iter().map(|&x| D::from_re(x)).collect();
+    let mut f = vec![D::from_re(T::zero()); k];
+    for i in 0..n {
+        qdd[i].eps = T::one();
+        model.constraints(td, &qdl, &qdd, &mut f);
+        qdd[i].eps = T::zero();
+        for (a, fa) in f.iter().enumerate() {
+            out.j[a * n + i] = fa.eps;
+            out.f[a] = fa.re;
+        }
+    }
+    if with_c {
+        let te = D::new(t, T::one());
+        let qe: Vec<D<T>> = (0..n).map(|i| D::new(q[i], qd[i])).collect();
+        model.constraints(te, &qe, &qdd, &mut f);
+        for (c, fa) in out.c.iter_mut().zip(&f) {
+            *c = fa.eps;
+        }
+    }
+}

@@ -1,0 +1,320 @@
+//! No silent NaN, no lost state: each class of failure ends in a typed error at the first bad point,
+//! with the motion before it kept.
+
+use chetaev::prelude::*;
+
+/// A particle pushed by a constant force `−a`, whose Lagrangian has a *value* that leaves its domain
+/// beyond `x = 1` (NaN there) while every derivative stays finite: the defect class of a value that
+/// nothing checks.
+struct LeavesDomain {
+    a: f64,
+}
+
+impl Lagrangian<1> for LeavesDomain {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        let outside = if q[0].re() > 1.0 { f64::NAN } else { 0.0 };
+        // A constant (no derivative part) that is NaN outside the domain.
+        qd[0] * qd[0] * 0.5 - q[0] * self.a + R::zero() * outside
+    }
+}
+
+#[test]
+fn a_model_whose_value_leaves_its_domain_fails_at_the_boundary_with_the_motion_kept() {
+    let problem = Problem::unconstrained(
+        LeavesDomain { a: 1.0 },
+        0.0,
+        SVector::from([0.0]),
+        SVector::from([2.0]),
+    )
+    .expect("valid inside the domain");
+    // ẍ = −1 from x = 0, ẋ = 2: x = 2t − t²/2 reaches 1 at t = 2 − √2 ≈ 0.586.
+    for output in [
+        Output::Steps,
+        Output::Final,
+        Output::Times(vec![0.1, 0.2, 3.0]),
+    ] {
+        let mut o = Options::until(3.0).tolerances(1e-10, 1e-10);
+        o.output = output.clone();
+        let sol = solve(&problem, Dopri5::default(), &o).expect("valid options");
+        let err = sol
+            .error()
+            .expect("the run must fail, not succeed with NaN");
+        assert!(
+            matches!(
+                err,
+                Error::NonFiniteEvaluation { .. }
+                    | Error::NonFiniteSolution { .. }
+                    | Error::StepSizeTooSmall { .. }
+            ),
+            "{output:?}: {err}"
+        );
+        // Everything recorded is finite, and the last accepted state (close to the boundary) is
+        // in the solution whatever the output asked for.
+        assert!(sol.energy.iter().all(|e| e.is_finite()));
+        assert!(sol.q.as_flat().iter().all(|v| v.is_finite()));
+        let (t, q, _) = sol.last().expect("the last accepted state is kept");
+        assert!(
+            t > 0.5 && t < 2.0 - 2f64.sqrt() + 1e-9,
+            "{output:?}: t = {t}"
+        );
+        assert!(q[0] <= 1.0, "{output:?}: x = {}", q[0]);
+        assert!(
+            sol.len() >= 2,
+            "{output:?}: only the initial point was kept"
+        );
+    }
+}
+
+/// `ẍ = x²` from `x = 1`, `ẋ = √(2/3)·...`: blows up in finite time.
+struct BlowUp;
+
+impl Lagrangian<1> for BlowUp {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        qd[0] * qd[0] * 0.5 + q[0] * q[0] * q[0] / 3.0
+    }
+}
+
+#[test]
+fn a_state_that_overflows_is_a_typed_error_with_the_motion_kept() {
+    // With ẋ² = 2x³/3 the motion is x = 6/(t* − t)², which blows up at t* = √6 from x = 1.
+    let problem = Problem::unconstrained(
+        BlowUp,
+        0.0,
+        SVector::from([1.0]),
+        SVector::from([(2.0f64 / 3.0).sqrt()]),
+    )
+    .expect("valid");
+    for method in AnyMethod::all(1e-3) {
+        let o = Options::until(10.0).tolerances(1e-8, 1e-8).output_final();
+        let sol = solve(&problem, method, &o).expect("valid options");
+        let err = sol
+            .error()
+            .unwrap_or_else(|| panic!("{}: a blow-up must not succeed", method.name()));
+        assert!(
+            matches!(
+                err,
+                Error::NonFiniteState { .. }
+                    | Error::NonFiniteEvaluation { .. }
+                    | Error::NonFiniteSolution { .. }
+                    | Error::StepSizeTooSmall { .. }
+                    | Error::MaxSteps { .. }
+            ),
+            "{}: {err}",
+            method.name()
+        );
+        let (t, q, qd) = sol.last().expect("kept");
+        assert!(q[0].is_finite() && qd[0].is_finite(), "{}", method.name());
+        // An adaptive method stops before the blow-up; a fixed-step one (Rk4, no error control)
+        // can step across the pole with finite values, and fails where they overflow.
+        if method.info().fixed_step.is_none() {
+            assert!(t < 6f64.sqrt() + 1e-6, "{}: t = {t}", method.name());
+        }
+        assert!(
+            sol.energy.iter().all(|e| e.is_finite()),
+            "{}",
+            method.name()
+        );
+    }
+}
+
+struct Oscillator;
+
+impl Lagrangian<1> for Oscillator {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        (qd[0] * qd[0] - q[0] * q[0]) * 0.5
+    }
+}
+
+fn oscillator() -> Problem<chetaev::model::Fixed<Unconstrained<Oscillator>, 1, 0>> {
+    Problem::unconstrained(Oscillator, 0.0, SVector::from([0.0]), SVector::from([1.0]))
+        .expect("valid")
+}
+
+#[test]
+fn output_times_outside_the_interval_are_refused() {
+    let problem = oscillator();
+    for (t_end, times) in [(1.0, vec![0.5, 1.5]), (1.0, vec![-0.1]), (-1.0, vec![0.5])] {
+        let o = Options::until(t_end).output_times(times.clone());
+        let err = solve(&problem, Dopri5::default(), &o).expect_err("out of range");
+        assert!(
+            matches!(err, Error::OutputTimeOutOfRange { .. }),
+            "{times:?}: {err}"
+        );
+    }
+    // The ends themselves are inside.
+    let o = Options::until(1.0).output_times(vec![0.0, 1.0]);
+    assert!(solve(&problem, Dopri5::default(), &o).is_ok());
+}
+
+#[test]
+fn a_failed_run_keeps_the_last_accepted_state_and_says_where() {
+    let problem = oscillator();
+    for output in [Output::Final, Output::Times(vec![0.5]), Output::Steps] {
+        let mut o = Options::until(100.0).tolerances(1e-10, 1e-10).max_steps(20);
+        o.output = output.clone();
+        let sol = solve(&problem, Dop853::default(), &o).expect("valid");
+        let Some(Error::MaxSteps { t, .. }) = sol.error() else {
+            panic!("{output:?}: {:?}", sol.status)
+        };
+        let (t_last, q, _) = sol.last().expect("kept");
+        assert_eq!(
+            *t, t_last,
+            "{output:?}: the error's time is the last state's"
+        );
+        assert!(t_last > 1.0, "{output:?}: {t_last}");
+        assert!((q[0] - t_last.sin()).abs() < 1e-8, "{output:?}");
+    }
+}
+
+#[test]
+fn events_crossing_twice_within_one_step_are_found() {
+    // x = sin t crosses 0.999 twice near every maximum, 2·asin... apart by 2·acos(0.999) ≈ 0.089,
+    // far less than a step at a loose tolerance.
+    let problem = oscillator();
+    let o = Options::until(100.0)
+        .tolerances(1e-3, 1e-3)
+        .output_final()
+        .event(Event::new("near the top", |_t, q, _qd| q[0] - 0.999));
+    let sol = solve(&problem, Dopri5::default(), &o).expect("valid");
+    assert!(sol.is_success());
+    // sin t > 0.999 on 16 intervals in [0, 100]: 32 crossings.
+    let expected = (0..100)
+        .map(|k| std::f64::consts::FRAC_PI_2 + 2.0 * std::f64::consts::PI * k as f64)
+        .filter(|&t| t + 0.05 < 100.0)
+        .count()
+        * 2;
+    assert_eq!(sol.events.len(), expected, "{:?}", sol.stats);
+}
+
+#[test]
+fn an_event_zero_at_the_start_fires_when_it_leaves_zero_in_its_direction() {
+    // x = sin t starts at 0 moving up.
+    let problem = oscillator();
+    let rising = Event::new("x", |_t, q, _qd| q[0]).rising().terminal();
+    let sol = solve(
+        &problem,
+        Dopri5::default(),
+        &Options::until(10.0).event(rising),
+    )
+    .expect("valid");
+    assert_eq!(sol.status, Status::Terminated { event: 0 });
+    assert_eq!(sol.events[0].t, 0.0);
+
+    // Falling: not at the start (it moves up), but at t = π.
+    let falling = Event::new("x", |_t, q, _qd| q[0]).falling().terminal();
+    let sol = solve(
+        &problem,
+        Dopri5::default(),
+        &Options::until(10.0).tolerances(1e-10, 1e-10).event(falling),
+    )
+    .expect("valid");
+    assert_eq!(sol.status, Status::Terminated { event: 0 });
+    assert!((sol.events[0].t - std::f64::consts::PI).abs() < 1e-8);
+}
+
+#[test]
+fn a_model_without_coordinates_or_with_too_many_constraints_is_refused_up_front() {
+    #[derive(Debug)]
+    struct Empty(usize, usize);
+    impl DynModel for Empty {
+        fn sizes(&self) -> (usize, usize) {
+            (self.0, self.1)
+        }
+        fn lagrangian<R: Real>(&self, _t: R, _q: &[R], qd: &[R]) -> R {
+            qd.iter().fold(R::zero(), |a, v| a + *v * *v)
+        }
+    }
+    let err = Problem::dynamic(Empty(0, 0), 0.0, vec![], vec![]).expect_err("no coordinates");
+    assert!(matches!(err, Error::InvalidModel { .. }), "{err}");
+    assert!(err.to_string().contains("no coordinates"), "{err}");
+    let err = Problem::dynamic(Empty(1, 2), 0.0, vec![0.0], vec![1.0]).expect_err("K > N");
+    assert!(matches!(err, Error::InvalidModel { .. }), "{err}");
+    let err = Problem::dynamic(Empty(2, 0), 0.0, vec![0.0], vec![1.0, 0.0]).expect_err("length");
+    assert!(err.to_string().contains("q0 has 1 entries"), "{err}");
+}
+
+#[test]
+fn a_zero_relative_tolerance_with_an_unusable_absolute_one_is_named() {
+    let problem = oscillator();
+    let o = Options::until(1.0).tolerances(0.0, 1e-320);
+    let err = solve(&problem, Dopri5::default(), &o).expect_err("refused");
+    assert!(
+        matches!(err, Error::InvalidOption { name: "atol", .. }),
+        "{err}"
+    );
+    assert!(!err.to_string().contains("Rodas4"), "{err}");
+}
+
+#[test]
+fn ok_turns_a_failed_status_into_an_error() {
+    let problem = oscillator();
+    let sol = solve(
+        &problem,
+        Dopri5::default(),
+        &Options::until(100.0).max_steps(3),
+    )
+    .expect("valid");
+    assert!(matches!(sol.ok(), Err(Error::MaxSteps { .. })));
+    let sol = solve(&problem, Dopri5::default(), &Options::until(1.0)).expect("valid");
+    assert!(sol.ok().is_ok());
+}
+
+#[test]
+fn a_solution_writes_itself_as_csv_with_one_column_per_quantity() {
+    let problem = oscillator();
+    let sol = solve(
+        &problem,
+        Dopri5::default(),
+        &Options::until(1.0).output_grid(0.0, 5),
+    )
+    .expect("valid");
+    let mut out = Vec::new();
+    sol.write_csv(&mut out).expect("written");
+    let text = String::from_utf8(out).expect("utf-8");
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[0], "t,q_1,qd_1,qdd_1,phi_1,E,W_Phi,int_dLdt,balance",
+        "{text}"
+    );
+    assert_eq!(lines.len(), 1 + 5);
+    let last: Vec<f64> = lines[5]
+        .split(',')
+        .map(|v| v.parse().expect("a number"))
+        .collect();
+    assert_eq!(last[0], 1.0);
+    assert!((last[1] - 1f64.sin()).abs() < 1e-6);
+}
+
+#[test]
+fn the_equations_at_a_state_report_failures_with_the_state() {
+    struct Speed;
+    impl Lagrangian<2> for Speed {
+        fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+            qd.dot(qd) * 0.5
+        }
+    }
+    impl Constraints<2, 1> for Speed {
+        fn constraints<R: Real>(
+            &self,
+            _t: R,
+            _q: &SVector<R, 2>,
+            qd: &SVector<R, 2>,
+        ) -> SVector<R, 1> {
+            SVector::from([qd.dot(qd) - 1.0])
+        }
+    }
+    let problem =
+        Problem::new(Speed, 0.0, SVector::zeros(), SVector::from([1.0, 0.0])).expect("valid");
+    // At rest the constraint's gradient 2q̇ vanishes: constraint 1 is degenerate there.
+    let err = problem
+        .equations_at(2.0, &[1.0, 1.0], &[0.0, 0.0])
+        .expect_err("degenerate");
+    assert!(
+        matches!(err, Error::DegenerateConstraint { t, index: 1, .. } if t == 2.0),
+        "{err}"
+    );
+    let err = problem
+        .equations_at(0.0, &[1.0], &[0.0, 1.0])
+        .expect_err("wrong length");
+    assert!(matches!(err, Error::InvalidModel { .. }), "{err}");
+}
