@@ -47,6 +47,15 @@ fn main() -> BuildResult<()> {
         ("fortran/rhs.f", "rhs.o", true),
         ("fortran/driver.f90", "driver.o", false),
     ];
+    for (src, _, _) in &sources[..2] {
+        if !std::path::Path::new(src).exists() {
+            return Err(format!(
+                "{src} is missing: Hairer's codes are not part of the repository. Get dop853.f and \
+                 dopri5.f from http://www.unige.ch/~hairer/software.html and copy them into \
+                 bench/hairer/fortran/ (README.md, \"The Fortran sources\")."
+            ));
+        }
+    }
     let mut objects = Vec::new();
     for (src, obj, legacy) in sources {
         println!("cargo:rerun-if-changed={src}");
