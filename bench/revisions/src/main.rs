@@ -1,0 +1,225 @@
+//! Times `solve` on the paper's scene (the README's model, to the impact event) with the static
+//! path of two revisions of chetaev, in one process, interleaved (A, B, A, B, ...), and prints the
+//! median time of each and their ratio, at equal tolerance and at equal error. Usage:
+//! `cargo run --release -- [--rounds N] [--event-samples N] [--i-controller]`.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+mod base {
+    use chetaev_base::prelude::*;
+
+    pub struct Uniform {
+        pub m: f64,
+        pub g: f64,
+        pub v0: f64,
+    }
+    impl Lagrangian<2> for Uniform {
+        fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+            qd.dot(qd) * (0.5 * self.m) - q[1] * (self.m * self.g)
+        }
+    }
+    impl Constraints<2, 1> for Uniform {
+        fn constraints<R: Real>(
+            &self,
+            _t: R,
+            _q: &SVector<R, 2>,
+            qd: &SVector<R, 2>,
+        ) -> SVector<R, 1> {
+            SVector::from([qd.dot(qd) - self.v0 * self.v0])
+        }
+    }
+
+    /// One solve to the impact; returns the impact time.
+    pub fn run(method: &str, tol: f64) -> f64 {
+        let model = Uniform {
+            m: 1.0,
+            g: 10.0,
+            v0: 10.0,
+        };
+        let problem = Problem::new(
+            model,
+            0.0,
+            SVector::from([0.0, 5.0]),
+            SVector::from([10.0, 0.0]),
+        )
+        .expect("valid");
+        let impact = Event::new("impact", |_t, q, _qd| q[1]).falling().terminal();
+        let o = Options::until(10.0)
+            .tolerances(tol, tol)
+            .event(impact)
+            .output_final();
+        let sol = match method {
+            "dop853" => solve(&problem, Dop853::default(), &o),
+            _ => solve(&problem, Dopri5::default(), &o),
+        }
+        .expect("solved");
+        sol.events[0].t
+    }
+}
+
+mod head {
+    use chetaev::prelude::*;
+
+    pub struct Uniform {
+        pub m: f64,
+        pub g: f64,
+        pub v0: f64,
+    }
+    impl Lagrangian<2> for Uniform {
+        fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+            qd.dot(qd) * (0.5 * self.m) - q[1] * (self.m * self.g)
+        }
+    }
+    impl Constraints<2, 1> for Uniform {
+        fn constraints<R: Real>(
+            &self,
+            _t: R,
+            _q: &SVector<R, 2>,
+            qd: &SVector<R, 2>,
+        ) -> SVector<R, 1> {
+            SVector::from([qd.dot(qd) - self.v0 * self.v0])
+        }
+    }
+
+    /// One solve to the impact; returns the impact time.
+    pub fn run(method: &str, tol: f64) -> f64 {
+        let model = Uniform {
+            m: 1.0,
+            g: 10.0,
+            v0: 10.0,
+        };
+        let problem = Problem::new(
+            model,
+            0.0,
+            SVector::from([0.0, 5.0]),
+            SVector::from([10.0, 0.0]),
+        )
+        .expect("valid");
+        let impact = Event::new("impact", |_t, q, _qd| q[1]).falling().terminal();
+        let o = Options::until(10.0)
+            .tolerances(tol, tol)
+            .event(impact)
+            .output_final()
+            .event_samples(crate::settings().0);
+        let o = if crate::settings().1 {
+            o.controller(Controller::i(0.2, 10.0))
+        } else {
+            o
+        };
+        let sol = match method {
+            "dop853" => solve(&problem, Dop853::default(), &o),
+            _ => solve(&problem, Dopri5::default(), &o),
+        }
+        .expect("solved");
+        sol.events[0].t
+    }
+}
+
+/// Settings of the head's runs: `--event-samples N` (default 4, the library's default) and
+/// `--i-controller` (the classical controller for every method, as the base had).
+fn settings() -> (usize, bool) {
+    let args: Vec<String> = std::env::args().collect();
+    let samples = args
+        .iter()
+        .position(|a| a == "--event-samples")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(4);
+    (samples, args.iter().any(|a| a == "--i-controller"))
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Seconds per call of `f`, over a batch of `n` calls.
+fn time(n: usize, f: &dyn Fn() -> f64) -> f64 {
+    let t0 = Instant::now();
+    for _ in 0..n {
+        black_box(f());
+    }
+    t0.elapsed().as_secs_f64() / n as f64
+}
+
+/// `log t` at `log e` on the polyline through `(log e_i, log t_i)` (sorted by error), or `None`
+/// outside its range: a ratio at equal error is read only where both curves were measured.
+fn time_at_error(points: &[(f64, f64)], e: f64) -> Option<f64> {
+    let mut p: Vec<(f64, f64)> = points.iter().map(|&(e, t)| (e.ln(), t.ln())).collect();
+    p.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let x = e.ln();
+    p.windows(2).find_map(|w| {
+        let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+        (x >= x0 && x <= x1 && x1 > x0).then(|| (y0 + (y1 - y0) * (x - x0) / (x1 - x0)).exp())
+    })
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let rounds: usize = args
+        .iter()
+        .position(|a| a == "--rounds")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(21);
+    let (samples, i_controller) = settings();
+    println!(
+        "head: event_samples = {samples}, controller = {}",
+        if i_controller {
+            "I (0.2, 10) for every method"
+        } else {
+            "each method's own"
+        }
+    );
+    let exact = 0.5f64.exp().acosh();
+    println!("paper scene (README model) to the impact event, output final; median of {rounds} interleaved rounds");
+    println!(
+        "{:8} {:>6} {:>10} {:>10} {:>9} {:>9} {:>8} {:>12}",
+        "method", "tol", "base [µs]", "head [µs]", "err base", "err head", "at tol", "at equal err"
+    );
+    for method in ["dopri5", "dop853"] {
+        let mut rows = Vec::new();
+        for e in 6..=13 {
+            let tol = 10f64.powi(-e);
+            let (eb, eh) = (
+                (base::run(method, tol) - exact).abs(),
+                (head::run(method, tol) - exact).abs(),
+            );
+            let single = time(20, &|| head::run(method, tol));
+            let n = ((2e-3 / single) as usize).max(5);
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            for _ in 0..rounds {
+                a.push(time(n, &|| base::run(method, tol)));
+                b.push(time(n, &|| head::run(method, tol)));
+            }
+            rows.push((
+                tol,
+                median(&mut a),
+                median(&mut b),
+                eb.max(1e-16),
+                eh.max(1e-16),
+            ));
+        }
+        let base_curve: Vec<(f64, f64)> = rows.iter().map(|r| (r.3, r.1)).collect();
+        let mut ratios = Vec::new();
+        for &(tol, ta, tb, eb, eh) in &rows {
+            let at_err = time_at_error(&base_curve, eh).map(|t| tb / t);
+            if let Some(r) = at_err {
+                ratios.push(r);
+            }
+            println!(
+                "{method:8} {tol:>6.0e} {:>10.2} {:>10.2} {eb:>9.1e} {eh:>9.1e} {:>8.3} {:>12}",
+                ta * 1e6,
+                tb * 1e6,
+                tb / ta,
+                at_err.map_or("-".to_string(), |r| format!("{r:.3}"))
+            );
+        }
+        let geo = (ratios.iter().map(|r| r.ln()).sum::<f64>() / ratios.len().max(1) as f64).exp();
+        println!(
+            "{method:8} head/base at equal error: geometric mean {geo:.3} over {} tolerances",
+            ratios.len()
+        );
+    }
+}
