@@ -1,4 +1,4 @@
-//! A scene's Lagrangian and constraints as a `chetaev` model with sizes known at run time.
+//! A scene's Lagrangian, constraints and forces as a `chetaev` model with sizes known at run time.
 
 use chetaev::model::DynModel;
 use chetaev::prelude::Real;
@@ -14,6 +14,10 @@ pub(crate) struct ExprModel {
     pub lagrangian: Expr,
     /// `f_a(t, q, q̇)`, `a = 1..K`.
     pub constraints: Vec<Expr>,
+    /// `Q_i(t, q, q̇)`, one per coordinate, or none.
+    pub forces: Vec<Expr>,
+    /// `D(t, q, q̇)`, or none.
+    pub dissipation: Option<Expr>,
 }
 
 impl DynModel for ExprModel {
@@ -32,5 +36,22 @@ impl DynModel for ExprModel {
         for (fa, c) in f.iter_mut().zip(&self.constraints) {
             *fa = c.eval(&env);
         }
+    }
+
+    #[inline]
+    fn forces<R: Real>(&self, t: R, q: &[R], qd: &[R], out: &mut [R]) -> bool {
+        if self.forces.is_empty() {
+            return false;
+        }
+        let env = Env { t, q, qd };
+        for (o, f) in out.iter_mut().zip(&self.forces) {
+            *o = f.eval(&env);
+        }
+        true
+    }
+
+    #[inline]
+    fn dissipation<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> Option<R> {
+        self.dissipation.as_ref().map(|d| d.eval(&Env { t, q, qd }))
     }
 }

@@ -159,6 +159,8 @@ impl Scene {
             n: self.n(),
             lagrangian: self.lagrangian.clone(),
             constraints: self.constraints.clone(),
+            forces: self.forces.clone(),
+            dissipation: self.dissipation.clone(),
         };
         let (q0, qd0) = (self.q0.clone(), self.qd0.clone());
         if self.project_velocity && self.k() > 0 {

@@ -52,6 +52,26 @@ impl<T: DualNum<f64> + Copy> Real for T {}
 pub trait Lagrangian<const N: usize> {
     /// `L(t, q, q̇)`.
     fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> R;
+
+    /// Generalised forces `Q(t, q, q̇)` not derivable from `L` (friction, drag, driving forces), on
+    /// the force side of the equations: `d/dt ∂L/∂q̇ − ∂L/∂q = Q + Jᵀμ`. `None` (the default) for
+    /// none, which costs nothing.
+    fn forces<R: Real>(
+        &self,
+        t: R,
+        q: &SVector<R, N>,
+        qd: &SVector<R, N>,
+    ) -> Option<SVector<R, N>> {
+        let _ = (t, q, qd);
+        None
+    }
+
+    /// A Rayleigh dissipation function `D(t, q, q̇)`, whose force `Q_D = −∂D/∂q̇` is added to
+    /// [`Lagrangian::forces`] (derived by automatic differentiation). `None` (the default) for none.
+    fn dissipation<R: Real>(&self, t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> Option<R> {
+        let _ = (t, q, qd);
+        None
+    }
 }
 
 /// `K` velocity constraints `f_a(t, q, q̇) = 0`, `a = 1..K`, possibly nonlinear in `q̇` and
@@ -89,6 +109,19 @@ impl<M: Lagrangian<N>, const N: usize> Lagrangian<N> for Unconstrained<M> {
     #[inline(always)]
     fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> R {
         self.0.lagrangian(t, q, qd)
+    }
+    #[inline(always)]
+    fn forces<R: Real>(
+        &self,
+        t: R,
+        q: &SVector<R, N>,
+        qd: &SVector<R, N>,
+    ) -> Option<SVector<R, N>> {
+        self.0.forces(t, q, qd)
+    }
+    #[inline(always)]
+    fn dissipation<R: Real>(&self, t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> Option<R> {
+        self.0.dissipation(t, q, qd)
     }
 }
 
@@ -138,6 +171,18 @@ pub trait DynModel {
     fn constraints<R: Real>(&self, t: R, q: &[R], qd: &[R], f: &mut [R]) {
         let _ = (t, q, qd, f);
     }
+    /// Writes the generalised forces `Q(t, q, q̇)` not derivable from `L` (length `N`) to `out` and
+    /// returns `true`; the default has none and returns `false`. See [`Lagrangian::forces`].
+    fn forces<R: Real>(&self, t: R, q: &[R], qd: &[R], out: &mut [R]) -> bool {
+        let _ = (t, q, qd, out);
+        false
+    }
+    /// A Rayleigh dissipation function `D(t, q, q̇)` (its force `−∂D/∂q̇` is derived); `None`, the
+    /// default, for none. See [`Lagrangian::dissipation`].
+    fn dissipation<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> Option<R> {
+        let _ = (t, q, qd);
+        None
+    }
 }
 
 /// What the equations engine needs of a model: its sizes and the derivative blocks of `L` and `f`
@@ -172,6 +217,10 @@ pub trait Model {
 
     /// `f(t, q, q̇)` alone (length `k`).
     fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]);
+
+    /// The forces not derivable from `L`, `Q − ∂D/∂q̇` (length `n`), into `out`; returns whether
+    /// the model has any (when `false`, `out` is untouched and nothing was evaluated).
+    fn force_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut [T]) -> bool;
 
     /// The reduced equations at `(t, q, q̇)` into `ws` (see [`equations::evaluate`]). The default
     /// builds them from [`Model::lagrangian_blocks`] and [`Model::constraint_blocks`]; a flavour
@@ -245,6 +294,19 @@ where
         crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, ws, t, q, qd)
     }
 
+    #[inline]
+    fn force_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut [T]) -> bool {
+        let q = SVector::<T, N>::from_column_slice(q);
+        let qd = SVector::<T, N>::from_column_slice(qd);
+        match derivatives::fixed::forces::<M, T, N>(&self.0, t, &q, &qd) {
+            Some(f) => {
+                out.copy_from_slice(f.as_slice());
+                true
+            }
+            None => false,
+        }
+    }
+
     fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]) {
         let v = self.0.constraints(
             t,
@@ -281,5 +343,9 @@ impl<M: DynModel> Model for M {
 
     fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]) {
         DynModel::constraints(self, t, q, qd, f);
+    }
+
+    fn force_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut [T]) -> bool {
+        derivatives::scalar::forces(self, t, q, qd, out)
     }
 }

@@ -201,6 +201,9 @@ pub struct Solution {
     pub work: Vec<f64>,
     /// `∫ ∂L/∂t dt` since the start ([`Record::Energy`]).
     pub dl_dt_integral: Vec<f64>,
+    /// The work of the forces not derivable from `L` since the start, `W_Q = ∫ q̇·Q dt`
+    /// ([`Record::Energy`]; zero for a model without such forces).
+    pub work_forces: Vec<f64>,
     /// Located events, in the order they occurred.
     pub events: Vec<EventHit>,
     /// Work counters.
@@ -226,6 +229,7 @@ impl Solution {
             energy: Vec::new(),
             work: Vec::new(),
             dl_dt_integral: Vec::new(),
+            work_forces: Vec::new(),
             events: Vec::new(),
             stats: Stats::default(),
             status: Status::Success,
@@ -250,6 +254,7 @@ impl Solution {
         if energy {
             finite(t, "W_Φ", &y[2 * n..2 * n + 1])?;
             finite(t, "∫∂L/∂t dt", &y[2 * n + 1..2 * n + 2])?;
+            finite(t, "W_Q", &y[2 * n + 2..2 * n + 3])?;
         }
         if self.record >= Record::Dynamics {
             let d = ode.evaluate(t, q, qd)?;
@@ -270,13 +275,14 @@ impl Solution {
         if energy {
             self.work.push(y[2 * n]);
             self.dl_dt_integral.push(y[2 * n + 1]);
+            self.work_forces.push(y[2 * n + 2]);
         }
         Ok(())
     }
 
     /// Writes the recorded motion as CSV: a header, then one row per recorded point with `t`, the
     /// coordinates `q_1..q_n`, the velocities `qd_1..qd_n`, and, where recorded, `qdd_i`, `mu_a`,
-    /// `phi_i`, `f_a`, `E`, `W_Phi`, `int_dLdt`, and `balance` (the energy balance). Numbers are
+    /// `phi_i`, `f_a`, `E`, `W_Phi`, `W_Q`, `int_dLdt`, and `balance` (the energy balance). Numbers are
     /// written with full precision (Rust's shortest round-trip form).
     pub fn write_csv<W: std::io::Write>(&self, mut w: W) -> std::io::Result<()> {
         let (n, k) = (self.n(), self.k());
@@ -296,7 +302,7 @@ impl Solution {
             header.push("E".to_string());
         }
         if energy {
-            header.extend(["W_Phi", "int_dLdt", "balance"].map(String::from));
+            header.extend(["W_Phi", "W_Q", "int_dLdt", "balance"].map(String::from));
         }
         writeln!(w, "{}", header.join(","))?;
         let balance = self.energy_balance();
@@ -314,7 +320,12 @@ impl Solution {
                 row.push(self.energy[i]);
             }
             if let (true, Some(b)) = (energy, balance.get(i)) {
-                row.extend([self.work[i], self.dl_dt_integral[i], *b]);
+                row.extend([
+                    self.work[i],
+                    self.work_forces[i],
+                    self.dl_dt_integral[i],
+                    *b,
+                ]);
             }
             let text: Vec<String> = row.iter().map(|v| v.to_string()).collect();
             writeln!(w, "{}", text.join(","))?;
@@ -371,15 +382,17 @@ impl Solution {
         Some((self.t[i], &self.q[i], &self.qd[i]))
     }
 
-    /// The energy balance `E(t) − E(t0) − W_Φ(t) + ∫∂L/∂t dt`, which vanishes along an exact motion
-    /// because `dE/dt = q̇·Φ − ∂L/∂t` ([`Record::Energy`]; empty otherwise).
+    /// The energy balance `E(t) − E(t0) − W_Φ(t) − W_Q(t) + ∫∂L/∂t dt`, which vanishes along an exact
+    /// motion because `dE/dt = q̇·Φ + q̇·Q − ∂L/∂t` ([`Record::Energy`]; empty otherwise).
     pub fn energy_balance(&self) -> Vec<f64> {
         if self.work.is_empty() {
             return Vec::new();
         }
         let e0 = self.energy[0];
         (0..self.work.len())
-            .map(|i| self.energy[i] - e0 - self.work[i] + self.dl_dt_integral[i])
+            .map(|i| {
+                self.energy[i] - e0 - self.work[i] - self.work_forces[i] + self.dl_dt_integral[i]
+            })
             .collect()
     }
 

@@ -273,7 +273,7 @@ fn a_solution_writes_itself_as_csv_with_one_column_per_quantity() {
     let text = String::from_utf8(out).expect("utf-8");
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(
-        lines[0], "t,q_1,qd_1,qdd_1,phi_1,E,W_Phi,int_dLdt,balance",
+        lines[0], "t,q_1,qd_1,qdd_1,phi_1,E,W_Phi,W_Q,int_dLdt,balance",
         "{text}"
     );
     assert_eq!(lines.len(), 1 + 5);
@@ -317,4 +317,79 @@ fn the_equations_at_a_state_report_failures_with_the_state() {
         .equations_at(0.0, &[1.0], &[0.0, 1.0])
         .expect_err("wrong length");
     assert!(matches!(err, Error::InvalidModel { .. }), "{err}");
+}
+
+/// A free particle whose prescribed speed `v0 − a t` passes through zero at `t = v0/a`, where the
+/// constraint's gradient `2 q̇` vanishes: a singular point of the Chetaev equations.
+struct Braking {
+    v0: f64,
+    a: f64,
+}
+
+impl Lagrangian<2> for Braking {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5
+    }
+}
+
+impl Constraints<2, 1> for Braking {
+    fn constraints<R: Real>(&self, t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        let v = -t * self.a + self.v0;
+        SVector::from([qd.dot(qd) - v * v])
+    }
+}
+
+#[test]
+fn a_singular_point_of_the_constraint_stops_the_run_where_it_is() {
+    let (v0, a) = (2.0, 0.5);
+    let problem = Problem::new(
+        Braking { v0, a },
+        0.0,
+        SVector::zeros(),
+        SVector::from([v0, 0.0]),
+    )
+    .expect("valid");
+    let t_singular = v0 / a;
+    for method in AnyMethod::all(1e-3) {
+        let sol = solve(
+            &problem,
+            method,
+            &Options::until(10.0).tolerances(1e-10, 1e-10),
+        )
+        .expect("valid options");
+        let Some(Error::SingularPoint {
+            t,
+            constraint,
+            ratio,
+            ..
+        }) = sol.error()
+        else {
+            panic!("{}: {:?}", method.name(), sol.status)
+        };
+        assert_eq!(*constraint, Some(1), "{}", method.name());
+        assert!(*ratio < 1e-8, "{}: {ratio}", method.name());
+        // The gradient 2q̇ varies linearly here, so the zero is placed exactly between the two
+        // evaluations that straddle it.
+        assert!(
+            (t - t_singular).abs() < 1e-6,
+            "{}: stopped at t = {t}",
+            method.name()
+        );
+        // The motion before it is kept and finite; the last recorded state is before the point.
+        let (t_last, _, qd) = sol.last().expect("kept");
+        assert!(t_last < t_singular && qd.iter().all(|v| v.is_finite()));
+        assert!(sol
+            .error()
+            .is_some_and(|e| e.to_string().contains("singular point")));
+    }
+    // Turned off, the run steps across the singular point (the documented old behaviour).
+    let sol = solve(
+        &problem,
+        Dopri5::default(),
+        &Options::until(10.0)
+            .tolerances(1e-10, 1e-10)
+            .rank_tolerance(0.0),
+    )
+    .expect("valid options");
+    assert!(!matches!(sol.error(), Some(Error::SingularPoint { .. })));
 }

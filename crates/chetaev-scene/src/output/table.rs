@@ -70,12 +70,13 @@ pub(super) fn write_table<W: Write>(
         ),
         Table::Residual => (indexed("f").collect(), vec![Part::Rows(&out.residual, k)]),
         Table::Energy => (
-            ["E", "W_Phi", "int_dL_dt", "balance"]
+            ["E", "W_Phi", "W_Q", "int_dL_dt", "balance"]
                 .map(String::from)
                 .to_vec(),
             vec![
                 Part::Column(&out.energy),
                 Part::Column(&out.work),
+                Part::Column(&out.work_forces),
                 Part::Column(&out.dl_dt_integral),
                 Part::Column(&out.balance),
             ],

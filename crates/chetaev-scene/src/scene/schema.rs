@@ -39,6 +39,8 @@ pub(crate) struct RawModel {
     pub(crate) coordinates: Spanned<Vec<Spanned<String>>>,
     pub(crate) lagrangian: Spanned<String>,
     pub(crate) constraints: Option<Spanned<Vec<Spanned<String>>>>,
+    pub(crate) forces: Option<Spanned<Vec<Spanned<String>>>>,
+    pub(crate) dissipation: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]

@@ -27,6 +27,10 @@ pub struct Scene {
     pub lagrangian: Expr,
     /// `f_a(t, q, q̇)`, `a = 1..K`.
     pub constraints: Vec<Expr>,
+    /// Generalised forces `Q_i(t, q, q̇)` not derivable from `L`, one per coordinate (empty for none).
+    pub forces: Vec<Expr>,
+    /// A Rayleigh dissipation function `D(t, q, q̇)`, whose force is `−∂D/∂q̇`.
+    pub dissipation: Option<Expr>,
     /// Initial time.
     pub t0: f64,
     /// Initial coordinates.

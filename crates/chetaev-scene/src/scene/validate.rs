@@ -173,6 +173,29 @@ impl Builder {
                 constraint_spans.push(c.span());
             }
         }
+        let mut forces = Vec::new();
+        if let Some(list) = &model.forces {
+            if list.get_ref().len() != n {
+                return Err(self.err(
+                    list.span(),
+                    format!(
+                        "{} for {n} coordinates: give one generalised force Q_i per coordinate, in \
+                         the order of `coordinates` (0 where a coordinate has none)",
+                        match list.get_ref().len() {
+                            1 => "1 force".to_string(),
+                            k => format!("{k} forces"),
+                        }
+                    ),
+                ));
+            }
+            for f in list.get_ref() {
+                forces.push(self.expr(f, &motion)?);
+            }
+        }
+        let dissipation = match &model.dissipation {
+            Some(d) => Some(self.expr(d, &motion)?),
+            None => None,
+        };
 
         // [initial]
         let initial = raw.initial.get_ref();
@@ -251,6 +274,8 @@ impl Builder {
             coordinates,
             lagrangian,
             constraints,
+            forces,
+            dissipation,
             t0,
             q0,
             qd0,

@@ -37,10 +37,20 @@ pub struct Dynamics<T> {
     pub energy: T,
     /// `∂L/∂t`.
     pub dl_dt: T,
-    /// The power of the Chetaev force, `q̇·Φ`; `dE/dt = q̇·Φ − ∂L/∂t`.
+    /// The power of the Chetaev force, `q̇·Φ`; `dE/dt = q̇·Φ + q̇·Q − ∂L/∂t`.
     pub power: T,
+    /// The forces not derivable from `L`, `Q − ∂D/∂q̇`, length `n` (zero for a model without them).
+    pub forces: Vec<T>,
+    /// Their power `q̇·Q` (with `Q` including `−∂D/∂q̇`).
+    pub power_forces: T,
     /// Smallest over largest pivot of the block solve.
     pub pivot_ratio: f64,
+    /// The size of each constraint's gradient, `|J_a| = |∂f_a/∂q̇|`, length `k`.
+    pub j_norms: Vec<f64>,
+    /// `J = ∂f/∂q̇` (real parts), row-major `k × n`.
+    pub j: Vec<f64>,
+    /// The size of the kinetic metric, `max_ij |W_ij|`.
+    pub w_scale: f64,
 }
 
 /// Scratch space of the equations engine for one model's sizes, reused across evaluations so the
@@ -74,7 +84,12 @@ impl<T: Real> Workspace<T> {
                 energy: T::zero(),
                 dl_dt: T::zero(),
                 power: T::zero(),
+                forces: vec![T::zero(); n],
+                power_forces: T::zero(),
                 pivot_ratio: 1.0,
+                j_norms: vec![0.0; k],
+                j: vec![0.0; k * n],
+                w_scale: 0.0,
             },
         }
     }
@@ -99,9 +114,11 @@ impl<T: Real> Workspace<T> {
 /// block system from the derivatives of `L` and `f` and solves it for `q̈` and `μ`,
 ///
 /// ```text
-/// [ W   −Jᵀ ] [ q̈ ]   [ ∂L/∂q − g ]
-/// [ J    0  ] [ μ ] = [    −c     ]
+/// [ W   −Jᵀ ] [ q̈ ]   [ ∂L/∂q − g + Q ]
+/// [ J    0  ] [ μ ] = [      −c       ]
 /// ```
+///
+/// with `Q` the forces not derivable from `L` (and `−∂D/∂q̇` of a Rayleigh function), if any.
 ///
 /// With `k = 0` no constraint derivative is taken and the system is `W q̈ = ∂L/∂q − g`. The result
 /// is in [`Workspace::dynamics`] (and returned).
@@ -152,6 +169,10 @@ where
     if k > 0 {
         model.constraint_blocks(t, q, qd, true, cb);
     }
+    let has_forces = model.force_blocks(t, q, qd, &mut d.forces);
+    if !has_forces {
+        d.forces.iter_mut().for_each(|v| *v = T::zero());
+    }
     // The values themselves, not only their derivatives: a model that leaves its domain may keep
     // finite derivatives while `L` or `f` turns NaN.
     if !lb.l.re().is_finite() || cb.f.iter().any(|f| !f.re().is_finite()) {
@@ -163,7 +184,7 @@ where
         k,
         |i, m| lb.w[i * n + m],
         |a, i| cb.j[a * n + i],
-        |i| lb.dl_dq[i] - lb.g[i],
+        |i| lb.dl_dq[i] - lb.g[i] + d.forces[i],
         |a| -cb.c[a],
     )?;
     let x = sw.solution();
@@ -171,6 +192,7 @@ where
     d.mu.copy_from_slice(&x[n..n + k]);
     let mut power = T::zero();
     let mut p_qd = T::zero();
+    let mut power_forces = T::zero();
     for (i, (phi_i, (&qd_i, &p_i))) in d.phi.iter_mut().zip(qd.iter().zip(&lb.p)).enumerate() {
         let mut phi = T::zero();
         for (a, &mu_a) in d.mu.iter().enumerate() {
@@ -179,13 +201,26 @@ where
         *phi_i = phi;
         power += qd_i * phi;
         p_qd += qd_i * p_i;
+        power_forces += qd_i * d.forces[i];
     }
     d.f.copy_from_slice(&cb.f);
     d.l = lb.l;
     d.energy = p_qd - lb.l;
     d.dl_dt = lb.dl_dt;
     d.power = power;
+    d.power_forces = power_forces;
     d.pivot_ratio = pivot_ratio;
+    for (dst, src) in d.j.iter_mut().zip(&cb.j) {
+        *dst = src.re();
+    }
+    for (a, norm) in d.j_norms.iter_mut().enumerate() {
+        *norm = d.j[a * n..(a + 1) * n]
+            .iter()
+            .map(|v| v * v)
+            .sum::<f64>()
+            .sqrt();
+    }
+    d.w_scale = lb.w.iter().fold(0.0f64, |m, v| m.max(v.re().abs()));
     Ok(())
 }
 
@@ -208,7 +243,11 @@ where
     let q = SVector::<T, N>::from_column_slice(q);
     let qd = SVector::<T, N>::from_column_slice(qd);
     let ld = derivatives::lagrangian_derivatives(model, t, &q, &qd);
-    let r = ld.dl_dq - ld.g;
+    let forces = derivatives::fixed::forces(model, t, &q, &qd);
+    let r = match forces {
+        Some(f) => ld.dl_dq - ld.g + f,
+        None => ld.dl_dq - ld.g,
+    };
     let (f, j, c) = if K == 0 {
         (
             SVector::<T, K>::zeros(),
@@ -243,6 +282,27 @@ where
     d.energy = qd.dot(&ld.p) - ld.l;
     d.dl_dt = ld.dl_dt;
     d.power = qd.dot(&phi);
+    match forces {
+        Some(f) => {
+            d.forces.copy_from_slice(f.as_slice());
+            d.power_forces = qd.dot(&f);
+        }
+        None => {
+            d.forces.iter_mut().for_each(|v| *v = T::zero());
+            d.power_forces = T::zero();
+        }
+    }
     d.pivot_ratio = pivot_ratio;
+    for (a, norm) in d.j_norms.iter_mut().enumerate() {
+        for i in 0..N {
+            d.j[a * N + i] = j[(a, i)].re();
+        }
+        *norm = d.j[a * N..(a + 1) * N]
+            .iter()
+            .map(|v| v * v)
+            .sum::<f64>()
+            .sqrt();
+    }
+    d.w_scale = ld.w.iter().fold(0.0f64, |m, v| m.max(v.re().abs()));
     Ok(())
 }

@@ -368,6 +368,9 @@ impl Model for Counted<'_> {
     fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]) {
         Model::constraint_values(self.0, t, q, qd, f);
     }
+    fn force_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut [T]) -> bool {
+        Model::force_blocks(self.0, t, q, qd, out)
+    }
 }
 
 fn tolerance_of(info: &MethodInfo) -> f64 {

@@ -50,7 +50,8 @@ where
     let (n, k) = problem.sizes();
     let t0 = problem.t0();
     let settings = LoopSettings::new(options, &method, t0, 2 * n)?;
-    let mut sys = ReducedOde::new(problem.model(), options.record >= Record::Energy);
+    let mut sys = ReducedOde::new(problem.model(), options.record >= Record::Energy)
+        .with_rank_tolerance(options.rank_tolerance);
     let mut y = vec![0.0; sys.dim()];
     y[..n].copy_from_slice(problem.q0());
     y[n..2 * n].copy_from_slice(problem.qd0());
@@ -191,6 +192,13 @@ impl<'o> LoopSettings<'o> {
                     t_end: o.t_end,
                 });
             }
+        }
+        if !(o.rank_tolerance.is_finite() && (0.0..1.0).contains(&o.rank_tolerance)) {
+            return Err(Error::InvalidOption {
+                name: "rank_tolerance",
+                value: o.rank_tolerance,
+                hint: "a fraction in [0, 1), such as the default 1e-8 (0 turns the singular-point check off)",
+            });
         }
         if let Some(p) = &o.projection {
             positive(
@@ -889,9 +897,15 @@ fn initial_step<S: OdeSystem>(
     let p = order as f64;
     let mut f0 = vec![0.0; dim];
     sys.rhs(t0, y0, &mut f0)?;
-    let zeros = vec![0.0; dim];
-    let d0 = norm.norm(y0, y0, &zeros);
-    let d1 = norm.norm(&f0, y0, &zeros);
+    // Weighted RMS norms with the scale of y0 alone, as in HINIT.
+    let rms = |v: &dyn Fn(usize) -> f64| {
+        let s: f64 = (0..norm.len())
+            .map(|i| (v(i) / norm.scale(i, y0[i], 0.0)).powi(2))
+            .sum();
+        (s / norm.len() as f64).sqrt()
+    };
+    let d0 = rms(&|i| y0[i]);
+    let d1 = rms(&|i| f0[i]);
     let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
         1e-6
     } else {
@@ -901,8 +915,7 @@ fn initial_step<S: OdeSystem>(
     let y1: Vec<f64> = (0..dim).map(|i| y0[i] + dir * h0 * f0[i]).collect();
     let mut f1 = vec![0.0; dim];
     sys.rhs(t0 + dir * h0, &y1, &mut f1)?;
-    let diff: Vec<f64> = (0..dim).map(|i| f1[i] - f0[i]).collect();
-    let d2 = norm.norm(&diff, y0, &zeros) / h0;
+    let d2 = rms(&|i| f1[i] - f0[i]) / h0;
     let h1 = if d1.max(d2) <= 1e-15 {
         (h0 * 1e-3).max(1e-6)
     } else {

@@ -67,6 +67,11 @@ pub struct Options {
     /// (besides the step's end), so that a function crossing zero twice within one step is seen
     /// when its zeros are more than `h/(event_samples + 1)` apart. Default 4.
     pub event_samples: usize,
+    /// Singular points: the run stops with [`Error::SingularPoint`](crate::Error::SingularPoint)
+    /// where a constraint's gradient `|∂f_a/∂q̇|` or the size of `W = ∂²L/∂q̇²` falls below this
+    /// fraction of its size at the start, or grows beyond its inverse. Default `1e-8`; `0` turns
+    /// the check off.
+    pub rank_tolerance: f64,
     /// Step-size controller; the method's own (its [`MethodInfo::controller`]) when `None`.
     ///
     /// [`MethodInfo::controller`]: super::MethodInfo::controller
@@ -87,6 +92,7 @@ impl std::fmt::Debug for Options {
             .field("events", &self.events.len())
             .field("projection", &self.projection)
             .field("event_samples", &self.event_samples)
+            .field("rank_tolerance", &self.rank_tolerance)
             .field("controller", &self.controller)
             .finish()
     }
@@ -108,6 +114,7 @@ impl Options {
             events: Vec::new(),
             projection: None,
             event_samples: 4,
+            rank_tolerance: 1e-8,
             controller: None,
         }
     }
@@ -199,6 +206,12 @@ impl Options {
     /// Sets the number of interior points of each step at which event functions are sampled.
     pub fn event_samples(mut self, samples: usize) -> Self {
         self.event_samples = samples;
+        self
+    }
+
+    /// Sets the threshold of the singular-point check (`0` turns it off).
+    pub fn rank_tolerance(mut self, tolerance: f64) -> Self {
+        self.rank_tolerance = tolerance;
         self
     }
 

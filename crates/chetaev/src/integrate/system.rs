@@ -1,9 +1,9 @@
 //! The reduced Chetaev equations as a first-order ODE on flat `f64` slices, which is all an
 //! integrator sees.
 //!
-//! State layout: `y = [q (n), q̇ (n)]`, followed, when the energy balance is recorded, by two
-//! quadratures `[W_Φ, ∫∂L/∂t dt]` with `dW_Φ/dt = q̇·Φ`. The quadratures are outside error
-//! control, so recording them never changes the motion.
+//! State layout: `y = [q (n), q̇ (n)]`, followed, when the energy balance is recorded, by three
+//! quadratures `[W_Φ, ∫∂L/∂t dt, W_Q]` with `dW_Φ/dt = q̇·Φ` and `dW_Q/dt = q̇·Q`. The quadratures
+//! are outside error control, so recording them never changes the motion.
 
 use num_dual::Dual64;
 
@@ -98,11 +98,96 @@ pub struct ReducedOde<'a, M: ?Sized> {
     /// Scratch space for the dual evaluations of the Jacobian, made on first use.
     jac_ws: Option<Workspace<Dual64>>,
     energy: bool,
+    /// Relative change of `|J_a|` or of `max |W_ij|` from their first evaluated sizes beyond which
+    /// the equations are taken as singular (0: no check).
+    rank_tolerance: f64,
+    /// `|J_a|` and `max |W_ij|` at the first evaluation.
+    reference: Option<(Vec<f64>, f64)>,
+    /// `J` at the previous evaluation (row-major `k × n`), and its time.
+    previous_j: Vec<f64>,
+    previous_t: f64,
     /// The work done so far.
     pub stats: Stats,
 }
 
 impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
+    /// Stops with [`Error::SingularPoint`] where a constraint's gradient `J_a` comes within
+    /// `tolerance` times its size at the first evaluation of zero, or the size of the kinetic metric
+    /// `max |W_ij|` shrinks below `tolerance` times, or grows beyond `1/tolerance` times, its size
+    /// at the first evaluation (`0` turns the check off). Between two consecutive evaluations `J_a`
+    /// is taken as varying linearly, so a gradient that passes through zero between them (the
+    /// speed reversing under a constraint on its magnitude) is found even when no evaluation lands
+    /// near the zero.
+    pub fn with_rank_tolerance(mut self, tolerance: f64) -> Self {
+        self.rank_tolerance = tolerance;
+        self
+    }
+
+    /// The singular-point check of [`ReducedOde::with_rank_tolerance`] on the last evaluation.
+    fn check_singular(&mut self, t: f64, q: &[f64], qd: &[f64]) -> Result<(), Error> {
+        let tol = self.rank_tolerance;
+        if tol <= 0.0 {
+            return Ok(());
+        }
+        let d = self.ws.dynamics();
+        let n = self.n;
+        let Some((j0, w0)) = &self.reference else {
+            self.reference = Some((d.j_norms.clone(), d.w_scale));
+            self.previous_j.clone_from(&d.j);
+            self.previous_t = t;
+            return Ok(());
+        };
+        let off = |now: f64, then: f64| {
+            let ratio = now / then;
+            (then > 0.0 && !(tol..=1.0 / tol).contains(&ratio)).then_some(ratio)
+        };
+        // The smallest |J_a| on the segment from the previous evaluation's J_a to this one's, and
+        // where on it (0 at the previous evaluation, 1 at this one).
+        let closest = |a: usize| {
+            let (p, c) = (
+                &self.previous_j[a * n..(a + 1) * n],
+                &d.j[a * n..(a + 1) * n],
+            );
+            let (mut pd, mut dd) = (0.0, 0.0);
+            for (x, y) in p.iter().zip(c) {
+                pd += x * (y - x);
+                dd += (y - x) * (y - x);
+            }
+            let s = if dd > 0.0 {
+                (-pd / dd).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let size = p
+                .iter()
+                .zip(c)
+                .map(|(x, y)| (x + s * (y - x)).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            (size, s)
+        };
+        let previous_t = self.previous_t;
+        let culprit = (0..j0.len())
+            .find_map(|a| {
+                let (size, s) = closest(a);
+                off(size, j0[a])
+                    .map(|r| (Some(a + 1), r, previous_t + s * (t - previous_t)))
+                    .or_else(|| off(d.j_norms[a], j0[a]).map(|r| (Some(a + 1), r, t)))
+            })
+            .or_else(|| off(d.w_scale, *w0).map(|r| (None, r, t)));
+        self.previous_j.clone_from(&d.j);
+        self.previous_t = t;
+        match culprit {
+            None => Ok(()),
+            Some((constraint, ratio, t)) => Err(Error::SingularPoint {
+                t,
+                constraint,
+                ratio,
+                q: q.to_vec(),
+                qd: qd.to_vec(),
+            }),
+        }
+    }
     /// The reduced equations of `model`; with `energy` the state carries the two quadratures of
     /// the energy balance.
     pub fn new(model: &'a M, energy: bool) -> Self {
@@ -112,6 +197,10 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             ws: Workspace::for_model(model),
             jac_ws: None,
             energy,
+            rank_tolerance: 0.0,
+            reference: None,
+            previous_j: Vec::new(),
+            previous_t: f64::NAN,
             stats: Stats::default(),
         }
     }
@@ -136,7 +225,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
 impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
     fn dim(&self) -> usize {
         if self.energy {
-            2 * self.n + 2
+            2 * self.n + 3
         } else {
             2 * self.n
         }
@@ -151,12 +240,15 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         self.stats.rhs_evaluations += 1;
         let n = self.n;
         let (q, qd) = (&y[..n], &y[n..2 * n]);
-        let d = evaluate(self.model, &mut self.ws, t, q, qd).map_err(|e| locate(e, t, q, qd))?;
+        evaluate(self.model, &mut self.ws, t, q, qd).map_err(|e| locate(e, t, q, qd))?;
+        self.check_singular(t, q, qd)?;
+        let d = self.ws.dynamics();
         dy[..n].copy_from_slice(qd);
         dy[n..2 * n].copy_from_slice(&d.qdd);
         if self.energy {
             dy[2 * n] = d.power;
             dy[2 * n + 1] = d.dl_dt;
+            dy[2 * n + 2] = d.power_forces;
         }
         Ok(())
     }
@@ -204,12 +296,14 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
             if self.energy {
                 put(2 * n, d.power.eps);
                 put(2 * n + 1, d.dl_dt.eps);
+                put(2 * n + 2, d.power_forces.eps);
             }
         }
         if self.energy {
             for row in 0..dim {
-                jac[row * dim + 2 * n] = 0.0;
-                jac[row * dim + 2 * n + 1] = 0.0;
+                for quadrature in 2 * n..dim {
+                    jac[row * dim + quadrature] = 0.0;
+                }
             }
         }
         if jac.iter().chain(dfdt.iter()).any(|v| !v.is_finite()) {

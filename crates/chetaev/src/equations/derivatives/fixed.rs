@@ -337,3 +337,36 @@ pub(crate) fn constraint_blocks<M, T, const N: usize, const K: usize>(
         out.c.copy_from_slice(c.as_slice());
     }
 }
+
+/// The forces not derivable from `L`: `Q(t, q, q̇) − ∂D/∂q̇` (shape `N`), `−∂D/∂q̇` by one gradient
+/// pass of `DualVec<N>` over `q̇`; `None` when the model has neither.
+#[inline(always)]
+pub fn forces<M, T, const N: usize>(
+    model: &M,
+    t: T,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+) -> Option<SVector<T, N>>
+where
+    M: Lagrangian<N> + ?Sized,
+    T: Real,
+{
+    let q_direct = model.forces(t, q, qd);
+    type D<T, const N: usize> = DualVec<T, f64, Const<N>>;
+    let n = Const::<N>;
+    let td = D::<T, N>::from_re(t);
+    let qdual: SVector<D<T, N>, N> = q.map(D::from_re);
+    let mut qdv: SVector<D<T, N>, N> = qd.map(D::from_re);
+    for (i, x) in qdv.iter_mut().enumerate() {
+        x.eps = Derivative::derivative_generic(n, U1, i);
+    }
+    let q_dissipative = model
+        .dissipation(td, &qdual, &qdv)
+        .map(|d| -d.eps.unwrap_generic(n, U1));
+    match (q_direct, q_dissipative) {
+        (None, None) => None,
+        (Some(a), None) => Some(a),
+        (None, Some(b)) => Some(b),
+        (Some(a), Some(b)) => Some(a + b),
+    }
+}

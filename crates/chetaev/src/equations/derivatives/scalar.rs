@@ -141,3 +141,33 @@ pub(crate) fn constraint_blocks<M: DynModel + ?Sized, T: Real>(
         }
     }
 }
+
+/// The forces not derivable from `L`, `Q − ∂D/∂q̇` (length `n`), into `out`, `−∂D/∂q̇` by one scalar
+/// dual pass per velocity; returns whether the model has any.
+pub(crate) fn forces<M: DynModel + ?Sized, T: Real>(
+    model: &M,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    out: &mut [T],
+) -> bool {
+    let direct = model.forces(t, q, qd, out);
+    type D<T> = Dual<T, f64>;
+    let td = D::from_re(t);
+    let qdl: Vec<D<T>> = q.iter().map(|&x| D::from_re(x)).collect();
+    let mut qdd: Vec<D<T>> = qd.iter().map(|&x| D::from_re(x)).collect();
+    if model.dissipation(td, &qdl, &qdd).is_none() {
+        return direct;
+    }
+    if !direct {
+        out.iter_mut().for_each(|v| *v = T::zero());
+    }
+    for i in 0..q.len() {
+        qdd[i].eps = T::one();
+        if let Some(d) = model.dissipation(td, &qdl, &qdd) {
+            out[i] -= d.eps;
+        }
+        qdd[i].eps = T::zero();
+    }
+    true
+}
