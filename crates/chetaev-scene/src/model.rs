@@ -14,6 +14,8 @@ pub(crate) struct ExprModel {
     pub lagrangian: Expr,
     /// `f_a(t, q, q̇)`, `a = 1..K`.
     pub constraints: Vec<Expr>,
+    /// `h_b(t, q)`, the holonomic constraints.
+    pub holonomic: Vec<Expr>,
     /// `Q_i(t, q, q̇)`, one per coordinate, or none.
     pub forces: Vec<Expr>,
     /// `D(t, q, q̇)`, or none.
@@ -35,6 +37,20 @@ impl DynModel for ExprModel {
         let env = Env { t, q, qd };
         for (fa, c) in f.iter_mut().zip(&self.constraints) {
             *fa = c.eval(&env);
+        }
+    }
+
+    fn holonomic_count(&self) -> usize {
+        self.holonomic.len()
+    }
+
+    #[inline]
+    fn holonomic<R: Real>(&self, t: R, q: &[R], h: &mut [R]) {
+        // The expressions use no velocities (checked when the scene is read).
+        let qd = vec![R::zero(); q.len()];
+        let env = Env { t, q, qd: &qd };
+        for (hb, e) in h.iter_mut().zip(&self.holonomic) {
+            *hb = e.eval(&env);
         }
     }
 

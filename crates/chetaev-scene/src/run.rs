@@ -159,6 +159,7 @@ impl Scene {
             n: self.n(),
             lagrangian: self.lagrangian.clone(),
             constraints: self.constraints.clone(),
+            holonomic: self.holonomic.clone(),
             forces: self.forces.clone(),
             dissipation: self.dissipation.clone(),
         };

@@ -75,6 +75,24 @@ pub enum Error {
         tolerance: f64,
     },
 
+    /// The initial position does not satisfy a holonomic constraint.
+    #[error(
+        "the initial position violates holonomic constraint {index} (numbered from 1 among the holonomic \
+         ones): h = {residual:e} at t = {t} (allowed {tolerance:e}); give a consistent initial position, or \
+         opt in to Problem::with_projected_velocity, which projects the position onto h = 0 and then the \
+         velocity"
+    )]
+    InconsistentInitialPosition {
+        /// Initial time.
+        t: f64,
+        /// The holonomic constraint's number, from 1.
+        index: usize,
+        /// `h_b(t0, q0)`.
+        residual: f64,
+        /// The largest residual accepted.
+        tolerance: f64,
+    },
+
     /// The block system for `q̈` and `μ` is singular.
     #[error(
         "the Chetaev block system is singular at t = {t} (pivot ratio {pivot_ratio:e}) with q = {q:?}, q̇ = {qd:?}: \

@@ -98,6 +98,22 @@ pub trait Lagrangian<const N: usize> {
 pub trait Constraints<const N: usize, const K: usize> {
     /// `f(t, q, q̇)`, shape `K`.
     fn constraints<R: Real>(&self, t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> SVector<R, K>;
+
+    /// The number `H` of holonomic constraints `h(t, q) = 0` besides the `K` velocity constraints
+    /// (0, the default, for none). See [`Constraints::holonomic`].
+    fn holonomic_count(&self) -> usize {
+        0
+    }
+
+    /// Writes the holonomic constraints `h(t, q)` (length [`Constraints::holonomic_count`]) to `h`.
+    ///
+    /// They are enforced at acceleration level by their second time derivative (by automatic
+    /// differentiation), their multipliers `λ` follow the `K` velocity multipliers in `μ`, and
+    /// their force is `Hᵀλ`, `H = ∂h/∂q`. Position residuals are recorded, and the projection
+    /// option corrects positions onto `h = 0` before velocities (see `docs/holonomic.md`).
+    fn holonomic<R: Real>(&self, t: R, q: &SVector<R, N>, h: &mut [R]) {
+        let _ = (t, q, h);
+    }
 }
 
 /// A Lagrangian system with no constraints (`K = 0`): plain Euler–Lagrange equations, with no
@@ -183,6 +199,15 @@ pub trait DynModel {
         let _ = (t, q, qd);
         None
     }
+    /// The number of holonomic constraints `h(t, q) = 0` besides the `K` of
+    /// [`DynModel::sizes`] (0, the default). See [`Constraints::holonomic`].
+    fn holonomic_count(&self) -> usize {
+        0
+    }
+    /// Writes `h(t, q)` (length [`DynModel::holonomic_count`]) to `h`.
+    fn holonomic<R: Real>(&self, t: R, q: &[R], h: &mut [R]) {
+        let _ = (t, q, h);
+    }
 }
 
 /// What the equations engine needs of a model: its sizes and the derivative blocks of `L` and `f`
@@ -194,8 +219,20 @@ pub trait DynModel {
 /// numbers on the stack for static sizes, scalar dual numbers for run-time sizes); see
 /// [`derivatives`].
 pub trait Model {
-    /// `(n, k)`: coordinates and velocity constraints.
+    /// `(n, k)`: coordinates and constraints, the velocity constraints first and then the
+    /// holonomic ones, each of those entering as its time derivative `ḣ = 0`.
     fn sizes(&self) -> (usize, usize);
+
+    /// How many of the `k` constraints are holonomic (the last ones).
+    fn holonomic_count(&self) -> usize {
+        0
+    }
+
+    /// The holonomic constraints `h(t, q)` (length [`Model::holonomic_count`]) into `h`, and, when
+    /// given, `H = ∂h/∂q` (row-major `count × n`) into `hq`.
+    fn holonomic_blocks(&self, t: f64, q: &[f64], h: &mut [f64], hq: Option<&mut [f64]>) {
+        let _ = (t, q, h, hq);
+    }
 
     /// `L`, `p = ∂L/∂q̇`, `W = ∂²L/∂q̇²`, `∂L/∂q`, `g = (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t` and `∂L/∂t` into
     /// `out` (whose vectors have the model's sizes).
@@ -259,7 +296,22 @@ where
     M: Lagrangian<N> + Constraints<N, K>,
 {
     fn sizes(&self) -> (usize, usize) {
-        (N, K)
+        (N, K + self.0.holonomic_count())
+    }
+
+    fn holonomic_count(&self) -> usize {
+        self.0.holonomic_count()
+    }
+
+    fn holonomic_blocks(&self, t: f64, q: &[f64], h: &mut [f64], hq: Option<&mut [f64]>) {
+        derivatives::holonomic_blocks(
+            t,
+            q,
+            h,
+            hq,
+            |t, q, h| self.0.holonomic(t, &SVector::from_column_slice(q), h),
+            |t, q, h| self.0.holonomic(t, &SVector::from_column_slice(q), h),
+        );
     }
 
     #[inline]
@@ -281,6 +333,18 @@ where
         out: &mut ConstraintBlocks<T>,
     ) {
         derivatives::fixed::constraint_blocks::<M, T, N, K>(&self.0, t, q, qd, with_c, out);
+        if self.0.holonomic_count() > 0 {
+            derivatives::holonomic_rows(
+                K,
+                t,
+                q,
+                qd,
+                with_c,
+                out,
+                |t, q, h| self.0.holonomic(t, &SVector::from_column_slice(q), h),
+                |t, q, h| self.0.holonomic(t, &SVector::from_column_slice(q), h),
+            );
+        }
     }
 
     #[inline(never)]
@@ -291,6 +355,10 @@ where
         q: &[T],
         qd: &[T],
     ) -> Result<(), SaddleFailure> {
+        if self.0.holonomic_count() > 0 {
+            // The holonomic rows have sizes known only at run time.
+            return crate::equations::evaluate_blocks(self, ws, t, q, qd);
+        }
         crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, ws, t, q, qd)
     }
 
@@ -313,13 +381,34 @@ where
             &SVector::from_column_slice(q),
             &SVector::from_column_slice(qd),
         );
-        f.copy_from_slice(v.as_slice());
+        f[..K].copy_from_slice(v.as_slice());
+        if self.0.holonomic_count() > 0 {
+            derivatives::holonomic_velocities(K, t, q, qd, f, |t, q, h| {
+                self.0.holonomic(t, &SVector::from_column_slice(q), h)
+            });
+        }
     }
 }
 
 impl<M: DynModel> Model for M {
     fn sizes(&self) -> (usize, usize) {
-        DynModel::sizes(self)
+        let (n, k) = DynModel::sizes(self);
+        (n, k + DynModel::holonomic_count(self))
+    }
+
+    fn holonomic_count(&self) -> usize {
+        DynModel::holonomic_count(self)
+    }
+
+    fn holonomic_blocks(&self, t: f64, q: &[f64], h: &mut [f64], hq: Option<&mut [f64]>) {
+        derivatives::holonomic_blocks(
+            t,
+            q,
+            h,
+            hq,
+            |t, q, h| DynModel::holonomic(self, t, q, h),
+            |t, q, h| DynModel::holonomic(self, t, q, h),
+        );
     }
 
     fn lagrangian_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut LagrangianBlocks<T>) {
@@ -339,10 +428,28 @@ impl<M: DynModel> Model for M {
         out: &mut ConstraintBlocks<T>,
     ) {
         derivatives::scalar::constraint_blocks(self, t, q, qd, with_c, out);
+        if DynModel::holonomic_count(self) > 0 {
+            derivatives::holonomic_rows(
+                DynModel::sizes(self).1,
+                t,
+                q,
+                qd,
+                with_c,
+                out,
+                |t, q, h| DynModel::holonomic(self, t, q, h),
+                |t, q, h| DynModel::holonomic(self, t, q, h),
+            );
+        }
     }
 
     fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]) {
-        DynModel::constraints(self, t, q, qd, f);
+        let k = DynModel::sizes(self).1;
+        DynModel::constraints(self, t, q, qd, &mut f[..k]);
+        if DynModel::holonomic_count(self) > 0 {
+            derivatives::holonomic_velocities(k, t, q, qd, f, |t, q, h| {
+                DynModel::holonomic(self, t, q, h)
+            });
+        }
     }
 
     fn force_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut [T]) -> bool {

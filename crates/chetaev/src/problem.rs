@@ -4,7 +4,9 @@ use nalgebra::SVector;
 
 use crate::equations::{evaluate, Workspace};
 use crate::error::Error;
-use crate::integrate::projection::{constraint_scale, project_velocity, Projection};
+use crate::integrate::projection::{
+    constraint_scale, project_positions, project_velocity, Projection,
+};
 use crate::integrate::system::locate;
 use crate::model::{Constraints, DynModel, Fixed, Lagrangian, Model, Unconstrained};
 
@@ -117,6 +119,8 @@ impl<M: Model> Problem<M> {
             max_iterations: 20,
         };
         let mut ws = Workspace::for_model(&model);
+        let mut q0 = q0;
+        project_positions(&model, &mut ws, t0, &mut q0, &qd0, settings)?;
         project_velocity(&model, &mut ws, t0, &q0, &mut qd0, settings)?;
         Self::from_model(model, t0, q0, qd0)
     }
@@ -184,9 +188,29 @@ impl<M: Model> Problem<M> {
     }
 
     /// Evaluates the equations at the initial state, checks that every value is finite and that
-    /// the initial velocity satisfies the constraints.
+    /// the initial position satisfies the holonomic constraints and the initial velocity the
+    /// velocity constraints (`ḣ = 0` among them).
     fn check_initial_state(&self) -> Result<(), Error> {
         let (t0, q0, qd0) = (self.t0, &self.q0[..], &self.qd0[..]);
+        let holonomic = self.model.holonomic_count();
+        if holonomic > 0 {
+            let n = q0.len();
+            let (mut h, mut hq) = (vec![0.0; holonomic], vec![0.0; holonomic * n]);
+            self.model.holonomic_blocks(t0, q0, &mut h, Some(&mut hq));
+            let q_norm = norm(q0);
+            for b in 0..holonomic {
+                let scale = constraint_scale(norm(&hq[b * n..(b + 1) * n]), q_norm);
+                let tolerance = INITIAL_RESIDUAL_TOLERANCE * scale;
+                if h[b].is_nan() || h[b].abs() > tolerance {
+                    return Err(Error::InconsistentInitialPosition {
+                        t: t0,
+                        index: b + 1,
+                        residual: h[b],
+                        tolerance,
+                    });
+                }
+            }
+        }
         let mut ws = Workspace::for_model(&self.model);
         let d = evaluate(&self.model, &mut ws, t0, q0, qd0).map_err(|e| locate(e, t0, q0, qd0))?;
         if d.f.iter().any(|f| !f.is_finite()) || !d.energy.is_finite() || !d.l.is_finite() {

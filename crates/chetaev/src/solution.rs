@@ -193,8 +193,12 @@ pub struct Solution {
     pub mu: Series,
     /// The Chetaev force `Φ = Jᵀμ` ([`Record::Dynamics`] and above; width `n`).
     pub phi: Series,
-    /// The constraint residual `f(t, q, q̇)` ([`Record::Dynamics`] and above; width `k`).
+    /// The constraint residual `f(t, q, q̇)` ([`Record::Dynamics`] and above; width `k`): the
+    /// velocity constraints, then `ḣ` of the holonomic ones.
     pub residual: Series,
+    /// The position residual `h(t, q)` of the holonomic constraints ([`Record::Dynamics`] and
+    /// above; width the number of holonomic constraints, 0 without them).
+    pub position_residual: Series,
     /// The energy `E = q̇·∂L/∂q̇ − L` ([`Record::Dynamics`] and above).
     pub energy: Vec<f64>,
     /// The work of the Chetaev force since the start, `W_Φ = ∫ q̇·Φ dt` ([`Record::Energy`]).
@@ -226,6 +230,7 @@ impl Solution {
             mu: Series::new(k),
             phi: Series::new(n),
             residual: Series::new(k),
+            position_residual: Series::new(0),
             energy: Vec::new(),
             work: Vec::new(),
             dl_dt_integral: Vec::new(),
@@ -257,6 +262,15 @@ impl Solution {
             finite(t, "W_Q", &y[2 * n + 2..2 * n + 3])?;
         }
         if self.record >= Record::Dynamics {
+            let holonomic = ode.model.holonomic_count();
+            let h = (holonomic > 0).then(|| {
+                let mut h = vec![0.0; holonomic];
+                ode.model.holonomic_blocks(t, q, &mut h, None);
+                h
+            });
+            if let Some(h) = &h {
+                finite(t, "h", h)?;
+            }
             let d = ode.evaluate(t, q, qd)?;
             finite(t, "q̈", &d.qdd)?;
             finite(t, "μ", &d.mu)?;
@@ -268,6 +282,12 @@ impl Solution {
             self.phi.push(&d.phi);
             self.residual.push(&d.f);
             self.energy.push(d.energy);
+            if let Some(h) = h {
+                if self.position_residual.width() != h.len() {
+                    self.position_residual = Series::new(h.len());
+                }
+                self.position_residual.push(&h);
+            }
         }
         self.t.push(t);
         self.q.push(q);

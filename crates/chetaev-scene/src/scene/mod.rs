@@ -91,9 +91,10 @@ impl Scene {
         self.coordinates.len()
     }
 
-    /// `K`, the number of constraints.
+    /// `K`, the number of constraints: the velocity constraints, then the holonomic ones (whose
+    /// multipliers follow in `μ`).
     pub fn k(&self) -> usize {
-        self.constraints.len()
+        self.constraints.len() + self.holonomic.len()
     }
 
     /// What has to be recorded along the motion for the tables and pictures asked for.

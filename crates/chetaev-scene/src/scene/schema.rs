@@ -40,6 +40,7 @@ pub(crate) struct RawModel {
     pub(crate) lagrangian: Spanned<String>,
     pub(crate) constraints: Option<Spanned<Vec<Spanned<String>>>>,
     pub(crate) forces: Option<Spanned<Vec<Spanned<String>>>>,
+    pub(crate) holonomic: Option<Spanned<Vec<Spanned<String>>>>,
     pub(crate) dissipation: Option<Spanned<String>>,
 }
 

@@ -27,6 +27,9 @@ pub struct Scene {
     pub lagrangian: Expr,
     /// `f_a(t, q, q̇)`, `a = 1..K`.
     pub constraints: Vec<Expr>,
+    /// Holonomic constraints `h_b(t, q) = 0` (empty for none); their multipliers follow the
+    /// velocity constraints' in `μ`.
+    pub holonomic: Vec<Expr>,
     /// Generalised forces `Q_i(t, q, q̇)` not derivable from `L`, one per coordinate (empty for none).
     pub forces: Vec<Expr>,
     /// A Rayleigh dissipation function `D(t, q, q̇)`, whose force is `−∂D/∂q̇`.

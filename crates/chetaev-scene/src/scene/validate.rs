@@ -173,6 +173,42 @@ impl Builder {
                 constraint_spans.push(c.span());
             }
         }
+        let mut holonomic = Vec::new();
+        if let Some(list) = &model.holonomic {
+            let total = constraints.len() + list.get_ref().len();
+            if total > n {
+                return Err(self.err(
+                    list.span(),
+                    format!(
+                        "{total} constraints in all (velocity and holonomic) on {n} coordinates: at most \
+                         {n} can hold at once"
+                    ),
+                ));
+            }
+            for h in list.get_ref() {
+                let text = h.get_ref();
+                let velocity = coordinates.iter().find(|c| {
+                    let name = format!("{c}_dot");
+                    text.match_indices(&name).any(|(at, _)| {
+                        let before = text[..at].chars().next_back();
+                        let after = text[at + name.len()..].chars().next();
+                        let ident =
+                            |c: Option<char>| c.is_some_and(|c| c.is_alphanumeric() || c == '_');
+                        !ident(before) && !ident(after)
+                    })
+                });
+                if let Some(c) = velocity {
+                    return Err(self.err(
+                        h.span(),
+                        format!(
+                            "a holonomic constraint h(t, q) = 0 depends on positions and time only, but \
+                             this one uses {c}_dot; put constraints on velocities under `constraints`"
+                        ),
+                    ));
+                }
+                holonomic.push(self.expr(h, &motion)?);
+            }
+        }
         let mut forces = Vec::new();
         if let Some(list) = &model.forces {
             if list.get_ref().len() != n {
@@ -256,7 +292,7 @@ impl Builder {
         let (output, quantity_spans) = self.output(
             raw.output.as_ref(),
             &stem,
-            constraints.len(),
+            constraints.len() + holonomic.len(),
             &motion,
             &constants,
             t0,
@@ -274,6 +310,7 @@ impl Builder {
             coordinates,
             lagrangian,
             constraints,
+            holonomic,
             forces,
             dissipation,
             t0,

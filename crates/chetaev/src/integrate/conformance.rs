@@ -12,8 +12,8 @@ use std::cell::Cell;
 
 use super::driver::{solve_ode, OdeOptions};
 use super::options::{Options, Output};
-use super::system::OdeSystem;
-use super::{AnyMethod, ErrorNorm, Method, MethodInfo, Stepper};
+use super::testing::{fixed_steps, loose, Jac, Rhs, Sys};
+use super::{AnyMethod, Method, MethodInfo, Stepper};
 use crate::equations::derivatives::{ConstraintBlocks, LagrangianBlocks};
 use crate::error::Error;
 use crate::integrate::events::Event;
@@ -33,56 +33,31 @@ fn methods() -> Vec<AnyMethod> {
 /// Jacobian and `∂F/∂t` for the implicit methods. Errors are relative, so the study stays in the
 /// asymptotic range over many orders of magnitude; `A` and `ω` make the error constants large
 /// enough that eighth order stays well above rounding.
-#[derive(Default)]
-struct TestOde {
-    evaluations: usize,
-    jacobians: usize,
+fn test_ode() -> Sys<Rhs, Jac> {
+    Sys::new(
+        2,
+        |t, y, dy| {
+            let a = 1.0 + A * (OMEGA * t).cos();
+            dy[0] = a * y[0];
+            dy[1] = -a * y[1];
+        },
+        |t, y, jac, dfdt| {
+            let a = 1.0 + A * (OMEGA * t).cos();
+            let da = -A * OMEGA * (OMEGA * t).sin();
+            jac.copy_from_slice(&[a, 0.0, 0.0, -a]);
+            dfdt[0] = da * y[0];
+            dfdt[1] = -da * y[1];
+        },
+    )
 }
 
 const A: f64 = 2.0;
 const OMEGA: f64 = 4.0;
 
-impl TestOde {
-    fn exact(t: f64) -> [f64; 2] {
-        let s = t + A / OMEGA * (OMEGA * t).sin();
-        [s.exp(), (-s).exp()]
-    }
-}
-
-impl OdeSystem for TestOde {
-    fn dim(&self) -> usize {
-        2
-    }
-    fn controlled_dim(&self) -> usize {
-        2
-    }
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
-        self.evaluations += 1;
-        let a = 1.0 + A * (OMEGA * t).cos();
-        dy[0] = a * y[0];
-        dy[1] = -a * y[1];
-        Ok(())
-    }
-    fn jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error> {
-        self.jacobians += 1;
-        let a = 1.0 + A * (OMEGA * t).cos();
-        let da = -A * OMEGA * (OMEGA * t).sin();
-        jac.copy_from_slice(&[a, 0.0, 0.0, -a]);
-        dfdt[0] = da * y[0];
-        dfdt[1] = -da * y[1];
-        Ok(())
-    }
-}
-
-/// A norm under which every step is accepted.
-fn loose() -> ErrorNorm {
-    ErrorNorm::new(0.0, vec![1e10; 2])
+/// The solution of [`test_ode`].
+fn exact(t: f64) -> [f64; 2] {
+    let s = t + A / OMEGA * (OMEGA * t).sin();
+    [s.exp(), (-s).exp()]
 }
 
 /// The largest relative error of the components.
@@ -130,44 +105,17 @@ const SCALARS: [Scalar; 2] = [
     },
 ];
 
-impl OdeSystem for &Scalar {
-    fn dim(&self) -> usize {
-        1
-    }
-    fn controlled_dim(&self) -> usize {
-        1
-    }
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
-        dy[0] = (self.f)(t, y[0]);
-        Ok(())
-    }
-    fn jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error> {
-        jac[0] = (self.dfdy)(t, y[0]);
-        dfdt[0] = (self.dfdt)(t, y[0]);
-        Ok(())
-    }
-}
-
 /// `n` fixed steps of `problem` from 0; the relative error at the end.
 fn fixed_step_error(method: &AnyMethod, problem: &Scalar, n: usize) -> Result<f64, Error> {
-    let mut sys = problem;
-    let mut st = method.stepper(1);
-    let (mut y, mut y_new) = ([1.0], [0.0]);
-    let h = problem.t_end / n as f64;
-    let norm = ErrorNorm::new(0.0, vec![1e10]);
-    st.reset(&mut sys, 0.0, &y)?;
-    for i in 0..n {
-        let t = i as f64 * h;
-        st.try_step(&mut sys, t, h, &y, &mut y_new, &norm)?;
-        st.accept(&mut sys, t, h, &y, &y_new)?;
-        y = y_new;
-    }
+    let mut sys = Sys::new(
+        1,
+        |t, y: &[f64], dy: &mut [f64]| dy[0] = (problem.f)(t, y[0]),
+        |t, y: &[f64], jac: &mut [f64], dfdt: &mut [f64]| {
+            jac[0] = (problem.dfdy)(t, y[0]);
+            dfdt[0] = (problem.dfdt)(t, y[0]);
+        },
+    );
+    let y = fixed_steps(method, &mut sys, (0.0, &[1.0]), problem.t_end, n)?;
     let exact = (problem.exact)(problem.t_end);
     Ok(((y[0] - exact) / exact).abs())
 }
@@ -193,9 +141,15 @@ fn within_order(p: f64, declared: u32) -> bool {
     p >= d - 0.2 && p <= d + 0.5
 }
 
-fn report(info: &MethodInfo, what: &str, points: &[(f64, f64)], p: f64, declared: u32) {
+/// Reports the observed order `p` of `what` and checks it against the declared one.
+fn check_order(info: &MethodInfo, what: &str, points: &[(f64, f64)], p: f64, declared: u32) {
     eprintln!(
         "{}: {what}: observed {p:.3}, declared {declared}, points {points:?}",
+        info.name
+    );
+    assert!(
+        within_order(p, declared),
+        "{}: {what} of observed order {p}, declared {declared}",
         info.name
     );
 }
@@ -213,13 +167,7 @@ fn every_method_converges_with_its_declared_order_on_fixed_steps() -> Result<(),
             let points = asymptotic(points, 2);
             assert!(points.len() >= 2, "{}: too few points", info.name);
             let p = slope(&points);
-            report(&info, "fixed steps", &points, p, info.order);
-            assert!(
-                within_order(p, info.order),
-                "{}: observed order {p} on fixed steps, declared {}",
-                info.name,
-                info.order
-            );
+            check_order(&info, "fixed steps", &points, p, info.order);
         }
     }
     Ok(())
@@ -237,7 +185,7 @@ fn every_adaptive_method_has_an_error_proportional_to_its_tolerance() -> Result<
         let mut points = Vec::new();
         for e in 3..=13 {
             let tol = 10f64.powi(-e);
-            let mut sys = TestOde::default();
+            let mut sys = test_ode();
             let o = OdeOptions {
                 output: Output::Final,
                 ..OdeOptions::until(5.0).tolerances(tol, tol)
@@ -245,7 +193,7 @@ fn every_adaptive_method_has_an_error_proportional_to_its_tolerance() -> Result<
             let sol = solve_ode(&mut sys, method, 0.0, &[1.0, 1.0], &o)?;
             assert!(sol.error.is_none(), "{}: {:?}", info.name, sol.error);
             let y = sol.y.last().expect("the final state is recorded");
-            points.push((tol, max_error(y, TestOde::exact(5.0))));
+            points.push((tol, max_error(y, exact(5.0))));
         }
         let points = asymptotic(points, 8);
         let p = slope(&points);
@@ -270,37 +218,31 @@ fn every_dense_output_has_its_declared_order() -> Result<(), Error> {
         let info = method.info();
         let mut points = Vec::new();
         for h in [0.8, 0.4, 0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625] {
-            let mut sys = TestOde::default();
+            let mut sys = test_ode();
             let mut st = method.stepper(2);
             st.set_dense_output(true);
-            let y = TestOde::exact(t0);
+            let y = exact(t0);
             let mut y_new = [0.0; 2];
             st.reset(&mut sys, t0, &y)?;
-            st.try_step(&mut sys, t0, h, &y, &mut y_new, &loose())?;
+            st.try_step(&mut sys, t0, h, &y, &mut y_new, &loose(2))?;
             st.accept(&mut sys, t0, h, &y, &y_new)?;
             let mut out = [0.0; 2];
             // The end points are reproduced.
             st.interpolate(0.0, &mut out);
-            assert!(max_error(&out, y) < 1e-15, "{}: θ = 0", info.name);
+            assert_eq!(out, y, "{}: θ = 0", info.name);
             st.interpolate(1.0, &mut out);
             assert!(max_error(&out, y_new) < 1e-14, "{}: θ = 1", info.name);
             // The interpolant against the exact solution inside the step.
             let mut e = 0.0f64;
             for theta in [0.3, 0.5, 0.7] {
                 st.interpolate(theta, &mut out);
-                e = e.max(max_error(&out, TestOde::exact(t0 + theta * h)));
+                e = e.max(max_error(&out, exact(t0 + theta * h)));
             }
             points.push((h, e));
         }
         let points = asymptotic(points, 2);
         let p = slope(&points) - 1.0;
-        report(&info, "dense output", &points, p, info.dense_order);
-        assert!(
-            within_order(p, info.dense_order),
-            "{}: dense output of observed order {p}, declared {}",
-            info.name,
-            info.dense_order
-        );
+        check_order(&info, "dense output", &points, p, info.dense_order);
     }
     Ok(())
 }

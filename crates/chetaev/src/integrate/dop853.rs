@@ -565,83 +565,8 @@ impl Stepper for Dop853Stepper {
 
 #[cfg(test)]
 mod tests {
+    use super::super::testing::{loose, slopes, Sys};
     use super::*;
-
-    /// `y' = f(t, y)` on a small state, counting evaluations.
-    struct Sys<F> {
-        dim: usize,
-        f: F,
-        evaluations: usize,
-    }
-
-    impl<F: FnMut(f64, &[f64], &mut [f64])> Sys<F> {
-        fn new(dim: usize, f: F) -> Self {
-            Self {
-                dim,
-                f,
-                evaluations: 0,
-            }
-        }
-    }
-
-    impl<F: FnMut(f64, &[f64], &mut [f64])> OdeSystem for Sys<F> {
-        fn dim(&self) -> usize {
-            self.dim
-        }
-        fn controlled_dim(&self) -> usize {
-            self.dim
-        }
-        fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
-            self.evaluations += 1;
-            (self.f)(t, y, dy);
-            Ok(())
-        }
-        fn jacobian(
-            &mut self,
-            _t: f64,
-            _y: &[f64],
-            jac: &mut [f64],
-            dfdt: &mut [f64],
-        ) -> Result<(), Error> {
-            jac.fill(0.0);
-            dfdt.fill(0.0);
-            Ok(())
-        }
-    }
-
-    /// A norm under which every step is accepted.
-    fn loose(dim: usize) -> ErrorNorm {
-        ErrorNorm::new(0.0, vec![1e10; dim])
-    }
-
-    /// `n` steps of equal size from `(t0, y0)` to `t1`.
-    fn fixed_steps<S: OdeSystem>(
-        sys: &mut S,
-        t0: f64,
-        y0: &[f64],
-        t1: f64,
-        n: usize,
-    ) -> Result<Vec<f64>, Error> {
-        let dim = y0.len();
-        let norm = loose(dim);
-        let mut st = Dop853::default().stepper(dim);
-        let mut y = y0.to_vec();
-        let mut y_new = vec![0.0; dim];
-        let h = (t1 - t0) / n as f64;
-        st.reset(sys, t0, &y)?;
-        for i in 0..n {
-            let t = t0 + i as f64 * h;
-            st.try_step(sys, t, h, &y, &mut y_new, &norm)?;
-            st.accept(sys, t, h, &y, &y_new)?;
-            y.copy_from_slice(&y_new);
-        }
-        Ok(y)
-    }
-
-    /// `log2(e_h / e_{h/2})` for consecutive entries.
-    fn slopes(errors: &[f64]) -> Vec<f64> {
-        errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
-    }
 
     #[test]
     fn tableau_is_consistent() {
@@ -688,41 +613,13 @@ mod tests {
     }
 
     #[test]
-    fn step_converges_with_order_8() -> Result<(), Error> {
-        // y' = cos(t)·y, y = exp(sin t), over [0, 2] with h = 1/2, 1/4, 1/8.
-        let mut errors = Vec::new();
-        for n in [4, 8, 16] {
-            let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| {
-                dy[0] = t.cos() * y[0]
-            });
-            let y = fixed_steps(&mut sys, 0.0, &[1.0], 2.0, n)?;
-            errors.push((y[0] - 2.0f64.sin().exp()).abs());
-        }
-        let p = slopes(&errors);
-        eprintln!("exp(sin t): errors {errors:?}, observed orders {p:?}");
-        assert!(p.iter().all(|p| (p - 8.0).abs() < 0.3), "{p:?}");
-
-        // y' = t·y, y = exp(t²/2), over [0, 3] with h = 3/8, 3/16, 3/32.
-        let mut errors = Vec::new();
-        for n in [8, 16, 32] {
-            let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| dy[0] = t * y[0]);
-            let y = fixed_steps(&mut sys, 0.0, &[1.0], 3.0, n)?;
-            errors.push((y[0] - 4.5f64.exp()).abs());
-        }
-        let p = slopes(&errors);
-        eprintln!("exp(t²/2): errors {errors:?}, observed orders {p:?}");
-        assert!(p.iter().all(|p| (p - 8.0).abs() < 0.3), "{p:?}");
-        Ok(())
-    }
-
-    #[test]
     fn error_estimate_behaves_like_order_8() -> Result<(), Error> {
         // On one step the fifth-order difference is O(h^5) per unit step, the third-order one
         // O(h^3), and their combination |h|·err5²/sqrt(err5² + 0.01·err3²) is O(h^8).
         let norm = ErrorNorm::new(0.0, vec![1e-12]);
         let (mut est, mut e5, mut e3) = (Vec::new(), Vec::new(), Vec::new());
         for h in [0.05, 0.025, 0.0125] {
-            let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| {
+            let mut sys = Sys::explicit(1, |t: f64, y: &[f64], dy: &mut [f64]| {
                 dy[0] = t.cos() * y[0]
             });
             let mut st = Dop853::default().stepper(1);
@@ -742,43 +639,13 @@ mod tests {
     }
 
     #[test]
-    fn dense_output_has_order_7() -> Result<(), Error> {
-        // One step from t0; a continuous extension of order 7 has a local error O(h^8).
-        let exact = |t: f64| t.sin().exp();
-        let t0 = 0.3;
-        let mut errors = Vec::new();
-        for h in [0.4, 0.2, 0.1] {
-            let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| {
-                dy[0] = t.cos() * y[0]
-            });
-            let mut st = Dop853::default().stepper(1);
-            let y = [exact(t0)];
-            let mut y_new = [0.0];
-            st.reset(&mut sys, t0, &y)?;
-            st.try_step(&mut sys, t0, h, &y, &mut y_new, &loose(1))?;
-            st.accept(&mut sys, t0, h, &y, &y_new)?;
-            let mut out = [0.0];
-            st.interpolate(0.0, &mut out);
-            assert_eq!(out[0], y[0]);
-            st.interpolate(1.0, &mut out);
-            assert!((out[0] - y_new[0]).abs() < 1e-15);
-            st.interpolate(0.5, &mut out);
-            errors.push((out[0] - exact(t0 + 0.5 * h)).abs());
-        }
-        let p: Vec<f64> = slopes(&errors).iter().map(|s| s - 1.0).collect();
-        eprintln!("dense output at θ = 1/2: errors {errors:?}, observed orders {p:?}");
-        assert!(p.iter().all(|p| (p - 7.0).abs() < 0.5), "{p:?}");
-        Ok(())
-    }
-
-    #[test]
     fn polynomials_in_t_are_exact() -> Result<(), Error> {
         // y' = q·t^(q-1), y = t^q, q ≤ 8, in one step over [0, 1] and over [0.5, 1.5]; the dense
         // output is exact for q ≤ 7.
         for q in 1..=8 {
             let qf = q as f64;
             for (t0, h) in [(0.0f64, 1.0), (0.5, 1.0)] {
-                let mut sys = Sys::new(1, move |t: f64, _y: &[f64], dy: &mut [f64]| {
+                let mut sys = Sys::explicit(1, move |t: f64, _y: &[f64], dy: &mut [f64]| {
                     dy[0] = qf * t.powi(q - 1)
                 });
                 let mut st = Dop853::default().stepper(1);
@@ -812,17 +679,17 @@ mod tests {
 
     #[test]
     fn step_costs_twelve_evaluations_and_accept_four() -> Result<(), Error> {
-        let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| {
+        let mut sys = Sys::explicit(1, |t: f64, y: &[f64], dy: &mut [f64]| {
             dy[0] = t.cos() * y[0]
         });
         let mut st = Dop853::default().stepper(1);
         let mut y_new = [0.0];
         st.reset(&mut sys, 0.0, &[1.0])?;
-        assert_eq!(sys.evaluations, 1);
+        assert_eq!(sys.rhs_evaluations, 1);
         st.try_step(&mut sys, 0.0, 0.1, &[1.0], &mut y_new, &loose(1))?;
-        assert_eq!(sys.evaluations, 12);
+        assert_eq!(sys.rhs_evaluations, 12);
         st.accept(&mut sys, 0.0, 0.1, &[1.0], &y_new)?;
-        assert_eq!(sys.evaluations, 16);
+        assert_eq!(sys.rhs_evaluations, 16);
         Ok(())
     }
 
@@ -875,7 +742,7 @@ mod tests {
         let f = move |t: f64, y: &[f64], dy: &mut [f64]| dy[0] = -lambda * (y[0] - t.cos());
 
         // Fixed steps with h·λ = 6.3, inside the stability interval (-6.39, 0) and above 6.1.
-        let mut sys = Sys::new(1, f);
+        let mut sys = Sys::explicit(1, f);
         let every_step = Dop853 {
             stiffness_interval: 1,
             ..Dop853::default()
@@ -900,13 +767,13 @@ mod tests {
         }
 
         // Under step-size control the steps settle at the stability limit.
-        let mut sys = Sys::new(1, f);
+        let mut sys = Sys::explicit(1, f);
         let hit = controlled(&mut sys, Dop853::default(), 0.0, &[1.0], 1.0, 1e-6, 2000)?;
         eprintln!("controlled stiff run: reported at accepted step, h·λ = {hit:?}");
         assert!(matches!(hit, Some((_, h_lambda)) if h_lambda > STIFF_H_LAMBDA));
 
         // Switched off, never.
-        let mut sys = Sys::new(1, f);
+        let mut sys = Sys::explicit(1, f);
         let method = Dop853 {
             stiffness_detection: false,
             ..Dop853::default()
@@ -921,7 +788,7 @@ mod tests {
     #[test]
     fn stiffness_is_not_reported_on_a_nonstiff_problem() -> Result<(), Error> {
         for tol in [1e-4, 1e-8, 1e-12] {
-            let mut sys = Sys::new(2, |_t: f64, y: &[f64], dy: &mut [f64]| {
+            let mut sys = Sys::explicit(2, |_t: f64, y: &[f64], dy: &mut [f64]| {
                 dy[0] = y[1];
                 dy[1] = -y[0];
             });
@@ -937,7 +804,7 @@ mod tests {
                 )?,
                 None
             );
-            let mut sys = Sys::new(1, |t: f64, y: &[f64], dy: &mut [f64]| {
+            let mut sys = Sys::explicit(1, |t: f64, y: &[f64], dy: &mut [f64]| {
                 dy[0] = -2.0 * y[0] + t.cos()
             });
             assert_eq!(

@@ -3,7 +3,7 @@
 
 use super::events::{crosses, locate_root, Direction, EventHit};
 use super::options::{Atol, Options, Output, Record};
-use super::projection::project_velocity;
+use super::projection::{project_positions, project_velocity};
 use super::system::{OdeSystem, ReducedOde, Stats};
 use super::{Controller, ErrorNorm, Method, MethodInfo, Stepper};
 use crate::error::Error;
@@ -311,7 +311,10 @@ impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
         }
         let n = self.n;
         let (q, rest) = y.split_at_mut(n);
-        let iterations = project_velocity(sys.model, &mut sys.ws, t, q, &mut rest[..n], p)?;
+        let qd = &mut rest[..n];
+        // Positions onto h = 0 first (holonomic constraints), then velocities onto f = 0 and ḣ = 0.
+        let moved = project_positions(sys.model, &mut sys.ws, t, q, qd, p)?;
+        let iterations = moved + project_velocity(sys.model, &mut sys.ws, t, q, qd, p)?;
         sys.stats.projections += 1;
         sys.stats.projection_iterations += iterations;
         Ok(iterations > 0)

@@ -21,6 +21,8 @@ pub mod tsit5;
 
 #[cfg(test)]
 mod conformance;
+#[cfg(test)]
+mod testing;
 
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;

@@ -82,6 +82,36 @@ pub fn project_velocity<M: Model + ?Sized>(
     .map_err(|e| e.locate(t, q, qd))
 }
 
+/// Projects the positions `q` (in place) onto the holonomic constraints `h(t, ·) = 0`: the
+/// smallest change of `q` in the metric `W(t, q, q̇)`, by the same Newton iteration on
+/// `[W −Hᵀ; H 0][Δq; λ] = [0; −h]`, `H = ∂h/∂q`. Velocities are not touched; project them after
+/// (`ḣ = 0` is among the velocity constraints). Returns the Newton iterations done.
+pub fn project_positions<M: Model + ?Sized>(
+    model: &M,
+    ws: &mut Workspace<f64>,
+    t: f64,
+    q: &mut [f64],
+    qd: &[f64],
+    settings: Projection,
+) -> Result<usize, Error> {
+    let count = model.holonomic_count();
+    if count == 0 {
+        return Ok(0);
+    }
+    let n = q.len();
+    newton_projection(
+        n,
+        count,
+        q,
+        settings,
+        ws,
+        |q, h, hq| model.holonomic_blocks(t, q, h, Some(hq)),
+        |q, w| model.velocity_hessian(t, q, qd, w),
+    )
+    .map(|(iterations, _)| iterations)
+    .map_err(|e| e.locate(t, q, qd))
+}
+
 /// Why a Newton projection stopped without converging.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum ProjectionFailure {

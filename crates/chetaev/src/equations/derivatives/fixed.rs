@@ -325,8 +325,9 @@ pub(crate) fn constraint_blocks<M, T, const N: usize, const K: usize>(
 {
     let q = SVector::<T, N>::from_column_slice(q);
     let qd = SVector::<T, N>::from_column_slice(qd);
+    // The first K rows: the velocity constraints (holonomic rows, if any, follow).
     let (f, j) = constraint_jacobian::<M, T, N, K>(model, t, &q, &qd);
-    out.f.copy_from_slice(f.as_slice());
+    out.f[..K].copy_from_slice(f.as_slice());
     for a in 0..K {
         for i in 0..N {
             out.j[a * N + i] = j[(a, i)];
@@ -334,7 +335,7 @@ pub(crate) fn constraint_blocks<M, T, const N: usize, const K: usize>(
     }
     if with_c {
         let c = constraint_direction::<M, T, N, K>(model, t, &q, &qd);
-        out.c.copy_from_slice(c.as_slice());
+        out.c[..K].copy_from_slice(c.as_slice());
     }
 }
 

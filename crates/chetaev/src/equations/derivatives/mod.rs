@@ -18,6 +18,8 @@ pub use fixed::{
     LagrangianDerivatives, DENSE_HESSIAN_MAX_N,
 };
 
+use num_dual::{Dual, Dual2};
+
 use crate::model::Real;
 
 /// The Lagrangian and its derivatives at one point `(t, q, q̇)`, for `n` coordinates.
@@ -70,6 +72,93 @@ impl<T: Real> ConstraintBlocks<T> {
             f: vec![T::zero(); k],
             j: vec![T::zero(); k * n],
             c: vec![T::zero(); k],
+        }
+    }
+}
+
+/// The rows of holonomic constraints `h(t, q) = 0` in the constraint blocks, after the `kv`
+/// velocity constraints: each enters as its time derivative `ḣ = H q̇ + ∂h/∂t = 0`, so its row of
+/// `J` is `H = ∂h/∂q` and its `c` is the second derivative of `h` along `(δq, δt) = (q̇, 1)`,
+/// `d²/ds² h(t + s, q + s q̇)` at `s = 0`.
+///
+/// `along` evaluates `h` over second-order duals (one pass: `ḣ` and `c`), `grad` over first-order
+/// duals (one pass per coordinate: the columns of `H`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn holonomic_rows<T: Real>(
+    kv: usize,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    with_c: bool,
+    out: &mut ConstraintBlocks<T>,
+    mut along: impl FnMut(Dual2<T, f64>, &[Dual2<T, f64>], &mut [Dual2<T, f64>]),
+    mut grad: impl FnMut(Dual<T, f64>, &[Dual<T, f64>], &mut [Dual<T, f64>]),
+) {
+    let n = q.len();
+    let count = out.f.len() - kv;
+    let t2 = Dual2::new(t, T::one(), T::zero());
+    let q2: Vec<Dual2<T, f64>> = (0..n).map(|i| Dual2::new(q[i], qd[i], T::zero())).collect();
+    let mut h2 = vec![Dual2::from_re(T::zero()); count];
+    along(t2, &q2, &mut h2);
+    for (b, hb) in h2.iter().enumerate() {
+        out.f[kv + b] = hb.v1;
+        if with_c {
+            out.c[kv + b] = hb.v2;
+        }
+    }
+    let t1 = Dual::from_re(t);
+    let mut q1: Vec<Dual<T, f64>> = q.iter().map(|&x| Dual::from_re(x)).collect();
+    let mut h1 = vec![Dual::from_re(T::zero()); count];
+    for i in 0..n {
+        q1[i].eps = T::one();
+        grad(t1, &q1, &mut h1);
+        q1[i].eps = T::zero();
+        for (b, hb) in h1.iter().enumerate() {
+            out.j[(kv + b) * n + i] = hb.eps;
+        }
+    }
+}
+
+/// `ḣ = d/ds h(t + s, q + s q̇)` at `s = 0` into `f[kv..]`: the velocity residual of the holonomic
+/// constraints.
+pub(crate) fn holonomic_velocities(
+    kv: usize,
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+    f: &mut [f64],
+    mut eval: impl FnMut(Dual<f64, f64>, &[Dual<f64, f64>], &mut [Dual<f64, f64>]),
+) {
+    let te = Dual::new(t, 1.0);
+    let qe: Vec<Dual<f64, f64>> = (0..q.len()).map(|i| Dual::new(q[i], qd[i])).collect();
+    let mut h = vec![Dual::from_re(0.0); f.len() - kv];
+    eval(te, &qe, &mut h);
+    for (dst, hb) in f[kv..].iter_mut().zip(&h) {
+        *dst = hb.eps;
+    }
+}
+
+/// `h(t, q)` into `h`, and `H = ∂h/∂q` (row-major `h.len() × n`) into `hq` when given.
+pub(crate) fn holonomic_blocks(
+    t: f64,
+    q: &[f64],
+    h: &mut [f64],
+    hq: Option<&mut [f64]>,
+    mut value: impl FnMut(f64, &[f64], &mut [f64]),
+    mut grad: impl FnMut(Dual<f64, f64>, &[Dual<f64, f64>], &mut [Dual<f64, f64>]),
+) {
+    value(t, q, h);
+    if let Some(hq) = hq {
+        let n = q.len();
+        let mut qd: Vec<Dual<f64, f64>> = q.iter().map(|&x| Dual::from_re(x)).collect();
+        let mut hd = vec![Dual::from_re(0.0); h.len()];
+        for i in 0..n {
+            qd[i].eps = 1.0;
+            grad(Dual::from_re(t), &qd, &mut hd);
+            qd[i].eps = 0.0;
+            for (b, hb) in hd.iter().enumerate() {
+                hq[b * n + i] = hb.eps;
+            }
         }
     }
 }

@@ -118,7 +118,8 @@ pub(crate) fn constraint_blocks<M: DynModel + ?Sized, T: Real>(
     out: &mut ConstraintBlocks<T>,
 ) {
     type D<T> = Dual<T, f64>;
-    let (n, k) = (q.len(), out.f.len());
+    // The velocity constraints' rows (holonomic rows, if any, follow).
+    let (n, k) = (q.len(), model.sizes().1);
     let td = D::from_re(t);
     let qdl: Vec<D<T>> = q.iter().map(|&x| D::from_re(x)).collect();
     let mut qdd: Vec<D<T>> = qd.iter().map(|&x| D::from_re(x)).collect();

@@ -1,0 +1,263 @@
+//! Holonomic constraints `h(t, q) = 0`, alone and mixed with velocity constraints, against
+//! references:
+//!
+//! 1. The pendulum in Cartesian coordinates, `x² + y² = ℓ²`: its period is
+//!    `T = 4 sqrt(ℓ/g) K(sin(θ0/2))` with `K` the complete elliptic integral of the first kind
+//!    (computed by the arithmetic–geometric mean, `K(k) = π / (2 AGM(1, sqrt(1 − k²)))`), and its
+//!    multiplier follows from the rod's tension `m g (3 cos θ − 2 cos θ0)`: with `h = x² + y² − ℓ²`
+//!    and `H = 2q`, the force `2λ q` pulls inward, `λ = −m g (3 cos θ − 2 cos θ0) / (2ℓ)`.
+//! 2. A sled on an inclined plane `z = h0 − y tan α` (holonomic) whose speed is prescribed,
+//!    `|q̇| = v0 + a t` (nonlinear in the velocities): the closed forms of the guide
+//!    (`crates/chetaev-scene/tests/guide.rs`, docs/scenes.md), the heading
+//!    `2 atan((v0/(v0 + a t))^k)`, `k = g sin α / a`, and the plane's multiplier `m g cos² α`.
+
+use std::f64::consts::PI;
+
+use chetaev::prelude::*;
+
+#[derive(Debug)]
+struct Pendulum {
+    m: f64,
+    g: f64,
+    l: f64,
+}
+
+impl Lagrangian<2> for Pendulum {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * (0.5 * self.m) - q[1] * (self.m * self.g)
+    }
+}
+
+impl Constraints<2, 0> for Pendulum {
+    fn constraints<R: Real>(
+        &self,
+        _t: R,
+        _q: &SVector<R, 2>,
+        _qd: &SVector<R, 2>,
+    ) -> SVector<R, 0> {
+        SVector::zeros()
+    }
+    fn holonomic_count(&self) -> usize {
+        1
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &SVector<R, 2>, h: &mut [R]) {
+        h[0] = q.dot(q) - self.l * self.l;
+    }
+}
+
+/// The complete elliptic integral of the first kind, `K(k)`, by the arithmetic–geometric mean.
+fn elliptic_k(k: f64) -> f64 {
+    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
+    for _ in 0..40 {
+        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
+        (a, b) = (an, bn);
+    }
+    PI / (2.0 * a)
+}
+
+fn pendulum_problem(theta0: f64) -> Problem<chetaev::model::Fixed<Pendulum, 2, 0>> {
+    let p = Pendulum {
+        m: 1.5,
+        g: 9.81,
+        l: 2.0,
+    };
+    let q0 = SVector::from([p.l * theta0.sin(), -p.l * theta0.cos()]);
+    Problem::new(p, 0.0, q0, SVector::zeros()).expect("consistent")
+}
+
+#[test]
+fn the_cartesian_pendulum_has_the_elliptic_period_and_the_tension_of_the_rod() -> Result<(), Error>
+{
+    let (m, g, l) = (1.5f64, 9.81f64, 2.0f64);
+    for theta0 in [0.3, 1.5, 2.8] {
+        let problem = pendulum_problem(theta0);
+        let period = 4.0 * (l / g).sqrt() * elliptic_k((theta0 / 2.0).sin());
+        // Released at rest with x > 0: x falls through zero at T/4, 5T/4, ...
+        let crossing = Event::new("x = 0 falling", |_t, q, _qd| q[0]).falling();
+        let o = Options::until(2.1 * period)
+            .tolerances(1e-12, 1e-12)
+            .event(crossing);
+        let sol = solve(&problem, Dop853::default(), &o)?.ok()?;
+        assert_eq!(sol.events.len(), 2, "θ0 = {theta0}");
+        let measured = sol.events[1].t - sol.events[0].t;
+        assert!(
+            ((measured - period) / period).abs() < 1e-10,
+            "θ0 = {theta0}: period {measured} vs {period}"
+        );
+        assert!((sol.events[0].t - period / 4.0).abs() < 1e-10 * period);
+        // The multiplier is the rod's tension, and both residuals stay small.
+        for i in 0..sol.len() {
+            let cos_theta = -sol.q[i][1] / l;
+            let lambda = -m * g * (3.0 * cos_theta - 2.0 * theta0.cos()) / (2.0 * l);
+            assert!(
+                (sol.mu[i][0] - lambda).abs() < 1e-8 * m * g,
+                "λ at t = {}",
+                sol.t[i]
+            );
+            assert!(sol.position_residual[i][0].abs() < 1e-9 * l * l);
+            assert!(sol.residual[i][0].abs() < 1e-9 * l * (g * l).sqrt());
+        }
+        // Energy is conserved: the rod's force does no work.
+        assert!(sol
+            .energy_balance()
+            .iter()
+            .all(|b| b.abs() < 1e-9 * m * g * l));
+        assert!(sol.work.iter().all(|w| w.abs() < 1e-9 * m * g * l));
+    }
+    Ok(())
+}
+
+#[test]
+fn projection_holds_the_rod_at_round_off_over_a_long_run() -> Result<(), Error> {
+    let problem = pendulum_problem(1.0);
+    let l = 2.0;
+    let long = Options::until(200.0).tolerances(1e-8, 1e-8).output_final();
+    let free = solve(&problem, Dopri5::default(), &long)?.ok()?;
+    let projected = solve(
+        &problem,
+        Dopri5::default(),
+        // A relative residual of 1e-14: round-off for the rod's |H|·|q| = 2ℓ².
+        &long.clone().project(Projection {
+            tol: 1e-14,
+            max_iterations: 10,
+        }),
+    )?
+    .ok()?;
+    let h_end = |s: &Solution| s.position_residual.last().map_or(f64::NAN, |h| h[0].abs());
+    let hd_end = |s: &Solution| s.residual.last().map_or(f64::NAN, |f| f[0].abs());
+    eprintln!(
+        "after 200 s: |h| = {:e} free, {:e} projected; |ḣ| = {:e} free, {:e} projected",
+        h_end(&free),
+        h_end(&projected),
+        hd_end(&free),
+        hd_end(&projected)
+    );
+    assert!(h_end(&projected) < 1e-13 * l * l);
+    assert!(hd_end(&projected) < 1e-12 * l * 5.0);
+    assert!(h_end(&free) > 100.0 * h_end(&projected));
+    assert!(projected.stats.projections > 0);
+    Ok(())
+}
+
+#[test]
+fn an_inconsistent_initial_position_is_refused_or_projected_on_request() -> Result<(), Error> {
+    let p = || Pendulum {
+        m: 1.0,
+        g: 9.81,
+        l: 1.0,
+    };
+    let (q0, qd0) = (SVector::from([0.6, -0.9]), SVector::from([0.0, 0.0]));
+    let err = Problem::new(p(), 0.0, q0, qd0).expect_err("|q0| ≠ ℓ");
+    assert!(
+        matches!(err, Error::InconsistentInitialPosition { index: 1, .. }),
+        "{err}"
+    );
+    let problem = Problem::with_projected_velocity(p(), 0.0, q0, qd0)?;
+    let q = problem.q0();
+    assert!((q[0].hypot(q[1]) - 1.0).abs() < 1e-14, "{q:?}");
+    // A velocity along the rod is projected away too (ḣ = 2 q·q̇ = 0).
+    let problem = Problem::with_projected_velocity(
+        p(),
+        0.0,
+        SVector::from([0.6, -0.8]),
+        SVector::from([0.6, -0.8]),
+    )?;
+    let (q, qd) = (problem.q0(), problem.qd0());
+    assert!((q[0] * qd[0] + q[1] * qd[1]).abs() < 1e-14);
+    Ok(())
+}
+
+/// The sled on an inclined plane with a prescribed speed (docs/scenes.md), the plane given as
+/// a holonomic constraint.
+struct Sled {
+    m: f64,
+    g: f64,
+    alpha: f64,
+    v0: f64,
+    a: f64,
+    h0: f64,
+}
+
+impl Lagrangian<3> for Sled {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 3>, qd: &SVector<R, 3>) -> R {
+        qd.dot(qd) * (0.5 * self.m) - q[2] * (self.m * self.g)
+    }
+}
+
+impl Constraints<3, 1> for Sled {
+    fn constraints<R: Real>(&self, t: R, _q: &SVector<R, 3>, qd: &SVector<R, 3>) -> SVector<R, 1> {
+        let v = t * self.a + self.v0;
+        SVector::from([qd.dot(qd) - v * v])
+    }
+    fn holonomic_count(&self) -> usize {
+        1
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &SVector<R, 3>, h: &mut [R]) {
+        h[0] = q[2] + q[1] * self.alpha.tan() - self.h0;
+    }
+}
+
+#[test]
+fn a_sled_on_a_holonomic_plane_at_a_prescribed_speed_follows_the_guides_closed_forms(
+) -> Result<(), Error> {
+    let s = Sled {
+        m: 1.0,
+        g: 9.81,
+        alpha: PI / 9.0,
+        v0: 2.0,
+        a: 0.5,
+        h0: 3.0,
+    };
+    let (m, g, alpha, v0, a, h0) = (s.m, s.g, s.alpha, s.v0, s.a, s.h0);
+    let k = g * alpha.sin() / a;
+    let problem = Problem::new(
+        s,
+        0.0,
+        SVector::from([0.0, 0.0, h0]),
+        SVector::from([v0, 0.0, 0.0]),
+    )?;
+    assert_eq!(problem.sizes(), (3, 2));
+    let bottom = Event::new("bottom", |_t, q, _qd| q[2]).falling().terminal();
+    let o = Options::until(20.0)
+        .tolerances(1e-10, 1e-10)
+        .event(bottom)
+        .output_grid(0.0, 201);
+    for method in [
+        AnyMethod::Dop853(Dop853::default()),
+        AnyMethod::Rodas4(Rodas4),
+    ] {
+        let sol = solve(&problem, method, &o)?;
+        assert_eq!(
+            sol.status,
+            Status::Terminated { event: 0 },
+            "{}",
+            method.name()
+        );
+        assert!(sol.len() > 20);
+        for i in 0..sol.len() {
+            let (t, q, qd) = (sol.t[i], &sol.q[i], &sol.qd[i]);
+            let speed = (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]).sqrt();
+            assert!(
+                (speed - (v0 + a * t)).abs() < 1e-8,
+                "{}: speed",
+                method.name()
+            );
+            assert!((q[2] - (h0 - q[1] * alpha.tan())).abs() < 1e-9, "plane");
+            let heading = qd[0].atan2(qd[1] * alpha.cos() - qd[2] * alpha.sin());
+            let exact = 2.0 * (v0 / (v0 + a * t)).powf(k).atan();
+            assert!(
+                (heading - exact).abs() < 1e-7,
+                "{}: heading at t = {t}",
+                method.name()
+            );
+            // μ: the speed constraint's multiplier, then the plane's (holonomic) one.
+            assert!(
+                (sol.mu[i][1] - m * g * alpha.cos().powi(2)).abs() < 1e-7,
+                "{}: plane force at t = {t}",
+                method.name()
+            );
+        }
+        assert!((sol.mu[0][0] - m * a / (2.0 * v0)).abs() < 1e-10);
+    }
+    Ok(())
+}
