@@ -100,9 +100,10 @@ mod head {
         let o = Options::until(10.0)
             .tolerances(tol, tol)
             .event(impact)
-            .output_final()
-            .event_samples(crate::settings().0);
-        let o = if crate::settings().1 {
+            .output_final();
+        let (samples, i_controller) = crate::settings();
+        let o = o.event_samples(samples);
+        let o = if i_controller {
             o.controller(Controller::i(0.2, 10.0))
         } else {
             o
@@ -119,6 +120,12 @@ mod head {
 /// Settings of the head's runs: `--event-samples N` (default 4, the library's default) and
 /// `--i-controller` (the classical controller for every method, as the base had).
 fn settings() -> (usize, bool) {
+    static SETTINGS: std::sync::OnceLock<(usize, bool)> = std::sync::OnceLock::new();
+    *SETTINGS.get_or_init(parse_settings)
+}
+
+/// Reads the settings of [`settings`] from the command line (once).
+fn parse_settings() -> (usize, bool) {
     let args: Vec<String> = std::env::args().collect();
     let samples = args
         .iter()

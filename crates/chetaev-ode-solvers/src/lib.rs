@@ -195,7 +195,7 @@ pub fn solve_with_ode_solvers<M: Model>(
     }
     let dir = if options.t_end >= t0 { 1.0 } else { -1.0 };
 
-    let ode = ReducedOde::new(problem.model(), options.record >= Record::Energy);
+    let ode = ReducedOde::for_problem(problem, options.record >= Record::Energy);
     let mut z0 = vec![0.0; ode.dim() + 1];
     z0[..n].copy_from_slice(problem.q0());
     z0[n..2 * n].copy_from_slice(problem.qd0());

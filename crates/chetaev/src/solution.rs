@@ -259,7 +259,9 @@ impl Solution {
         if energy {
             finite(t, "W_Φ", &y[2 * n..2 * n + 1])?;
             finite(t, "∫∂L/∂t dt", &y[2 * n + 1..2 * n + 2])?;
-            finite(t, "W_Q", &y[2 * n + 2..2 * n + 3])?;
+            if ode.has_forces_quadrature() {
+                finite(t, "W_Q", &y[2 * n + 2..2 * n + 3])?;
+            }
         }
         if self.record >= Record::Dynamics {
             let holonomic = ode.model.holonomic_count();
@@ -295,7 +297,11 @@ impl Solution {
         if energy {
             self.work.push(y[2 * n]);
             self.dl_dt_integral.push(y[2 * n + 1]);
-            self.work_forces.push(y[2 * n + 2]);
+            self.work_forces.push(if ode.has_forces_quadrature() {
+                y[2 * n + 2]
+            } else {
+                0.0
+            });
         }
         Ok(())
     }

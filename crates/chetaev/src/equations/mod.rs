@@ -45,8 +45,6 @@ pub struct Dynamics<T> {
     pub power_forces: T,
     /// Smallest over largest pivot of the block solve.
     pub pivot_ratio: f64,
-    /// The size of each constraint's gradient, `|J_a| = |∂f_a/∂q̇|`, length `k`.
-    pub j_norms: Vec<f64>,
     /// `J = ∂f/∂q̇` (real parts), row-major `k × n`.
     pub j: Vec<f64>,
     /// The size of the kinetic metric, `max_ij |W_ij|`.
@@ -87,7 +85,6 @@ impl<T: Real> Workspace<T> {
                 forces: vec![T::zero(); n],
                 power_forces: T::zero(),
                 pivot_ratio: 1.0,
-                j_norms: vec![0.0; k],
                 j: vec![0.0; k * n],
                 w_scale: 0.0,
             },
@@ -213,13 +210,6 @@ where
     for (dst, src) in d.j.iter_mut().zip(&cb.j) {
         *dst = src.re();
     }
-    for (a, norm) in d.j_norms.iter_mut().enumerate() {
-        *norm = d.j[a * n..(a + 1) * n]
-            .iter()
-            .map(|v| v * v)
-            .sum::<f64>()
-            .sqrt();
-    }
     d.w_scale = lb.w.iter().fold(0.0f64, |m, v| m.max(v.re().abs()));
     Ok(())
 }
@@ -293,15 +283,10 @@ where
         }
     }
     d.pivot_ratio = pivot_ratio;
-    for (a, norm) in d.j_norms.iter_mut().enumerate() {
+    for a in 0..K {
         for i in 0..N {
             d.j[a * N + i] = j[(a, i)].re();
         }
-        *norm = d.j[a * N..(a + 1) * N]
-            .iter()
-            .map(|v| v * v)
-            .sum::<f64>()
-            .sqrt();
     }
     d.w_scale = ld.w.iter().fold(0.0f64, |m, v| m.max(v.re().abs()));
     Ok(())

@@ -261,6 +261,15 @@ mod tests {
     use approx::assert_relative_eq;
     use nalgebra::{Matrix3, Vector3};
 
+    /// The failure of the block solve with `W` and `J` (and zero right-hand sides).
+    fn failure<const N: usize, const K: usize>(
+        w: &SMatrix<f64, N, N>,
+        j: &SMatrix<f64, K, N>,
+    ) -> SaddleFailure {
+        let (r, s) = (SVector::zeros(), SVector::zeros());
+        solve(&mut SaddleWorkspace::default(), w, j, &r, &s).expect_err("a failure")
+    }
+
     #[test]
     fn solves_a_saddle_system_with_singular_w() {
         // W singular (no kinetic term in the second coordinate), but regular on ker J.
@@ -283,8 +292,7 @@ mod tests {
     fn duplicated_constraint_is_singular() {
         let w = SMatrix::<f64, 2, 2>::identity();
         let j = SMatrix::<f64, 2, 2>::new(1.0, 2.0, 1.0, 2.0);
-        let z = SVector::<f64, 2>::zeros();
-        let err = solve(&mut SaddleWorkspace::default(), &w, &j, &z, &z).unwrap_err();
+        let err = failure(&w, &j);
         assert!(matches!(err, SaddleFailure::Singular { .. }), "{err:?}");
     }
 
@@ -292,14 +300,7 @@ mod tests {
     fn zero_constraint_row_is_named() {
         let w = SMatrix::<f64, 2, 2>::identity();
         let j = SMatrix::<f64, 1, 2>::zeros();
-        let err = solve(
-            &mut SaddleWorkspace::default(),
-            &w,
-            &j,
-            &SVector::zeros(),
-            &SVector::zeros(),
-        )
-        .unwrap_err();
+        let err = failure(&w, &j);
         assert_eq!(err, SaddleFailure::ZeroConstraintRow { row: 0 });
     }
 
@@ -308,14 +309,7 @@ mod tests {
         // W = 0 in the direction (1, 0), and J = (0, 1) leaves exactly that direction free.
         let w = SMatrix::<f64, 2, 2>::new(0.0, 0.0, 0.0, 1.0);
         let j = SMatrix::<f64, 1, 2>::new(0.0, 1.0);
-        let err = solve(
-            &mut SaddleWorkspace::default(),
-            &w,
-            &j,
-            &SVector::zeros(),
-            &SVector::zeros(),
-        )
-        .unwrap_err();
+        let err = failure(&w, &j);
         assert!(matches!(err, SaddleFailure::Singular { .. }), "{err:?}");
     }
 
@@ -323,14 +317,7 @@ mod tests {
     fn non_finite_input_is_reported() {
         let w = SMatrix::<f64, 1, 1>::new(f64::NAN);
         let j = SMatrix::<f64, 0, 1>::zeros();
-        let err = solve(
-            &mut SaddleWorkspace::default(),
-            &w,
-            &j,
-            &SVector::zeros(),
-            &SVector::zeros(),
-        )
-        .unwrap_err();
+        let err = failure(&w, &j);
         assert_eq!(err, SaddleFailure::NonFinite);
     }
 }

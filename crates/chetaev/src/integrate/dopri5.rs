@@ -5,47 +5,69 @@
 //! S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I*, 2nd ed., Springer 1993,
 //! Sections II.5, II.6 and IV.2 (the code DOPRI5).
 
-use super::{
-    combine, system::OdeSystem, Controller, ErrorNorm, Method, MethodInfo, Stepper, StiffnessTest,
-};
+use super::system::OdeSystem;
+use super::{combine, weighted, Controller, Method, MethodInfo, Stage, Step, Stepper};
+use super::{StiffnessTest, Trial};
 use crate::error::Error;
 
-const C2: f64 = 1.0 / 5.0;
-const C3: f64 = 3.0 / 10.0;
-const C4: f64 = 4.0 / 5.0;
-const C5: f64 = 8.0 / 9.0;
-const A21: f64 = 1.0 / 5.0;
-const A31: f64 = 3.0 / 40.0;
-const A32: f64 = 9.0 / 40.0;
-const A41: f64 = 44.0 / 45.0;
-const A42: f64 = -56.0 / 15.0;
-const A43: f64 = 32.0 / 9.0;
-const A51: f64 = 19372.0 / 6561.0;
-const A52: f64 = -25360.0 / 2187.0;
-const A53: f64 = 64448.0 / 6561.0;
-const A54: f64 = -212.0 / 729.0;
-const A61: f64 = 9017.0 / 3168.0;
-const A62: f64 = -355.0 / 33.0;
-const A63: f64 = 46732.0 / 5247.0;
-const A64: f64 = 49.0 / 176.0;
-const A65: f64 = -5103.0 / 18656.0;
-const A71: f64 = 35.0 / 384.0;
-const A73: f64 = 500.0 / 1113.0;
-const A74: f64 = 125.0 / 192.0;
-const A75: f64 = -2187.0 / 6784.0;
-const A76: f64 = 11.0 / 84.0;
-const E1: f64 = 71.0 / 57600.0;
-const E3: f64 = -71.0 / 16695.0;
-const E4: f64 = 71.0 / 1920.0;
-const E5: f64 = -17253.0 / 339200.0;
-const E6: f64 = 22.0 / 525.0;
-const E7: f64 = -1.0 / 40.0;
-const D1: f64 = -12715105075.0 / 11282082432.0;
-const D3: f64 = 87487479700.0 / 32700410799.0;
-const D4: f64 = -10690763975.0 / 1880347072.0;
-const D5: f64 = 701980252875.0 / 199316789632.0;
-const D6: f64 = -1453857185.0 / 822651844.0;
-const D7: f64 = 69997945.0 / 29380423.0;
+// The stages 2 to 6 (stage 7 is the derivative at the new point, from the weights of the step).
+const S2: Stage<1> = Stage {
+    c: 1.0 / 5.0,
+    a: [1.0 / 5.0],
+};
+const S3: Stage<2> = Stage {
+    c: 3.0 / 10.0,
+    a: [3.0 / 40.0, 9.0 / 40.0],
+};
+const S4: Stage<3> = Stage {
+    c: 4.0 / 5.0,
+    a: [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0],
+};
+const S5: Stage<4> = Stage {
+    c: 8.0 / 9.0,
+    a: [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+    ],
+};
+const S6: Stage<5> = Stage {
+    c: 1.0,
+    a: [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+    ],
+};
+// The weights of the step, b_1 and b_3 to b_6 (b_2 = b_7 = 0).
+const B: [f64; 5] = [
+    35.0 / 384.0,
+    500.0 / 1113.0,
+    125.0 / 192.0,
+    -2187.0 / 6784.0,
+    11.0 / 84.0,
+];
+// The error weights E_i = b_i − b̂_i over stages 1 and 3 to 7 (E_2 = 0).
+const E: [f64; 6] = [
+    71.0 / 57600.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
+// The dense output's coefficients d_i over stages 1 and 3 to 7 (d_2 = 0).
+const D: [f64; 6] = [
+    -12715105075.0 / 11282082432.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
 
 /// `h·|λ|` where the stability region of DOPRI5 meets the negative real axis (about 3.3); the
 /// stiffness test of the code DOPRI5 compares against 3.25.
@@ -126,58 +148,35 @@ impl Stepper for Dopri5Stepper {
         sys.rhs(t, y, &mut self.k[0])
     }
 
-    fn try_step<S: OdeSystem>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        h: f64,
-        y: &[f64],
-        y_new: &mut [f64],
-        norm: &ErrorNorm,
-    ) -> Result<f64, Error> {
+    fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
+        let (t, h, y, y_new, norm) = trial.parts();
         let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
         let yt = &mut self.ytmp;
-        combine(yt, y, h, &[(A21, k1)]);
-        sys.rhs(t + C2 * h, yt, k2)?;
-        combine(yt, y, h, &[(A31, k1), (A32, k2)]);
-        sys.rhs(t + C3 * h, yt, k3)?;
-        combine(yt, y, h, &[(A41, k1), (A42, k2), (A43, k3)]);
-        sys.rhs(t + C4 * h, yt, k4)?;
-        combine(yt, y, h, &[(A51, k1), (A52, k2), (A53, k3), (A54, k4)]);
-        sys.rhs(t + C5 * h, yt, k5)?;
-        combine(
-            &mut self.ysti,
-            y,
-            h,
-            &[(A61, k1), (A62, k2), (A63, k3), (A64, k4), (A65, k5)],
-        );
+        combine(yt, y, h, &S2.a, [k1]);
+        sys.rhs(t + S2.c * h, yt, k2)?;
+        combine(yt, y, h, &S3.a, [k1, k2]);
+        sys.rhs(t + S3.c * h, yt, k3)?;
+        combine(yt, y, h, &S4.a, [k1, k2, k3]);
+        sys.rhs(t + S4.c * h, yt, k4)?;
+        combine(yt, y, h, &S5.a, [k1, k2, k3, k4]);
+        sys.rhs(t + S5.c * h, yt, k5)?;
+        combine(&mut self.ysti, y, h, &S6.a, [k1, k2, k3, k4, k5]);
         sys.rhs(t + h, &self.ysti, k6)?;
-        combine(
-            y_new,
-            y,
-            h,
-            &[(A71, k1), (A73, k3), (A74, k4), (A75, k5), (A76, k6)],
-        );
+        combine(y_new, y, h, &B, [k1, k3, k4, k5, k6]);
         sys.rhs(t + h, y_new, k7)?;
         // The error estimate, weighted and summed in one pass (no error vector is stored).
+        let ke = [&**k1, k3, k4, k5, k6, k7];
         let mut sum = 0.0;
         for i in 0..norm.len() {
-            let e =
-                h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+            let e = h * weighted(&E, &ke, i);
             let r = e / norm.scale(i, y[i], y_new[i]);
             sum += r * r;
         }
         Ok((sum / norm.len() as f64).sqrt())
     }
 
-    fn accept<S: OdeSystem>(
-        &mut self,
-        _sys: &mut S,
-        _t: f64,
-        h: f64,
-        y: &[f64],
-        y_new: &[f64],
-    ) -> Result<(), Error> {
+    fn commit<S: OdeSystem>(&mut self, _sys: &mut S, step: Step<'_>) -> Result<(), Error> {
+        let Step { h, y, y_new, .. } = step;
         let [k1, _, k3, k4, k5, k6, k7] = &self.k;
         // h·|λ| from the last two stages, which share the node t + h.
         if self.stiffness.wants_test() {
@@ -188,6 +187,7 @@ impl Stepper for Dopri5Stepper {
             head[0].copy_from_slice(&tail[0]);
             return Ok(());
         }
+        let kd = [&**k1, k3, k4, k5, k6, k7];
         let [r1, r2, r3, r4, r5] = &mut self.rcont;
         for i in 0..y.len() {
             let dy = y_new[i] - y[i];
@@ -196,8 +196,7 @@ impl Stepper for Dopri5Stepper {
             r2[i] = dy;
             r3[i] = bspl;
             r4[i] = dy - h * k7[i] - bspl;
-            r5[i] =
-                h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+            r5[i] = h * weighted(&D, &kd, i);
         }
         // First same as last: the derivative at the new point starts the next step.
         let (head, tail) = self.k.split_at_mut(6);

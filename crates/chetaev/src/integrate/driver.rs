@@ -50,7 +50,7 @@ where
     let (n, k) = problem.sizes();
     let t0 = problem.t0();
     let settings = LoopSettings::new(options, &method, t0, 2 * n)?;
-    let mut sys = ReducedOde::new(problem.model(), options.record >= Record::Energy)
+    let mut sys = ReducedOde::for_problem(problem, options.record >= Record::Energy)
         .with_rank_tolerance(options.rank_tolerance);
     let mut y = vec![0.0; sys.dim()];
     y[..n].copy_from_slice(problem.q0());
@@ -617,6 +617,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         // Accepted.
         counts.accepted_steps += 1;
         stepper.accept(sys, t, h, y, &y_new)?;
+        sys.accepted(t + h, &y_new)?;
         let t_new = if last { t_end } else { t + h };
         if let Some(h_lambda) = stepper.stiffness() {
             y.copy_from_slice(&y_new);

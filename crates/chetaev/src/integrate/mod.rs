@@ -168,13 +168,53 @@ pub trait Method {
     }
 }
 
+/// A trial step of size `h` from `(t, y)`: the stepper writes the new state to `y_new` and
+/// measures its error estimate with `norm`.
+#[derive(Debug)]
+pub struct Trial<'a> {
+    /// The start of the step.
+    pub t: f64,
+    /// The step size (negative when integrating backward).
+    pub h: f64,
+    /// The state at `t`.
+    pub y: &'a [f64],
+    /// The state at `t + h`, written by the step.
+    pub y_new: &'a mut [f64],
+    /// The norm of error control.
+    pub norm: &'a ErrorNorm,
+}
+
+impl<'a> Trial<'a> {
+    /// `(t, h, y, y_new, norm)`.
+    pub fn parts(self) -> (f64, f64, &'a [f64], &'a mut [f64], &'a ErrorNorm) {
+        (self.t, self.h, self.y, self.y_new, self.norm)
+    }
+}
+
+/// A step of size `h` from `(t, y)` to `(t + h, y_new)`.
+#[derive(Clone, Copy, Debug)]
+pub struct Step<'a> {
+    /// The start of the step.
+    pub t: f64,
+    /// The step size.
+    pub h: f64,
+    /// The state at `t`.
+    pub y: &'a [f64],
+    /// The state at `t + h`.
+    pub y_new: &'a [f64],
+}
+
 /// One integration method's step, error estimate and dense output.
 pub trait Stepper {
     /// Prepares stepping from `(t, y)` (evaluates `F(t, y)` where the method reuses it). Called
     /// before the first step and whenever the state was changed from outside (projection).
     fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error>;
-    /// Attempts a step of size `h` from `(t, y)`, writes the result to `y_new` and returns the
-    /// error estimate measured with `norm` (`≤ 1` means acceptable; `0` for fixed-step methods).
+    /// Attempts the trial step: writes its result to `y_new` and returns the error estimate
+    /// measured with `norm` (`≤ 1` means acceptable; `0` for fixed-step methods).
+    fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error>;
+    /// The attempted step was accepted: prepare dense output on `[t, t + h]` and the next step.
+    fn commit<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error>;
+    /// [`Stepper::attempt`] with the trial's parts as arguments.
     fn try_step<S: OdeSystem>(
         &mut self,
         sys: &mut S,
@@ -183,8 +223,19 @@ pub trait Stepper {
         y: &[f64],
         y_new: &mut [f64],
         norm: &ErrorNorm,
-    ) -> Result<f64, Error>;
-    /// The trial step was accepted: prepare dense output on `[t, t + h]` and the next step.
+    ) -> Result<f64, Error> {
+        self.attempt(
+            sys,
+            Trial {
+                t,
+                h,
+                y,
+                y_new,
+                norm,
+            },
+        )
+    }
+    /// [`Stepper::commit`] with the step's parts as arguments.
     fn accept<S: OdeSystem>(
         &mut self,
         sys: &mut S,
@@ -192,7 +243,9 @@ pub trait Stepper {
         h: f64,
         y: &[f64],
         y_new: &[f64],
-    ) -> Result<(), Error>;
+    ) -> Result<(), Error> {
+        self.commit(sys, Step { t, h, y, y_new })
+    }
     /// The dense output `y(t + θh)`, `θ ∈ [0, 1]`, of the last accepted step.
     fn interpolate(&self, theta: f64, out: &mut [f64]);
     /// Whether anything will call [`Stepper::interpolate`] (output at requested times, events).
@@ -321,26 +374,11 @@ impl Stepper for AnyStepper {
     fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
         each_method!(self, AnyStepper, s => s.reset(sys, t, y))
     }
-    fn try_step<S: OdeSystem>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        h: f64,
-        y: &[f64],
-        y_new: &mut [f64],
-        norm: &ErrorNorm,
-    ) -> Result<f64, Error> {
-        each_method!(self, AnyStepper, s => s.try_step(sys, t, h, y, y_new, norm))
+    fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
+        each_method!(self, AnyStepper, s => s.attempt(sys, trial))
     }
-    fn accept<S: OdeSystem>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        h: f64,
-        y: &[f64],
-        y_new: &[f64],
-    ) -> Result<(), Error> {
-        each_method!(self, AnyStepper, s => s.accept(sys, t, h, y, y_new))
+    fn commit<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
+        each_method!(self, AnyStepper, s => s.commit(sys, step))
     }
     fn interpolate(&self, theta: f64, out: &mut [f64]) {
         each_method!(self, AnyStepper, s => s.interpolate(theta, out))
@@ -471,16 +509,40 @@ impl StiffnessTest {
     }
 }
 
-/// `out = y + h Σ_s a_s k_s` over the stages with non-zero coefficients.
+/// A row of an explicit Runge–Kutta tableau: the node `c_i` of stage `i` and its coefficients
+/// `a_ij` over the earlier stages it combines (those with `a_ij ≠ 0`, in order).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Stage<const S: usize> {
+    pub(crate) c: f64,
+    pub(crate) a: [f64; S],
+}
+
+/// `out = y + h Σ_s a_s k_s` over the stages `k` with the coefficients `a`.
 #[inline(always)]
-pub(crate) fn combine(out: &mut [f64], y: &[f64], h: f64, terms: &[(f64, &[f64])]) {
+pub(crate) fn combine<const S: usize>(
+    out: &mut [f64],
+    y: &[f64],
+    h: f64,
+    a: &[f64; S],
+    k: [&[f64]; S],
+) {
     for i in 0..out.len() {
         let mut acc = 0.0;
-        for (a, k) in terms {
+        for (a, k) in a.iter().zip(&k) {
             acc += a * k[i];
         }
         out[i] = y[i] + h * acc;
     }
+}
+
+/// `Σ_s a_s k_s[i]`, summed from the first term on (as `a_1 k_1[i] + a_2 k_2[i] + …` reads).
+#[inline(always)]
+pub(crate) fn weighted<const S: usize>(a: &[f64; S], k: &[&[f64]; S], i: usize) -> f64 {
+    let mut acc = a[0] * k[0][i];
+    for (s, k) in k.iter().enumerate().skip(1) {
+        acc += a[s] * k[i];
+    }
+    acc
 }
 
 #[cfg(test)]

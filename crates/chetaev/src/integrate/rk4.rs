@@ -3,7 +3,8 @@
 //! Tableau: W. Kutta, "Beitrag zur näherungsweisen Integration totaler Differentialgleichungen",
 //! Z. Math. Phys. 46 (1901) 435–453; Hairer, Nørsett, Wanner, *Solving ODEs I*, Table II.1.2.
 
-use super::{combine, system::OdeSystem, Controller, ErrorNorm, Method, MethodInfo, Stepper};
+use super::system::OdeSystem;
+use super::{combine, Controller, Method, MethodInfo, Step, Stepper, Trial};
 use crate::error::Error;
 
 /// Classical Runge–Kutta, fourth order, fixed step `h` (the last step is shortened to end exactly
@@ -79,40 +80,22 @@ impl Stepper for Rk4Stepper {
         sys.rhs(t, y, &mut self.k[0])
     }
 
-    fn try_step<S: OdeSystem>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        h: f64,
-        y: &[f64],
-        y_new: &mut [f64],
-        _norm: &ErrorNorm,
-    ) -> Result<f64, Error> {
+    fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
+        let (t, h, y, y_new, _) = trial.parts();
         let [k1, k2, k3, k4] = &mut self.k;
         let yt = &mut self.ytmp;
-        combine(yt, y, 0.5 * h, &[(1.0, k1)]);
+        combine(yt, y, 0.5 * h, &[1.0], [k1]);
         sys.rhs(t + 0.5 * h, yt, k2)?;
-        combine(yt, y, 0.5 * h, &[(1.0, k2)]);
+        combine(yt, y, 0.5 * h, &[1.0], [k2]);
         sys.rhs(t + 0.5 * h, yt, k3)?;
-        combine(yt, y, h, &[(1.0, k3)]);
+        combine(yt, y, h, &[1.0], [k3]);
         sys.rhs(t + h, yt, k4)?;
-        combine(
-            y_new,
-            y,
-            h / 6.0,
-            &[(1.0, k1), (2.0, k2), (2.0, k3), (1.0, k4)],
-        );
+        combine(y_new, y, h / 6.0, &[1.0, 2.0, 2.0, 1.0], [k1, k2, k3, k4]);
         Ok(0.0)
     }
 
-    fn accept<S: OdeSystem>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        h: f64,
-        y: &[f64],
-        y_new: &[f64],
-    ) -> Result<(), Error> {
+    fn commit<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
+        let Step { t, h, y, y_new } = step;
         self.y0.copy_from_slice(y);
         self.y1.copy_from_slice(y_new);
         self.f0.copy_from_slice(&self.k[0]);

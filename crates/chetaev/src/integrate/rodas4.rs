@@ -31,62 +31,102 @@
 
 use nalgebra::{DMatrix, DVectorViewMut, Dyn, LU};
 
-use super::{combine, system::OdeSystem, Controller, ErrorNorm, Method, MethodInfo, Stepper};
+use super::system::OdeSystem;
+use super::{combine, weighted, Controller, Method, MethodInfo, Step, Stepper, Trial};
 use crate::error::Error;
 
 const GAMMA: f64 = 0.25;
 
-// Nodes.
-const C2: f64 = 0.386;
-const C3: f64 = 0.21;
-const C4: f64 = 0.63;
+/// Stage `i` of 2 to 5: the node `c_i`, the coefficient `d_i` of `h F_t` (`γ_i = Σ_j γ_ij`), and
+/// over `j < i` the stage arguments `a_ij` and the couplings `c_ij` of the stage increments.
+struct Stage<const S: usize> {
+    c: f64,
+    d: f64,
+    a: [f64; S],
+    coupling: [f64; S],
+}
 
-// Coefficients γ_i = Σ_j γ_ij of the time derivative.
+impl<const S: usize> Stage<S> {
+    /// The couplings divided by the step size, `c_ij / h`, from `hinv = 1/h`.
+    #[inline(always)]
+    fn couplings(&self, hinv: f64) -> [f64; S] {
+        self.coupling.map(|c| c * hinv)
+    }
+}
+
+// Stage 1: d_1 = γ (c_1 = 0).
 const D1: f64 = 0.2500000000000000e+00;
-const D2: f64 = -0.1043000000000000e+00;
-const D3: f64 = 0.1035000000000000e+00;
-const D4: f64 = -0.3620000000000023e-01;
 
-// Stage arguments.
-const A21: f64 = 0.1544000000000000e+01;
-const A31: f64 = 0.9466785280815826e+00;
-const A32: f64 = 0.2557011698983284e+00;
-const A41: f64 = 0.3314825187068521e+01;
-const A42: f64 = 0.2896124015972201e+01;
-const A43: f64 = 0.9986419139977817e+00;
-const A51: f64 = 0.1221224509226641e+01;
-const A52: f64 = 0.6019134481288629e+01;
-const A53: f64 = 0.1253708332932087e+02;
-const A54: f64 = -0.6878860361058950e+00;
+// Stages 2 to 5 (stage 5 sits at c_5 = 1 with d_5 = 0, and takes t + h and 0 directly).
+const S2: Stage<1> = Stage {
+    c: 0.386,
+    d: -0.1043000000000000e+00,
+    a: [0.1544000000000000e+01],
+    coupling: [-0.5668800000000000e+01],
+};
+const S3: Stage<2> = Stage {
+    c: 0.21,
+    d: 0.1035000000000000e+00,
+    a: [0.9466785280815826e+00, 0.2557011698983284e+00],
+    coupling: [-0.2430093356833875e+01, -0.2063599157091915e+00],
+};
+const S4: Stage<3> = Stage {
+    c: 0.63,
+    d: -0.3620000000000023e-01,
+    a: [
+        0.3314825187068521e+01,
+        0.2896124015972201e+01,
+        0.9986419139977817e+00,
+    ],
+    coupling: [
+        -0.1073529058151375e+00,
+        -0.9594562251023355e+01,
+        -0.2047028614809616e+02,
+    ],
+};
+const S5: Stage<4> = Stage {
+    c: 1.0,
+    d: 0.0,
+    a: [
+        0.1221224509226641e+01,
+        0.6019134481288629e+01,
+        0.1253708332932087e+02,
+        -0.6878860361058950e+00,
+    ],
+    coupling: [
+        0.7496443313967647e+01,
+        -0.1024680431464352e+02,
+        -0.3399990352819905e+02,
+        0.1170890893206160e+02,
+    ],
+};
 
-// Couplings of the stage increments.
-const C21: f64 = -0.5668800000000000e+01;
-const C31: f64 = -0.2430093356833875e+01;
-const C32: f64 = -0.2063599157091915e+00;
-const C41: f64 = -0.1073529058151375e+00;
-const C42: f64 = -0.9594562251023355e+01;
-const C43: f64 = -0.2047028614809616e+02;
-const C51: f64 = 0.7496443313967647e+01;
-const C52: f64 = -0.1024680431464352e+02;
-const C53: f64 = -0.3399990352819905e+02;
-const C54: f64 = 0.1170890893206160e+02;
-const C61: f64 = 0.8083246795921522e+01;
-const C62: f64 = -0.7981132988064893e+01;
-const C63: f64 = -0.3152159432874371e+02;
-const C64: f64 = 0.1631930543123136e+02;
-const C65: f64 = -0.6058818238834054e+01;
+// Stage 6: the couplings c_6j (c_6 = 1, d_6 = 0; its argument is the embedded solution).
+const C6: [f64; 5] = [
+    0.8083246795921522e+01,
+    -0.7981132988064893e+01,
+    -0.3152159432874371e+02,
+    0.1631930543123136e+02,
+    -0.6058818238834054e+01,
+];
 
-// Dense output.
-const D21: f64 = 0.1012623508344586e+02;
-const D22: f64 = -0.7487995877610167e+01;
-const D23: f64 = -0.3480091861555747e+02;
-const D24: f64 = -0.7992771707568823e+01;
-const D25: f64 = 0.1025137723295662e+01;
-const D31: f64 = -0.6762803392801253e+00;
-const D32: f64 = 0.6087714651680015e+01;
-const D33: f64 = 0.1643084320892478e+02;
-const D34: f64 = 0.2476722511418386e+02;
-const D35: f64 = -0.6594389125716872e+01;
+// Dense output: the rows d_2j and d_3j.
+const DENSE: [[f64; 5]; 2] = [
+    [
+        0.1012623508344586e+02,
+        -0.7487995877610167e+01,
+        -0.3480091861555747e+02,
+        -0.7992771707568823e+01,
+        0.1025137723295662e+01,
+    ],
+    [
+        -0.6762803392801253e+00,
+        0.6087714651680015e+01,
+        0.1643084320892478e+02,
+        0.2476722511418386e+02,
+        -0.6594389125716872e+01,
+    ],
+];
 
 /// RODAS of Hairer and Wanner: linearly implicit (Rosenbrock), L-stable, stiffly accurate, order
 /// 4(3), with third-order dense output.
@@ -159,10 +199,17 @@ pub struct Rodas4Stepper {
 
 /// `out = dy + hd·dfdt + Σ_s c_s k_s`: the right-hand side of a stage.
 #[inline(always)]
-fn stage_rhs(out: &mut [f64], dy: &[f64], hd: f64, dfdt: &[f64], terms: &[(f64, &[f64])]) {
+fn stage_rhs<const S: usize>(
+    out: &mut [f64],
+    dy: &[f64],
+    hd: f64,
+    dfdt: &[f64],
+    c: [f64; S],
+    k: [&[f64]; S],
+) {
     for i in 0..out.len() {
         let mut acc = dy[i] + hd * dfdt[i];
-        for (c, k) in terms {
+        for (c, k) in c.iter().zip(&k) {
             acc += c * k[i];
         }
         out[i] = acc;
@@ -200,15 +247,8 @@ impl Stepper for Rodas4Stepper {
         Ok(())
     }
 
-    fn try_step<S: OdeSystem>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        h: f64,
-        y: &[f64],
-        y_new: &mut [f64],
-        norm: &ErrorNorm,
-    ) -> Result<f64, Error> {
+    fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
+        let (t, h, y, y_new, norm) = trial.parts();
         let n = y.len();
         if !(self.jac_valid && self.jac_t == t && self.jac_y[..] == *y) {
             self.jac_valid = false;
@@ -246,44 +286,27 @@ impl Stepper for Rodas4Stepper {
         let [k1, k2, k3, k4, k5, k6] = k;
         let hinv = 1.0 / h;
 
-        stage_rhs(k1, f0, h * D1, dfdt, &[]);
+        stage_rhs(k1, f0, h * D1, dfdt, [], []);
         solve(k1);
 
-        combine(ytmp, y, 1.0, &[(A21, k1)]);
-        sys.rhs(t + C2 * h, ytmp, dy)?;
-        stage_rhs(k2, dy, h * D2, dfdt, &[(C21 * hinv, k1)]);
+        combine(ytmp, y, 1.0, &S2.a, [k1]);
+        sys.rhs(t + S2.c * h, ytmp, dy)?;
+        stage_rhs(k2, dy, h * S2.d, dfdt, S2.couplings(hinv), [k1]);
         solve(k2);
 
-        combine(ytmp, y, 1.0, &[(A31, k1), (A32, k2)]);
-        sys.rhs(t + C3 * h, ytmp, dy)?;
-        stage_rhs(k3, dy, h * D3, dfdt, &[(C31 * hinv, k1), (C32 * hinv, k2)]);
+        combine(ytmp, y, 1.0, &S3.a, [k1, k2]);
+        sys.rhs(t + S3.c * h, ytmp, dy)?;
+        stage_rhs(k3, dy, h * S3.d, dfdt, S3.couplings(hinv), [k1, k2]);
         solve(k3);
 
-        combine(ytmp, y, 1.0, &[(A41, k1), (A42, k2), (A43, k3)]);
-        sys.rhs(t + C4 * h, ytmp, dy)?;
-        stage_rhs(
-            k4,
-            dy,
-            h * D4,
-            dfdt,
-            &[(C41 * hinv, k1), (C42 * hinv, k2), (C43 * hinv, k3)],
-        );
+        combine(ytmp, y, 1.0, &S4.a, [k1, k2, k3]);
+        sys.rhs(t + S4.c * h, ytmp, dy)?;
+        stage_rhs(k4, dy, h * S4.d, dfdt, S4.couplings(hinv), [k1, k2, k3]);
         solve(k4);
 
-        combine(ytmp, y, 1.0, &[(A51, k1), (A52, k2), (A53, k3), (A54, k4)]);
+        combine(ytmp, y, 1.0, &S5.a, [k1, k2, k3, k4]);
         sys.rhs(t + h, ytmp, dy)?;
-        stage_rhs(
-            k5,
-            dy,
-            0.0,
-            dfdt,
-            &[
-                (C51 * hinv, k1),
-                (C52 * hinv, k2),
-                (C53 * hinv, k3),
-                (C54 * hinv, k4),
-            ],
-        );
+        stage_rhs(k5, dy, 0.0, dfdt, S5.couplings(hinv), [k1, k2, k3, k4]);
         solve(k5);
 
         // The embedded third-order solution.
@@ -296,13 +319,8 @@ impl Stepper for Rodas4Stepper {
             dy,
             0.0,
             dfdt,
-            &[
-                (C61 * hinv, k1),
-                (C62 * hinv, k2),
-                (C63 * hinv, k3),
-                (C64 * hinv, k4),
-                (C65 * hinv, k5),
-            ],
+            C6.map(|c| c * hinv),
+            [k1, k2, k3, k4, k5],
         );
         solve(k6);
 
@@ -313,21 +331,16 @@ impl Stepper for Rodas4Stepper {
         Ok(norm.norm(k6, y, y_new))
     }
 
-    fn accept<S: OdeSystem>(
-        &mut self,
-        _sys: &mut S,
-        _t: f64,
-        _h: f64,
-        y: &[f64],
-        y_new: &[f64],
-    ) -> Result<(), Error> {
+    fn commit<S: OdeSystem>(&mut self, _sys: &mut S, step: Step<'_>) -> Result<(), Error> {
+        let Step { y, y_new, .. } = step;
         let [k1, k2, k3, k4, k5, _] = &self.k;
+        let ku = [&**k1, k2, k3, k4, k5];
         let [r0, r1, r2, r3] = &mut self.rcont;
         for i in 0..y.len() {
             r0[i] = y[i];
             r1[i] = y_new[i];
-            r2[i] = D21 * k1[i] + D22 * k2[i] + D23 * k3[i] + D24 * k4[i] + D25 * k5[i];
-            r3[i] = D31 * k1[i] + D32 * k2[i] + D33 * k3[i] + D34 * k4[i] + D35 * k5[i];
+            r2[i] = weighted(&DENSE[0], &ku, i);
+            r3[i] = weighted(&DENSE[1], &ku, i);
         }
         Ok(())
     }
@@ -344,6 +357,7 @@ impl Stepper for Rodas4Stepper {
 #[cfg(test)]
 mod tests {
     use super::super::testing::{fixed_steps, loose, Jac, Rhs, Sys};
+    use super::super::ErrorNorm;
     use super::*;
 
     /// Accepted and rejected steps of an adaptive run.
@@ -420,38 +434,24 @@ mod tests {
         // vanish.
         let c: [&[f64]; 6] = [
             &[],
-            &[C21],
-            &[C31, C32],
-            &[C41, C42, C43],
-            &[C51, C52, C53, C54],
-            &[C61, C62, C63, C64, C65],
+            &S2.coupling,
+            &S3.coupling,
+            &S4.coupling,
+            &S5.coupling,
+            &C6,
         ];
         let mut u = [0.0f64; 6];
         for i in 0..6 {
             let s: f64 = c[i].iter().zip(&u).map(|(c, u)| c * u).sum();
             u[i] = GAMMA * (1.0 + s);
         }
-        let a: [(f64, &[f64]); 4] = [
-            (C2, &[A21]),
-            (C3, &[A31, A32]),
-            (C4, &[A41, A42, A43]),
-            (1.0, &[A51, A52, A53, A54]),
-        ];
+        let a: [(f64, &[f64]); 4] = [(S2.c, &S2.a), (S3.c, &S3.a), (S4.c, &S4.a), (S5.c, &S5.a)];
         for (ci, row) in a {
             let s: f64 = row.iter().zip(&u).map(|(a, u)| a * u).sum();
             assert!((s - ci).abs() < 1e-13, "node {ci}: {s}");
         }
         assert!(u[4].abs() < 1e-13 && u[5].abs() < 1e-13, "{u:?}");
-        let d2: f64 = [D21, D22, D23, D24, D25]
-            .iter()
-            .zip(&u)
-            .map(|(d, u)| d * u)
-            .sum();
-        let d3: f64 = [D31, D32, D33, D34, D35]
-            .iter()
-            .zip(&u)
-            .map(|(d, u)| d * u)
-            .sum();
+        let [d2, d3] = DENSE.map(|d| d.iter().zip(&u).map(|(d, u)| d * u).sum::<f64>());
         assert!(d2.abs() < 1e-13 && d3.abs() < 1e-13, "{d2} {d3}");
     }
 

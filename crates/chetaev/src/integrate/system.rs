@@ -30,6 +30,12 @@ pub trait OdeSystem {
     ) -> Result<(), Error>;
     /// Records one LU decomposition of an implicit method's iteration matrix.
     fn count_lu(&mut self) {}
+    /// A step to `(t, y)` was accepted (its last evaluation of `F` was the step's last stage): a
+    /// system may check what it evaluated there. The default accepts.
+    fn accepted(&mut self, t: f64, y: &[f64]) -> Result<(), Error> {
+        let _ = (t, y);
+        Ok(())
+    }
 }
 
 /// Counts of the work done, kept where user code is called so that no method can forget one.
@@ -98,14 +104,18 @@ pub struct ReducedOde<'a, M: ?Sized> {
     /// Scratch space for the dual evaluations of the Jacobian, made on first use.
     jac_ws: Option<Workspace<Dual64>>,
     energy: bool,
+    /// Whether the energy quadratures include the work of forces not derivable from `L`.
+    forces: bool,
     /// Relative change of `|J_a|` or of `max |W_ij|` from their first evaluated sizes beyond which
     /// the equations are taken as singular (0: no check).
     rank_tolerance: f64,
     /// `|J_a|` and `max |W_ij|` at the first evaluation.
     reference: Option<(Vec<f64>, f64)>,
-    /// `J` at the previous evaluation (row-major `k × n`), and its time.
+    /// `J` at the last checked evaluation (row-major `k × n`), and its time.
     previous_j: Vec<f64>,
     previous_t: f64,
+    /// The time of the last evaluation by `rhs`.
+    last_t: f64,
     /// The work done so far.
     pub stats: Stats,
 }
@@ -123,7 +133,8 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         self
     }
 
-    /// The singular-point check of [`ReducedOde::with_rank_tolerance`] on the last evaluation.
+    /// The singular-point check of [`ReducedOde::with_rank_tolerance`] on the last evaluation, made
+    /// at time `t`, at state `(q, q̇)` (for the error).
     fn check_singular(&mut self, t: f64, q: &[f64], qd: &[f64]) -> Result<(), Error> {
         let tol = self.rank_tolerance;
         if tol <= 0.0 {
@@ -132,7 +143,11 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         let d = self.ws.dynamics();
         let n = self.n;
         let Some((j0, w0)) = &self.reference else {
-            self.reference = Some((d.j_norms.clone(), d.w_scale));
+            let norms =
+                d.j.chunks_exact(n.max(1))
+                    .map(|row| row.iter().map(|v| v * v).sum::<f64>().sqrt())
+                    .collect();
+            self.reference = Some((norms, d.w_scale));
             self.previous_j.clone_from(&d.j);
             self.previous_t = t;
             return Ok(());
@@ -141,15 +156,19 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             let ratio = now / then;
             (then > 0.0 && !(tol..=1.0 / tol).contains(&ratio)).then_some(ratio)
         };
-        // The smallest |J_a| on the segment from the previous evaluation's J_a to this one's, and
-        // where on it (0 at the previous evaluation, 1 at this one).
-        let closest = |a: usize| {
+        // Per constraint, in one pass over J_a and without square roots unless something is off:
+        // the smallest |J_a|² on the segment from the previous J_a (p) to this one (c), which is
+        // |p|² − (p·(c − p))²/|c − p|² where the segment's closest point lies inside it.
+        let mut culprit = None;
+        for (a, &then) in j0.iter().enumerate() {
             let (p, c) = (
                 &self.previous_j[a * n..(a + 1) * n],
                 &d.j[a * n..(a + 1) * n],
             );
-            let (mut pd, mut dd) = (0.0, 0.0);
+            let (mut pp, mut cc, mut pd, mut dd) = (0.0, 0.0, 0.0, 0.0);
             for (x, y) in p.iter().zip(c) {
+                pp += x * x;
+                cc += y * y;
                 pd += x * (y - x);
                 dd += (y - x) * (y - x);
             }
@@ -158,23 +177,27 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             } else {
                 0.0
             };
-            let size = p
-                .iter()
-                .zip(c)
-                .map(|(x, y)| (x + s * (y - x)).powi(2))
-                .sum::<f64>()
-                .sqrt();
-            (size, s)
-        };
-        let previous_t = self.previous_t;
-        let culprit = (0..j0.len())
-            .find_map(|a| {
-                let (size, s) = closest(a);
-                off(size, j0[a])
-                    .map(|r| (Some(a + 1), r, previous_t + s * (t - previous_t)))
-                    .or_else(|| off(d.j_norms[a], j0[a]).map(|r| (Some(a + 1), r, t)))
-            })
-            .or_else(|| off(d.w_scale, *w0).map(|r| (None, r, t)));
+            let closest = if s > 0.0 && s < 1.0 {
+                // Formed as a vector: |p|² − (p·(c − p))²/|c − p|² would cancel.
+                p.iter()
+                    .zip(c)
+                    .map(|(x, y)| (x + s * (y - x)).powi(2))
+                    .sum::<f64>()
+            } else {
+                pp.min(cc)
+            };
+            let low = tol * then;
+            if closest.max(0.0) < low * low {
+                let r = closest.max(0.0).sqrt() / then;
+                culprit = Some((Some(a + 1), r, self.previous_t + s * (t - self.previous_t)));
+                break;
+            }
+            if let Some(r) = off(cc.sqrt(), then).filter(|_| cc * tol * tol > then * then) {
+                culprit = Some((Some(a + 1), r, t));
+                break;
+            }
+        }
+        let culprit = culprit.or_else(|| off(d.w_scale, *w0).map(|r| (None, r, t)));
         self.previous_j.clone_from(&d.j);
         self.previous_t = t;
         match culprit {
@@ -188,8 +211,9 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             }),
         }
     }
-    /// The reduced equations of `model`; with `energy` the state carries the two quadratures of
-    /// the energy balance.
+
+    /// The reduced equations of `model`; with `energy` the state carries the three quadratures of
+    /// the energy balance (`W_Φ`, `∫∂L/∂t dt`, `W_Q`).
     pub fn new(model: &'a M, energy: bool) -> Self {
         Self {
             model,
@@ -197,12 +221,36 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             ws: Workspace::for_model(model),
             jac_ws: None,
             energy,
+            forces: true,
             rank_tolerance: 0.0,
             reference: None,
             previous_j: Vec::new(),
             previous_t: f64::NAN,
+            last_t: f64::NAN,
             stats: Stats::default(),
         }
+    }
+
+    /// The reduced equations of `problem`'s model, as [`ReducedOde::new`], leaving out the
+    /// quadrature of the forces' work when the model has no forces not derivable from `L` (asked
+    /// at the initial state).
+    pub fn for_problem(problem: &'a crate::Problem<M>, energy: bool) -> Self
+    where
+        M: Sized,
+    {
+        let model = problem.model();
+        let mut buf = vec![0.0; problem.q0().len()];
+        let forces = model.force_blocks(problem.t0(), problem.q0(), problem.qd0(), &mut buf);
+        Self {
+            forces,
+            ..Self::new(model, energy)
+        }
+    }
+
+    /// Whether the state carries the quadrature of the forces' work `W_Q` (after `W_Φ` and
+    /// `∫∂L/∂t dt`).
+    pub fn has_forces_quadrature(&self) -> bool {
+        self.energy && self.forces
     }
 
     /// Whether the state carries the energy quadratures.
@@ -223,11 +271,20 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
 }
 
 impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
+    fn accepted(&mut self, _t: f64, y: &[f64]) -> Result<(), Error> {
+        if self.rank_tolerance <= 0.0 || self.last_t.is_nan() {
+            return Ok(());
+        }
+        let n = self.n;
+        let t = self.last_t;
+        self.check_singular(t, &y[..n], &y[n..2 * n])
+    }
+
     fn dim(&self) -> usize {
-        if self.energy {
-            2 * self.n + 3
-        } else {
-            2 * self.n
+        match (self.energy, self.forces) {
+            (true, true) => 2 * self.n + 3,
+            (true, false) => 2 * self.n + 2,
+            (false, _) => 2 * self.n,
         }
     }
 
@@ -241,14 +298,16 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         let n = self.n;
         let (q, qd) = (&y[..n], &y[n..2 * n]);
         evaluate(self.model, &mut self.ws, t, q, qd).map_err(|e| locate(e, t, q, qd))?;
-        self.check_singular(t, q, qd)?;
+        self.last_t = t;
         let d = self.ws.dynamics();
         dy[..n].copy_from_slice(qd);
         dy[n..2 * n].copy_from_slice(&d.qdd);
         if self.energy {
             dy[2 * n] = d.power;
             dy[2 * n + 1] = d.dl_dt;
-            dy[2 * n + 2] = d.power_forces;
+            if self.forces {
+                dy[2 * n + 2] = d.power_forces;
+            }
         }
         Ok(())
     }
@@ -296,7 +355,9 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
             if self.energy {
                 put(2 * n, d.power.eps);
                 put(2 * n + 1, d.dl_dt.eps);
-                put(2 * n + 2, d.power_forces.eps);
+                if self.forces {
+                    put(2 * n + 2, d.power_forces.eps);
+                }
             }
         }
         if self.energy {

@@ -353,6 +353,14 @@ where
     T: Real,
 {
     let q_direct = model.forces(t, q, qd);
+    // Whether there is a dissipation function at all, asked on values: for the default `None`
+    // this folds away, and no dual pass is made.
+    let no_dissipation = model
+        .dissipation(t.re(), &q.map(|x| x.re()), &qd.map(|x| x.re()))
+        .is_none();
+    if no_dissipation {
+        return q_direct;
+    }
     type D<T, const N: usize> = DualVec<T, f64, Const<N>>;
     let n = Const::<N>;
     let td = D::<T, N>::from_re(t);
