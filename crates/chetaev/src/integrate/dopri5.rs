@@ -7,7 +7,7 @@
 
 use super::system::OdeSystem;
 use super::{combine, weighted, Controller, Method, MethodInfo, Stage, Step, Stepper};
-use super::{StiffnessTest, Trial};
+use super::{Pool, StiffnessTest, Trial};
 use crate::error::Error;
 
 // The stages 2 to 6 (stage 7 is the derivative at the new point, from the weights of the step).
@@ -117,10 +117,7 @@ impl Method for Dopri5 {
     }
     fn stepper(&self, dim: usize) -> Dopri5Stepper {
         Dopri5Stepper {
-            k: std::array::from_fn(|_| vec![0.0; dim]),
-            ytmp: vec![0.0; dim],
-            ysti: vec![0.0; dim],
-            rcont: std::array::from_fn(|_| vec![0.0; dim]),
+            pool: Pool::new(VECTORS, dim),
             stiffness: StiffnessTest::new(
                 self.stiffness_detection,
                 STIFF_H_LAMBDA,
@@ -131,13 +128,15 @@ impl Method for Dopri5 {
     }
 }
 
+/// The stepper's vectors: the stages `k1..k7`, the stage argument, the argument of stage 6 (kept
+/// for the stiffness test), and the five dense-output coefficients.
+const VECTORS: usize = 7 + 2 + 5;
+
 /// The working state of [`Dopri5`].
 #[derive(Clone, Debug)]
 pub struct Dopri5Stepper {
-    k: [Vec<f64>; 7],
-    ytmp: Vec<f64>,
-    ysti: Vec<f64>,
-    rcont: [Vec<f64>; 5],
+    /// See [`VECTORS`].
+    pool: Pool,
     stiffness: StiffnessTest,
     /// Whether `accept` builds the dense-output coefficients.
     dense: bool,
@@ -145,13 +144,12 @@ pub struct Dopri5Stepper {
 
 impl Stepper for Dopri5Stepper {
     fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
-        sys.rhs(t, y, &mut self.k[0])
+        sys.rhs(t, y, self.pool.get_mut(0))
     }
 
     fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
         let (t, h, y, y_new, norm) = trial.parts();
-        let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
-        let yt = &mut self.ytmp;
+        let [k1, k2, k3, k4, k5, k6, k7, yt, ysti, ..] = self.pool.all::<VECTORS>();
         combine(yt, y, h, &S2.a, [k1]);
         sys.rhs(t + S2.c * h, yt, k2)?;
         combine(yt, y, h, &S3.a, [k1, k2]);
@@ -160,12 +158,12 @@ impl Stepper for Dopri5Stepper {
         sys.rhs(t + S4.c * h, yt, k4)?;
         combine(yt, y, h, &S5.a, [k1, k2, k3, k4]);
         sys.rhs(t + S5.c * h, yt, k5)?;
-        combine(&mut self.ysti, y, h, &S6.a, [k1, k2, k3, k4, k5]);
-        sys.rhs(t + h, &self.ysti, k6)?;
+        combine(ysti, y, h, &S6.a, [k1, k2, k3, k4, k5]);
+        sys.rhs(t + h, ysti, k6)?;
         combine(y_new, y, h, &B, [k1, k3, k4, k5, k6]);
         sys.rhs(t + h, y_new, k7)?;
         // The error estimate, weighted and summed in one pass (no error vector is stored).
-        let ke = [&**k1, k3, k4, k5, k6, k7];
+        let ke = [&*k1, k3, k4, k5, k6, k7];
         let mut sum = 0.0;
         for i in 0..norm.len() {
             let e = h * weighted(&E, &ke, i);
@@ -177,18 +175,16 @@ impl Stepper for Dopri5Stepper {
 
     fn commit<S: OdeSystem>(&mut self, _sys: &mut S, step: Step<'_>) -> Result<(), Error> {
         let Step { h, y, y_new, .. } = step;
-        let [k1, _, k3, k4, k5, k6, k7] = &self.k;
+        let [k1, _, k3, k4, k5, k6, k7, _, ysti, r1, r2, r3, r4, r5] = self.pool.all::<VECTORS>();
         // h·|λ| from the last two stages, which share the node t + h.
         if self.stiffness.wants_test() {
-            self.stiffness.observe(h, k7, k6, y_new, &self.ysti);
+            self.stiffness.observe(h, k7, k6, y_new, ysti);
         }
         if !self.dense {
-            let (head, tail) = self.k.split_at_mut(6);
-            head[0].copy_from_slice(&tail[0]);
+            k1.copy_from_slice(k7);
             return Ok(());
         }
-        let kd = [&**k1, k3, k4, k5, k6, k7];
-        let [r1, r2, r3, r4, r5] = &mut self.rcont;
+        let kd = [&*k1, k3, k4, k5, k6, k7];
         for i in 0..y.len() {
             let dy = y_new[i] - y[i];
             let bspl = h * k1[i] - dy;
@@ -199,13 +195,12 @@ impl Stepper for Dopri5Stepper {
             r5[i] = h * weighted(&D, &kd, i);
         }
         // First same as last: the derivative at the new point starts the next step.
-        let (head, tail) = self.k.split_at_mut(6);
-        head[0].copy_from_slice(&tail[0]);
+        k1.copy_from_slice(k7);
         Ok(())
     }
 
     fn interpolate(&self, theta: f64, out: &mut [f64]) {
-        let [r1, r2, r3, r4, r5] = &self.rcont;
+        let [r1, r2, r3, r4, r5] = [9, 10, 11, 12, 13].map(|i| self.pool.get(i));
         let th1 = 1.0 - theta;
         for i in 0..out.len() {
             out[i] = r1[i] + theta * (r2[i] + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));

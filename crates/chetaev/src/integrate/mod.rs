@@ -535,6 +535,43 @@ pub(crate) fn combine<const S: usize>(
     }
 }
 
+/// The work vectors of a stepper, `count` of length `dim`, in one allocation (a short solve would
+/// otherwise spend a noticeable part of its time allocating them one by one).
+#[derive(Clone, Debug)]
+pub(crate) struct Pool {
+    data: Vec<f64>,
+    dim: usize,
+}
+
+impl Pool {
+    /// `count` zeroed vectors of length `dim`.
+    pub(crate) fn new(count: usize, dim: usize) -> Self {
+        Self {
+            data: vec![0.0; count * dim],
+            dim,
+        }
+    }
+
+    /// All `M` vectors, as disjoint mutable slices.
+    #[inline(always)]
+    pub(crate) fn all<const M: usize>(&mut self) -> [&mut [f64]; M] {
+        let mut chunks = self.data.chunks_exact_mut(self.dim.max(1));
+        std::array::from_fn(|_| chunks.next().unwrap_or_default())
+    }
+
+    /// Vector `i`.
+    #[inline(always)]
+    pub(crate) fn get(&self, i: usize) -> &[f64] {
+        &self.data[i * self.dim..(i + 1) * self.dim]
+    }
+
+    /// Vector `i`, mutable.
+    #[inline(always)]
+    pub(crate) fn get_mut(&mut self, i: usize) -> &mut [f64] {
+        &mut self.data[i * self.dim..(i + 1) * self.dim]
+    }
+}
+
 /// `Σ_s a_s k_s[i]`, summed from the first term on (as `a_1 k_1[i] + a_2 k_2[i] + …` reads).
 #[inline(always)]
 pub(crate) fn weighted<const S: usize>(a: &[f64; S], k: &[&[f64]; S], i: usize) -> f64 {
