@@ -5,7 +5,10 @@
 //! returned [`Solution`](crate::Solution), together with everything computed up to that point.
 
 /// Everything that can go wrong, with the numbers that explain it and what to try next.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+///
+/// Its `Debug` form is its message, so that `fn main() -> Result<(), chetaev::Error>` and `{:?}`
+/// print what was wrong and what to try, not a struct dump; the fields are public for code.
+#[derive(Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
     /// An input number is NaN or infinite.
@@ -249,4 +252,10 @@ pub enum Error {
         /// Its value.
         value: f64,
     },
+}
+
+impl std::fmt::Debug for Error {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Display::fmt(self, f)
+    }
 }
