@@ -17,6 +17,8 @@ pub(crate) fn text_width(text: &str, font_size: f64) -> f64 {
             '⁰' | '¹' | '²' | '³' | '⁴' | '⁵' | '⁶' | '⁷' | '⁸' | '⁹' | '⁻' => {
                 0.4
             }
+            // Combining marks (the dot of ẋ written as x + U+0307) take no room.
+            '\u{0300}'..='\u{036F}' => 0.0,
             c if c.is_uppercase() => 0.7,
             _ => 0.6,
         })
@@ -125,6 +127,9 @@ fn usable(lo: f64, hi: f64, log: bool) -> (f64, f64) {
     }
 }
 
+/// The relative span below which an automatic linear range is one value.
+const ROUNDING: f64 = 1e-12;
+
 /// How close (in steps) data may be beyond a tick and still have an automatic range end there.
 const SNAP: f64 = 1e-6;
 
@@ -144,6 +149,15 @@ fn nice_steps(start: f64) -> impl Iterator<Item = f64> {
 /// the step, so both ends carry a tick (data less than a millionth of a step beyond a tick counts
 /// as on it).
 pub(crate) fn linear(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
+    // Automatic ranges: values that differ by rounding only (a span below 1e-12 of their size, a
+    // few units in the last place) are one value, drawn flat, not their rounding noise on tick
+    // labels of fifteen digits.
+    let (lo, hi) = if !fixed && hi - lo <= ROUNDING * lo.abs().max(hi.abs()) {
+        let mid = lo + (hi - lo) / 2.0;
+        (mid, mid)
+    } else {
+        (lo, hi)
+    };
     let (lo, hi) = usable(lo, hi, false);
     let start = (hi - lo) / 50.0;
     let mut fallback = None;

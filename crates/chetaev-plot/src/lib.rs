@@ -1,7 +1,8 @@
 //! SVG line plots for chetaev's example programs, scene runner and work-precision program.
 //!
 //! A [`Figure`] is built with chained calls and written as a self-contained SVG file. It needs no
-//! fonts and no system libraries: SVG text is laid out by whatever displays the file.
+//! fonts and no system libraries: SVG text is laid out by whatever displays the file. [`Panels`]
+//! puts several figures in one file, stacked (sharing the time axis) or in a grid.
 //!
 //! ```
 //! use chetaev_plot::{Figure, Style};
@@ -28,15 +29,25 @@
 //!   axes (every 2nd, 5th, 10th, ... decade when they would crowd), spaced so the labels do not
 //!   overlap. An automatic range is widened to the nearest ticks; a fixed range ([`Figure::x_range`])
 //!   is kept as given, and lines are clipped to it.
-//! * A legend lists the series with non-empty names, in the corner (or at the middle of the top or
-//!   bottom edge) of the plot where it covers the fewest points, or where [`Figure::legend`] puts
-//!   it.
-//! * Colours cycle through eight hues readable on white (Okabe and Ito's palette without its
-//!   yellow, plus grey and brown); a series with [`Style::color`] set keeps its colour and does not
-//!   advance the cycle.
+//! * A legend lists the series with non-empty names. It goes inside the plot, in the corner (or at
+//!   the middle of the top or bottom edge) where it covers no data; where every such place would
+//!   cover data, or the legend does not fit inside the plot, it goes beside a plot narrowed by
+//!   equal scales if the width asked for has room, else below the plot, in as many columns as the
+//!   width allows. [`Figure::legend`] chooses a place instead.
+//! * Series without their own colour ([`Style::color`]) take the next of eight colours readable on
+//!   white (Okabe and Ito's palette without its yellow, plus grey and brown) and, from the ninth
+//!   on, a dash pattern too: the first eight are solid, the next eight dashed, then dotted,
+//!   dash-dotted and long-dashed, so 40 series differ in colour or pattern. Marker-only series
+//!   change the marker's shape instead (circle, square, diamond, triangle, cross). A series with
+//!   its own colour does not advance the cycle.
+//! * The title is never cut: a title wider than the picture is broken into lines, and a picture
+//!   narrowed by [`Figure::equal_aspect`] keeps the width of its title and of its legend.
 
 mod axis;
+mod panels;
 mod render;
+
+pub use panels::Panels;
 
 use std::path::{Path, PathBuf};
 
@@ -46,14 +57,19 @@ pub const PALETTE: [&str; 8] = [
     "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#404040", "#8C564B",
 ];
 
+/// The dash patterns of the cycle, in the order they are used (every eight series without their own
+/// colour take the next one): solid, dashed, dotted, dash-dotted, long-dashed.
+pub const DASH_PATTERNS: [&str; 5] = ["solid", "dashed", "dotted", "dash-dot", "long dash"];
+
 /// How one series is drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Style {
     /// Line width in pixels; `0` draws no line (markers only, with `markers: true`).
     pub width: f64,
-    /// A dashed line instead of a solid one.
+    /// A dashed line instead of a solid one (or instead of the pattern the cycle would give).
     pub dashed: bool,
-    /// Any SVG colour (`"#D55E00"`, `"black"`); `None` takes the next colour of [`PALETTE`].
+    /// Any SVG colour (`"#D55E00"`, `"black"`); `None` takes the next colour of [`PALETTE`] and,
+    /// from the ninth such series on, the next pattern of [`DASH_PATTERNS`].
     pub color: Option<&'static str>,
     /// A hollow circle at every point inside the plot (lines underneath stay visible).
     pub markers: bool,
@@ -71,13 +87,15 @@ impl Default for Style {
     }
 }
 
-/// Where the legend goes.
+/// Where the legend goes. A legend that does not fit inside the plot goes below it wherever inside
+/// it was asked to go.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Legend {
-    /// The place inside the plot, one of the other variants, where the legend covers the fewest
-    /// data points (the default); ties go to the first of top right, top left, bottom right,
-    /// bottom left, top centre, bottom centre.
+    /// The first place inside the plot where the legend covers no data, of top right, top left,
+    /// bottom right, bottom left, top centre, bottom centre; if there is none, right of a plot
+    /// narrowed by [`Figure::equal_aspect`] when the figure's width has room for it there, else
+    /// below the plot (the default).
     #[default]
     Auto,
     /// Inside, top left.
@@ -92,6 +110,10 @@ pub enum Legend {
     TopCenter,
     /// Inside, bottom, centred.
     BottomCenter,
+    /// Below the plot (and its axis label), centred, in as many columns as fit.
+    Below,
+    /// Right of the plot, level with its top.
+    Right,
     /// No legend.
     Hidden,
 }
@@ -179,6 +201,7 @@ struct Series {
 #[derive(Clone, Debug)]
 pub struct Figure {
     title: String,
+    note: String,
     x: AxisSpec,
     y: AxisSpec,
     equal_aspect: bool,
@@ -193,6 +216,7 @@ impl Figure {
     pub fn new(title: &str) -> Self {
         Self {
             title: title.to_string(),
+            note: String::new(),
             x: AxisSpec::default(),
             y: AxisSpec::default(),
             equal_aspect: false,
@@ -201,6 +225,13 @@ impl Figure {
             height: 450.0,
             legend: Legend::Auto,
         }
+    }
+
+    /// A line of smaller text under the title (empty for none), for what a reader should know
+    /// about the picture, such as which of several coordinates it shows.
+    pub fn note(mut self, note: &str) -> Self {
+        self.note = note.to_string();
+        self
     }
 
     /// The label under the x axis.
@@ -285,6 +316,11 @@ impl Figure {
             && self.height >= 100.0
     }
 
+    /// Whether the x axis is logarithmic.
+    pub(crate) fn is_log_x(&self) -> bool {
+        self.x.log
+    }
+
     /// Checks what [`Figure::to_svg`] would silently work around: unusable fixed ranges or size.
     pub fn check(&self) -> Result<(), PlotError> {
         self.x.check("x")?;
@@ -307,24 +343,32 @@ impl Figure {
     /// Writes the figure to `path`, which must end in `.svg`; missing parent directories are
     /// created.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), PlotError> {
-        let path = path.as_ref();
-        let is_svg = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-        if !is_svg {
-            return Err(PlotError::UnsupportedFormat {
-                path: path.to_path_buf(),
-            });
-        }
-        self.check()?;
-        let io = |source| PlotError::Io {
-            path: path.to_path_buf(),
-            source,
-        };
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(io)?;
-        }
-        std::fs::write(path, self.to_svg()).map_err(io)
+        write_svg(path.as_ref(), || self.check(), || self.to_svg())
     }
+}
+
+/// Writes `svg()` to `path` after `check()`: the extension first, then the settings, then the file.
+pub(crate) fn write_svg(
+    path: &Path,
+    check: impl FnOnce() -> Result<(), PlotError>,
+    svg: impl FnOnce() -> String,
+) -> Result<(), PlotError> {
+    let is_svg = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    if !is_svg {
+        return Err(PlotError::UnsupportedFormat {
+            path: path.to_path_buf(),
+        });
+    }
+    check()?;
+    let io = |source| PlotError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(io)?;
+    }
+    std::fs::write(path, svg()).map_err(io)
 }

@@ -5,20 +5,20 @@ use std::fmt::Write;
 use crate::axis::{self, extent, text_width, Axis, Room};
 use crate::{AxisSpec, Figure, Legend, Style, PALETTE};
 
-const FONT_FAMILY: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
-const TITLE_FONT: f64 = 16.0;
+pub(crate) const FONT_FAMILY: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
+pub(crate) const TITLE_FONT: f64 = 16.0;
 const LABEL_FONT: f64 = 14.0;
 const TICK_FONT: f64 = 12.0;
 const LEGEND_FONT: f64 = 12.0;
 const TICK_LENGTH: f64 = 5.0;
 const MINOR_TICK_LENGTH: f64 = 3.0;
-const OUTER_PAD: f64 = 12.0;
+pub(crate) const OUTER_PAD: f64 = 12.0;
 /// Lines are clipped, in fractions of the plot area, to this much beyond it on every side before
 /// the exact clip of the SVG viewer: the file then holds only coordinates of moderate size.
 const CLIP_MARGIN: f64 = 0.25;
 const FRAME_COLOR: &str = "#333333";
 const GRID_COLOR: &str = "#e4e4e4";
-const TEXT_COLOR: &str = "#222222";
+pub(crate) const TEXT_COLOR: &str = "#222222";
 
 /// A series in axis units, split into runs of drawable points.
 struct Runs {
@@ -107,38 +107,167 @@ fn y_room(length_px: f64) -> Room {
     }
 }
 
-/// The page layout: canvas size, plot frame and both axes.
+/// How a figure is drawn: alone (the default), or as one panel of [`Panels`](crate::Panels).
+#[derive(Clone, Debug)]
+pub(crate) struct Chrome {
+    /// The title's font size.
+    pub title_font: f64,
+    /// A left margin to use instead of the figure's own (at least as wide), so that panels
+    /// stacked in a column have their frames aligned.
+    pub left: Option<f64>,
+    /// The x extent in axis units, shared with the other panels of a column.
+    pub x_data: Option<(f64, f64)>,
+    /// Whether the x label is drawn.
+    pub x_label: bool,
+    /// Mixed into the clip-path identifier, so that panels of one document differ.
+    pub salt: String,
+    /// Whether a white rectangle fills the canvas first (a panel's document has its own).
+    pub background: bool,
+}
+
+impl Default for Chrome {
+    fn default() -> Self {
+        Self {
+            title_font: TITLE_FONT,
+            left: None,
+            x_data: None,
+            x_label: true,
+            salt: String::new(),
+            background: true,
+        }
+    }
+}
+
+/// Bold text is about 15 % wider than regular text of the same size (DejaVu Sans, measured); 20 %
+/// leaves room for titles of wide letters.
+pub(crate) const BOLD: f64 = 1.2;
+/// Line spacing, in font sizes.
+pub(crate) const LINE: f64 = 1.25;
+pub(crate) const NOTE_FONT: f64 = 12.0;
+pub(crate) const NOTE_COLOR: &str = "#555555";
+/// Room between the x label and a legend below the plot.
+const LEGEND_GAP: f64 = 10.0;
+/// Room between the columns of a legend below the plot.
+const LEGEND_COLUMN_GAP: f64 = 18.0;
+/// Axis labels are made smaller to fit their side of the plot, down to this size.
+const MIN_LABEL_FONT: f64 = 9.0;
+
+/// The width of `text` at `font` px, bold by a factor `weight` (1 for regular text).
+fn width_of(text: &str, font: f64, weight: f64) -> f64 {
+    text_width(text, font) * weight
+}
+
+/// Breaks `text` into lines no wider than `max` (at spaces; a word wider than `max` stands on its
+/// own line). Empty text gives no lines.
+pub(crate) fn wrap(text: &str, max: f64, font: f64, weight: f64) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut current = String::new();
+    for word in text.split(' ').filter(|w| !w.is_empty()) {
+        let candidate = if current.is_empty() {
+            word.to_string()
+        } else {
+            format!("{current} {word}")
+        };
+        if current.is_empty() || width_of(&candidate, font, weight) <= max {
+            current = candidate;
+        } else {
+            lines.push(std::mem::replace(&mut current, word.to_string()));
+        }
+    }
+    if !current.is_empty() {
+        lines.push(current);
+    }
+    lines
+}
+
+/// The font size at which `text` fits in `room` px, from `font` down to [`MIN_LABEL_FONT`].
+fn fitted_font(text: &str, room: f64, font: f64) -> f64 {
+    let w = text_width(text, font);
+    if w <= room || w <= 0.0 {
+        font
+    } else {
+        (font * room / w).max(MIN_LABEL_FONT)
+    }
+}
+
+/// A legend below the plot: its size and how its entries are arranged.
+#[derive(Clone, Copy, Debug)]
+struct Below {
+    columns: usize,
+    column_width: f64,
+    width: f64,
+    height: f64,
+}
+
+/// The page layout: canvas size, plot frame, both axes, and the text around them.
 struct Layout {
     width: f64,
     height: f64,
     frame: Frame,
     x: Axis,
     y: Axis,
+    /// The left margin the figure needs on its own (before any shift or forced margin).
+    natural_left: f64,
+    title: Vec<String>,
+    title_font: f64,
+    note: Vec<String>,
+    /// Horizontal position of the (rotated) y label's baseline.
+    y_label_x: f64,
+    y_label_font: f64,
+    x_label_font: f64,
+    x_label: bool,
 }
 
-fn layout(fig: &Figure, series: &[Runs]) -> Layout {
-    let (width, height) = if fig.check_size() {
+/// Room kept outside the plot for the legend.
+#[derive(Clone, Copy, Debug)]
+enum Outside {
+    /// None.
+    No,
+    /// Under the x label.
+    Below(Below),
+    /// Right of the plot, this wide.
+    Right(f64),
+}
+
+fn layout(fig: &Figure, series: &[Runs], chrome: &Chrome, outside: Outside) -> Layout {
+    let below = match &outside {
+        Outside::Below(b) => Some(b),
+        _ => None,
+    };
+    let beside = match outside {
+        Outside::Right(w) => w + LEGEND_GAP,
+        _ => 0.0,
+    };
+    let (max_width, height) = if fig.check_size() {
         (fig.width, fig.height)
     } else {
         (720.0, 450.0)
     };
     let all = || series.iter().flat_map(|s| s.runs.iter().flatten());
-    let x_data = extent(all().map(|p| p.0));
+    let x_data = chrome.x_data.or_else(|| extent(all().map(|p| p.0)));
     let y_data = extent(all().map(|p| p.1));
 
-    let top = if fig.title.is_empty() {
+    let inner = max_width - 2.0 * OUTER_PAD;
+    let title = wrap(&fig.title, inner, chrome.title_font, BOLD);
+    let note = wrap(&fig.note, inner, NOTE_FONT, 1.0);
+    let top = if title.is_empty() && note.is_empty() {
         OUTER_PAD + 4.0
     } else {
-        OUTER_PAD + TITLE_FONT + 14.0
+        OUTER_PAD
+            + title.len() as f64 * chrome.title_font * LINE
+            + note.len() as f64 * NOTE_FONT * LINE
+            + 10.0
     };
+    let x_label = chrome.x_label && !fig.x.label.is_empty();
     let bottom = TICK_LENGTH
         + 4.0
         + TICK_FONT
-        + if fig.x.label.is_empty() {
-            OUTER_PAD
-        } else {
+        + if x_label {
             10.0 + LABEL_FONT + OUTER_PAD
-        };
+        } else {
+            OUTER_PAD
+        }
+        + below.map_or(0.0, |b| b.height + LEGEND_GAP);
     let y_label_room = if fig.y.label.is_empty() {
         0.0
     } else {
@@ -147,32 +276,34 @@ fn layout(fig: &Figure, series: &[Runs]) -> Layout {
 
     // Two passes: the widths of the y tick labels set the left margin, which sets the plot width,
     // which sets the x ticks.
-    let mut left = OUTER_PAD + y_label_room + 40.0 + TICK_LENGTH;
-    let mut right = 20.0;
-    let mut x = resolve(&fig.x, x_data, x_room(width - left - right));
+    let mut natural_left = OUTER_PAD + y_label_room + 40.0 + TICK_LENGTH;
+    let mut left = chrome.left.unwrap_or(natural_left).max(natural_left);
+    let mut right = 20.0 + beside;
+    let mut x = resolve(&fig.x, x_data, x_room(max_width - left - right));
     let mut y = resolve(&fig.y, y_data, y_room(height - top - bottom));
     for _ in 0..2 {
         let widest = y
             .labels()
             .map(|(_, l)| text_width(l, TICK_FONT))
             .fold(0.0, f64::max);
-        left = OUTER_PAD + y_label_room + widest + TICK_LENGTH + 4.0;
+        natural_left = OUTER_PAD + y_label_room + widest + TICK_LENGTH + 4.0;
+        left = chrome.left.unwrap_or(natural_left).max(natural_left);
         let last_x = x
             .labels()
             .filter(|(p, _)| (x.fraction(*p) - 1.0).abs() < 1e-9)
             .map(|(_, l)| text_width(l, TICK_FONT) / 2.0 + 4.0)
             .fold(0.0, f64::max);
-        right = last_x.max(20.0);
-        x = resolve(&fig.x, x_data, x_room(width - left - right));
+        right = last_x.max(20.0) + beside;
+        x = resolve(&fig.x, x_data, x_room(max_width - left - right));
         y = resolve(&fig.y, y_data, y_room(height - top - bottom));
     }
     let mut frame = Frame {
         left,
         top,
-        width: (width - left - right).max(20.0),
+        width: (max_width - left - right).max(20.0),
         height: (height - top - bottom).max(20.0),
     };
-    let (mut width, mut height) = (width, height);
+    let (mut width, mut height) = (max_width, height);
     if fig.equal_aspect {
         let (xs, ys) = (x.hi - x.lo, y.hi - y.lo);
         let scale = (frame.width / xs).min(frame.height / ys);
@@ -201,19 +332,38 @@ fn layout(fig: &Figure, series: &[Runs]) -> Layout {
         }
         width = frame.left + frame.width + right;
         height = frame.top + frame.height + bottom;
-        // Keep room for the title.
-        let title_width = text_width(&fig.title, TITLE_FONT) + 2.0 * OUTER_PAD;
-        if width < title_width {
-            frame.left += (title_width - width) / 2.0;
-            width = title_width;
-        }
     }
+    // Keep room for the title, the note and a legend below: the canvas is at least as wide as they
+    // are, with the plot centred in it.
+    let needed = title
+        .iter()
+        .map(|l| width_of(l, chrome.title_font, BOLD))
+        .chain(note.iter().map(|l| width_of(l, NOTE_FONT, 1.0)))
+        .chain(below.map(|b| b.width))
+        .fold(0.0, f64::max)
+        + 2.0 * OUTER_PAD;
+    let mut shift = 0.0;
+    if width < needed {
+        shift = (needed - width) / 2.0;
+        frame.left += shift;
+        width = needed;
+    }
+    let y_label_font = fitted_font(&fig.y.label, frame.height + 40.0, LABEL_FONT);
+    let x_label_font = fitted_font(&fig.x.label, width - 2.0 * OUTER_PAD, LABEL_FONT);
     Layout {
         width,
         height,
         frame,
         x,
         y,
+        natural_left,
+        title,
+        title_font: chrome.title_font,
+        note,
+        y_label_x: OUTER_PAD + shift + y_label_font * 0.8,
+        y_label_font,
+        x_label_font,
+        x_label,
     }
 }
 
@@ -227,7 +377,7 @@ fn unaxis(a: &Axis) -> (f64, f64) {
 }
 
 /// A pixel coordinate, rounded to 1/100 px, without trailing zeros.
-fn num(v: f64) -> String {
+pub(crate) fn num(v: f64) -> String {
     debug_assert!(v.is_finite());
     let v = if v.is_finite() { v } else { 0.0 };
     let mut s = format!("{v:.2}");
@@ -246,7 +396,7 @@ fn num(v: f64) -> String {
 }
 
 /// Escapes text for SVG content and attribute values.
-fn escape(text: &str) -> String {
+pub(crate) fn escape(text: &str) -> String {
     let mut s = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -397,17 +547,74 @@ fn path_data(lines: &[Vec<(f64, f64)>]) -> String {
     d
 }
 
-/// The stroke attributes of a style in colour `color`.
-fn stroke_attributes(style: &Style, color: &str) -> String {
+/// How one series looks once the cycle is applied: colour, dash pattern (an index into
+/// [`DASH_PATTERNS`](crate::DASH_PATTERNS)) and marker shape (an index into [`SHAPES`]).
+#[derive(Clone, Copy, Debug)]
+struct Look<'a> {
+    color: &'a str,
+    dash: usize,
+    shape: usize,
+}
+
+/// The marker shapes of the cycle, in order.
+const SHAPES: usize = 5;
+
+/// The looks of a figure's series: the cycle advances only for series without their own colour;
+/// every [`PALETTE`] length of them, the dash pattern and the marker shape change.
+fn looks(fig: &Figure) -> Vec<Look<'_>> {
+    let mut next = 0;
+    fig.series
+        .iter()
+        .map(|s| {
+            let (color, round) = match s.style.color {
+                Some(c) => (c, 0),
+                None => {
+                    let k = next;
+                    next += 1;
+                    (PALETTE[k % PALETTE.len()], k / PALETTE.len())
+                }
+            };
+            Look {
+                color,
+                dash: if s.style.dashed {
+                    1
+                } else {
+                    round % crate::DASH_PATTERNS.len()
+                },
+                shape: round % SHAPES,
+            }
+        })
+        .collect()
+}
+
+/// The dash array of pattern `dash` for a line `w` px wide (`None` for solid). Lengths grow with the
+/// width and have a floor, so thin lines still show the pattern.
+fn dash_array(dash: usize, w: f64) -> Option<Vec<f64>> {
+    let dot = (0.3 * w).max(0.5);
+    match dash {
+        1 => Some(vec![(4.0 * w).max(5.0), (2.5 * w).max(3.5)]),
+        2 => Some(vec![dot, (2.5 * w).max(3.5)]),
+        3 => Some(vec![
+            (4.0 * w).max(6.0),
+            (2.0 * w).max(3.0),
+            dot,
+            (2.0 * w).max(3.0),
+        ]),
+        4 => Some(vec![(8.0 * w).max(10.0), (3.0 * w).max(4.0)]),
+        _ => None,
+    }
+}
+
+/// The stroke attributes of a style with a look.
+fn stroke_attributes(style: &Style, look: &Look<'_>) -> String {
     let mut s = format!(
         r#"fill="none" stroke="{}" stroke-width="{}" stroke-linejoin="round" stroke-linecap="round""#,
-        escape(color),
+        escape(look.color),
         num(style.width)
     );
-    if style.dashed {
-        let dash = (4.0 * style.width).max(5.0);
-        let gap = (2.5 * style.width).max(3.5);
-        let _ = write!(s, r#" stroke-dasharray="{} {}""#, num(dash), num(gap));
+    if let Some(d) = dash_array(look.dash, style.width) {
+        let d: Vec<String> = d.into_iter().map(num).collect();
+        let _ = write!(s, r#" stroke-dasharray="{}""#, d.join(" "));
     }
     s
 }
@@ -420,17 +627,56 @@ fn marker_radius(style: &Style) -> f64 {
     }
 }
 
+/// One hollow marker of shape `shape` at `(x, y)` with radius `r` (the group sets the stroke).
+fn marker(shape: usize, x: f64, y: f64, r: f64) -> String {
+    let p = |dx: f64, dy: f64| format!("{} {}", num(x + dx * r), num(y + dy * r));
+    match shape % SHAPES {
+        1 => format!(
+            r#"<rect x="{}" y="{}" width="{w}" height="{w}"/>"#,
+            num(x - 0.85 * r),
+            num(y - 0.85 * r),
+            w = num(1.7 * r)
+        ),
+        2 => format!(
+            r#"<path d="M{}L{} {} {}Z"/>"#,
+            p(0.0, -1.2),
+            p(1.2, 0.0),
+            p(0.0, 1.2),
+            p(-1.2, 0.0)
+        ),
+        3 => format!(
+            r#"<path d="M{}L{} {}Z"/>"#,
+            p(0.0, -1.2),
+            p(1.05, 0.65),
+            p(-1.05, 0.65)
+        ),
+        4 => format!(
+            r#"<path d="M{}L{}M{}L{}"/>"#,
+            p(-1.0, -1.0),
+            p(1.0, 1.0),
+            p(-1.0, 1.0),
+            p(1.0, -1.0)
+        ),
+        _ => format!(
+            r#"<circle cx="{}" cy="{}" r="{}"/>"#,
+            num(x),
+            num(y),
+            num(r)
+        ),
+    }
+}
+
 /// Whether a style draws anything.
 fn draws_line(style: &Style) -> bool {
     style.width > 0.0 && style.width.is_finite()
 }
 
 /// A short, stable identifier for the clip path, so that several figures inlined in one HTML page
-/// do not share one (FNV-1a of the title and the layout).
-fn clip_id(fig: &Figure, l: &Layout) -> String {
+/// (or panels of one document) do not share one (FNV-1a of the title and the layout).
+fn clip_id(fig: &Figure, l: &Layout, salt: &str) -> String {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let key = format!(
-        "{}|{}|{}|{}|{}|{}",
+        "{}|{}|{}|{}|{}|{}{salt}",
         fig.title,
         l.frame.left,
         l.frame.top,
@@ -445,12 +691,15 @@ fn clip_id(fig: &Figure, l: &Layout) -> String {
     format!("plot-area-{:08x}", h & 0xffff_ffff)
 }
 
-/// The legend's box: position and size in pixels.
+/// The legend's box: position and size in pixels, and its entries' arrangement.
+#[derive(Clone, Copy, Debug)]
 struct LegendBox {
     x: f64,
     y: f64,
     width: f64,
     height: f64,
+    columns: usize,
+    column_width: f64,
 }
 
 const LEGEND_ROW: f64 = LEGEND_FONT * 1.55;
@@ -458,23 +707,54 @@ const LEGEND_SWATCH: f64 = 28.0;
 const LEGEND_PAD: f64 = 7.0;
 const LEGEND_INSET: f64 = 8.0;
 
-fn legend_box(
+/// The width of one legend entry: swatch, gap, name.
+fn entry_width(fig: &Figure, i: usize) -> f64 {
+    LEGEND_SWATCH + 6.0 + text_width(&fig.series[i].name, LEGEND_FONT)
+}
+
+/// The height of a legend of `rows` rows.
+fn legend_height(rows: usize) -> f64 {
+    2.0 * LEGEND_PAD + rows as f64 * LEGEND_ROW - (LEGEND_ROW - LEGEND_FONT) / 2.0
+}
+
+/// A legend below the plot in as many columns as `max_width` holds.
+fn below_block(fig: &Figure, entries: &[usize], max_width: f64) -> Below {
+    let column_width = entries
+        .iter()
+        .map(|&i| entry_width(fig, i))
+        .fold(0.0, f64::max);
+    let room = max_width - 2.0 * OUTER_PAD - 2.0 * LEGEND_PAD;
+    let fit = ((room + LEGEND_COLUMN_GAP) / (column_width + LEGEND_COLUMN_GAP)).floor();
+    let columns = (fit.max(1.0) as usize).min(entries.len()).max(1);
+    let rows = entries.len().div_ceil(columns);
+    Below {
+        columns,
+        column_width,
+        width: 2.0 * LEGEND_PAD
+            + columns as f64 * column_width
+            + (columns as f64 - 1.0) * LEGEND_COLUMN_GAP,
+        height: legend_height(rows),
+    }
+}
+
+/// Where the legend goes inside the plot, if it fits there (and, with [`Legend::Auto`], covers no
+/// data there); `None` sends it below the plot.
+fn inside_box(
     fig: &Figure,
     l: &Layout,
     entries: &[usize],
     pixels: &[Vec<Polylines>],
 ) -> Option<LegendBox> {
-    if entries.is_empty() || fig.legend == Legend::Hidden {
+    let width = 2.0 * LEGEND_PAD
+        + entries
+            .iter()
+            .map(|&i| entry_width(fig, i))
+            .fold(0.0, f64::max);
+    let height = legend_height(entries.len());
+    let f = l.frame;
+    if width > f.width - 2.0 * LEGEND_INSET || height > f.height - 2.0 * LEGEND_INSET {
         return None;
     }
-    let text = entries
-        .iter()
-        .map(|&i| text_width(&fig.series[i].name, LEGEND_FONT))
-        .fold(0.0, f64::max);
-    let width = LEGEND_PAD + LEGEND_SWATCH + 6.0 + text + LEGEND_PAD;
-    let height =
-        2.0 * LEGEND_PAD + entries.len() as f64 * LEGEND_ROW - (LEGEND_ROW - LEGEND_FONT) / 2.0;
-    let f = l.frame;
     let left = f.left + LEGEND_INSET;
     let right = f.left + f.width - LEGEND_INSET - width;
     let top = f.top + LEGEND_INSET;
@@ -484,9 +764,11 @@ fn legend_box(
         y,
         width,
         height,
+        columns: 1,
+        column_width: width - 2.0 * LEGEND_PAD,
     };
     let center = f.left + (f.width - width) / 2.0;
-    let corners = [
+    let places = [
         (Legend::TopRight, right, top),
         (Legend::TopLeft, left, top),
         (Legend::BottomRight, right, bottom),
@@ -494,79 +776,151 @@ fn legend_box(
         (Legend::TopCenter, center, top),
         (Legend::BottomCenter, center, bottom),
     ];
-    if let Some(&(_, x, y)) = corners.iter().find(|c| c.0 == fig.legend) {
+    if let Some(&(_, x, y)) = places.iter().find(|c| c.0 == fig.legend) {
         return Some(at(x, y));
     }
-    // Auto: the place covering the fewest points, sampled every few pixels along the lines.
-    let covered = |x: f64, y: f64| {
+    // Auto: the first place covering no point, sampled every few pixels along the lines.
+    let covers = |x: f64, y: f64| {
         let (x0, x1, y0, y1) = (x - 4.0, x + width + 4.0, y - 4.0, y + height + 4.0);
         let hit = |p: (f64, f64)| p.0 >= x0 && p.0 <= x1 && p.1 >= y0 && p.1 <= y1;
-        let mut count = 0usize;
-        for line in pixels.iter().flatten().flatten() {
-            for (i, &p) in line.iter().enumerate() {
-                count += usize::from(hit(p));
-                if let Some(&q) = line.get(i + 1) {
-                    let len = (q.0 - p.0).hypot(q.1 - p.1);
-                    let n = (len / 4.0).ceil().min(1000.0) as usize;
-                    for k in 1..n {
-                        let t = k as f64 / n as f64;
-                        count += usize::from(hit((p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1))));
-                    }
-                }
-            }
-        }
-        count
+        pixels.iter().flatten().flatten().any(|line| {
+            line.iter().enumerate().any(|(i, &p)| {
+                hit(p)
+                    || line.get(i + 1).is_some_and(|&q| {
+                        let len = (q.0 - p.0).hypot(q.1 - p.1);
+                        let n = (len / 4.0).ceil().min(1000.0) as usize;
+                        (1..n).any(|k| {
+                            let t = k as f64 / n as f64;
+                            hit((p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1)))
+                        })
+                    })
+            })
+        })
     };
-    let mut best = (usize::MAX, right, top);
-    for &(_, x, y) in &corners {
-        let c = covered(x, y);
-        if c < best.0 {
-            best = (c, x, y);
-        }
-    }
-    Some(at(best.1, best.2))
+    places
+        .iter()
+        .find(|&&(_, x, y)| !covers(x, y))
+        .map(|&(_, x, y)| at(x, y))
+}
+
+/// A figure drawn as the inside of an `<svg>` element (or of a panel's group), and its size.
+pub(crate) struct Body {
+    pub svg: String,
+    pub width: f64,
+    pub height: f64,
+}
+
+/// What a panel needs to know of a figure before it is drawn: its own left margin and its x
+/// extent in axis units.
+pub(crate) fn measure(fig: &Figure, chrome: &Chrome) -> (f64, Option<(f64, f64)>) {
+    let series = runs(fig);
+    let l = layout(fig, &series, chrome, Outside::No);
+    let all = series.iter().flat_map(|s| s.runs.iter().flatten());
+    (l.natural_left, extent(all.map(|p| p.0)))
+}
+
+fn runs(fig: &Figure) -> Vec<Runs> {
+    fig.series
+        .iter()
+        .map(|s| split_runs(&s.points, fig.x.log, fig.y.log))
+        .collect()
 }
 
 pub(crate) fn render(fig: &Figure) -> String {
-    let series: Vec<Runs> = fig
-        .series
-        .iter()
-        .map(|s| split_runs(&s.points, fig.x.log, fig.y.log))
-        .collect();
-    let l = layout(fig, &series);
-    let f = l.frame;
-
-    // Colours: the cycle advances only for series without their own colour.
-    let mut next = 0;
-    let colors: Vec<&str> = fig
-        .series
-        .iter()
-        .map(|s| {
-            s.style.color.unwrap_or_else(|| {
-                let c = PALETTE[next % PALETTE.len()];
-                next += 1;
-                c
-            })
-        })
-        .collect();
-    // Per series, per run of finite points, the visible polylines in pixels.
-    let pixels: Vec<Vec<Polylines>> = series
-        .iter()
-        .map(|s| s.runs.iter().map(|r| clipped_polylines(r, &l)).collect())
-        .collect();
-
+    let body = body(fig, &Chrome::default());
     let mut svg = String::new();
     let _ = writeln!(svg, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         svg,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="{FONT_FAMILY}" fill="{TEXT_COLOR}">"#,
-        w = num(l.width.ceil()),
-        h = num(l.height.ceil())
+        w = num(body.width.ceil()),
+        h = num(body.height.ceil())
     );
     if !fig.title.is_empty() {
         let _ = writeln!(svg, "<title>{}</title>", escape(&fig.title));
     }
-    let id = clip_id(fig, &l);
+    svg.push_str(&body.svg);
+    let _ = writeln!(svg, "</svg>");
+    svg
+}
+
+/// The pixels of every series: per series, per run of finite points, the visible polylines.
+fn pixels(series: &[Runs], l: &Layout) -> Vec<Vec<Polylines>> {
+    series
+        .iter()
+        .map(|s| s.runs.iter().map(|r| clipped_polylines(r, l)).collect())
+        .collect()
+}
+
+/// Draws `fig` in its own coordinates, from `(0, 0)`.
+pub(crate) fn body(fig: &Figure, chrome: &Chrome) -> Body {
+    let series = runs(fig);
+    let entries: Vec<usize> = (0..fig.series.len())
+        .filter(|&i| !fig.series[i].name.is_empty())
+        .collect();
+    let mut l = layout(fig, &series, chrome, Outside::No);
+    let mut pixels = pixels(&series, &l);
+    let mut legend = None;
+    if !entries.is_empty() && fig.legend != Legend::Hidden {
+        legend = if matches!(fig.legend, Legend::Below | Legend::Right) {
+            None
+        } else {
+            inside_box(fig, &l, &entries, &pixels)
+        };
+        let (width, height) = (
+            2.0 * LEGEND_PAD
+                + entries
+                    .iter()
+                    .map(|&i| entry_width(fig, i))
+                    .fold(0.0, f64::max),
+            legend_height(entries.len()),
+        );
+        let max_width = if fig.check_size() { fig.width } else { 720.0 };
+        // Beside a plot narrowed by equal scales, if the requested width has room for it (or if
+        // asked for).
+        let beside = fig.legend == Legend::Right
+            || (fig.legend == Legend::Auto
+                && fig.equal_aspect
+                && l.width + width + LEGEND_GAP <= max_width
+                && height <= l.frame.height);
+        if legend.is_none() && beside {
+            l = layout(fig, &series, chrome, Outside::Right(width));
+            pixels = self::pixels(&series, &l);
+            let f = l.frame;
+            legend = Some(LegendBox {
+                x: f.left + f.width + LEGEND_GAP,
+                y: f.top,
+                width,
+                height,
+                columns: 1,
+                column_width: width - 2.0 * LEGEND_PAD,
+            });
+        } else if legend.is_none() {
+            // As many columns as the picture's width holds (a picture narrowed by equal scales
+            // keeps its width if it can).
+            let below = below_block(fig, &entries, l.width);
+            l = layout(fig, &series, chrome, Outside::Below(below));
+            pixels = self::pixels(&series, &l);
+            let f = l.frame;
+            let x = (f.left + (f.width - below.width) / 2.0)
+                .min(l.width - OUTER_PAD - below.width)
+                .max(OUTER_PAD);
+            let label = if l.x_label { 10.0 + LABEL_FONT } else { 0.0 };
+            legend = Some(LegendBox {
+                x,
+                y: f.top + f.height + TICK_LENGTH + 4.0 + TICK_FONT + label + LEGEND_GAP,
+                width: below.width,
+                height: below.height,
+                columns: below.columns,
+                column_width: below.column_width,
+            });
+        }
+    }
+    let f = l.frame;
+    let looks = looks(fig);
+
+    let mut svg = String::new();
+    let id = clip_id(fig, &l, &chrome.salt);
     let _ = writeln!(
         svg,
         r#"<defs><clipPath id="{id}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath></defs>"#,
@@ -575,7 +929,9 @@ pub(crate) fn render(fig: &Figure) -> String {
         num(f.width),
         num(f.height)
     );
-    let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    if chrome.background {
+        let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    }
 
     // Grid at the labelled ticks.
     let _ = writeln!(
@@ -616,7 +972,7 @@ pub(crate) fn render(fig: &Figure) -> String {
                 svg,
                 r#"<path class="series" data-series="{i}" d="{}" {}/>"#,
                 path_data(lines),
-                stroke_attributes(&s.style, colors[i])
+                stroke_attributes(&s.style, &looks[i])
             );
         }
     }
@@ -627,18 +983,18 @@ pub(crate) fn render(fig: &Figure) -> String {
         if !s.style.markers {
             continue;
         }
-        let r = num(marker_radius(&s.style));
+        let r = marker_radius(&s.style);
         let _ = writeln!(
             svg,
             r#"<g class="markers" data-series="{i}" fill="none" stroke="{}" stroke-width="1.3">"#,
-            escape(colors[i])
+            escape(looks[i].color)
         );
         for &(a, b) in series[i].runs.iter().flatten() {
             let (fx, fy) = (l.x.fraction(a), l.y.fraction(b));
             let eps = 1e-3;
             if (-eps..=1.0 + eps).contains(&fx) && (-eps..=1.0 + eps).contains(&fy) {
                 let (x, y) = f.at(fx, fy);
-                let _ = writeln!(svg, r#"<circle cx="{}" cy="{}" r="{r}"/>"#, num(x), num(y));
+                let _ = writeln!(svg, "{}", marker(looks[i].shape, x, y, r));
             }
         }
         let _ = writeln!(svg, "</g>");
@@ -708,30 +1064,43 @@ pub(crate) fn render(fig: &Figure) -> String {
     }
     let _ = writeln!(svg, "</g>");
 
-    // Title and axis labels.
-    if !fig.title.is_empty() {
+    // Title, note and axis labels.
+    for (k, line) in l.title.iter().enumerate() {
         let _ = writeln!(
             svg,
-            r#"<text class="title" x="{}" y="{}" text-anchor="middle" font-size="{TITLE_FONT}" font-weight="bold">{}</text>"#,
+            r#"<text class="title" x="{}" y="{}" text-anchor="middle" font-size="{}" font-weight="bold">{}</text>"#,
             num(l.width / 2.0),
-            num(OUTER_PAD + TITLE_FONT * 0.8),
-            escape(&fig.title)
+            num(OUTER_PAD + l.title_font * (0.8 + LINE * k as f64)),
+            num(l.title_font),
+            escape(line)
         );
     }
-    if !fig.x.label.is_empty() {
+    let note_top = OUTER_PAD + l.title.len() as f64 * l.title_font * LINE;
+    for (k, line) in l.note.iter().enumerate() {
         let _ = writeln!(
             svg,
-            r#"<text class="x-label" x="{}" y="{}" text-anchor="middle" font-size="{LABEL_FONT}">{}</text>"#,
+            r#"<text class="note" x="{}" y="{}" text-anchor="middle" font-size="{NOTE_FONT}" fill="{NOTE_COLOR}">{}</text>"#,
+            num(l.width / 2.0),
+            num(note_top + NOTE_FONT * (0.8 + LINE * k as f64)),
+            escape(line)
+        );
+    }
+    if l.x_label {
+        let _ = writeln!(
+            svg,
+            r#"<text class="x-label" x="{}" y="{}" text-anchor="middle" font-size="{}">{}</text>"#,
             num(f.left + f.width / 2.0),
-            num(l.height - OUTER_PAD - LABEL_FONT * 0.2),
+            num(bottom + TICK_LENGTH + 4.0 + TICK_FONT + 10.0 + LABEL_FONT * 0.8),
+            num(l.x_label_font),
             escape(&fig.x.label)
         );
     }
     if !fig.y.label.is_empty() {
-        let (x, y) = (OUTER_PAD + LABEL_FONT * 0.8, f.top + f.height / 2.0);
+        let (x, y) = (l.y_label_x, f.top + f.height / 2.0);
         let _ = writeln!(
             svg,
-            r#"<text class="y-label" x="{x}" y="{y}" transform="rotate(-90 {x} {y})" text-anchor="middle" font-size="{LABEL_FONT}">{}</text>"#,
+            r#"<text class="y-label" x="{x}" y="{y}" transform="rotate(-90 {x} {y})" text-anchor="middle" font-size="{}">{}</text>"#,
+            num(l.y_label_font),
             escape(&fig.y.label),
             x = num(x),
             y = num(y)
@@ -739,10 +1108,7 @@ pub(crate) fn render(fig: &Figure) -> String {
     }
 
     // Legend.
-    let entries: Vec<usize> = (0..fig.series.len())
-        .filter(|&i| !fig.series[i].name.is_empty())
-        .collect();
-    if let Some(b) = legend_box(fig, &l, &entries, &pixels) {
+    if let Some(b) = legend {
         let _ = writeln!(svg, r#"<g class="legend" font-size="{LEGEND_FONT}">"#);
         let _ = writeln!(
             svg,
@@ -752,28 +1118,34 @@ pub(crate) fn render(fig: &Figure) -> String {
             num(b.width),
             num(b.height)
         );
-        for (row, &i) in entries.iter().enumerate() {
+        for (e, &i) in entries.iter().enumerate() {
             let s = &fig.series[i];
+            let (row, column) = (e / b.columns, e % b.columns);
             let cy = b.y + LEGEND_PAD + LEGEND_FONT / 2.0 + row as f64 * LEGEND_ROW;
-            let (x0, x1) = (b.x + LEGEND_PAD, b.x + LEGEND_PAD + LEGEND_SWATCH);
+            let x0 = b.x + LEGEND_PAD + column as f64 * (b.column_width + LEGEND_COLUMN_GAP);
+            let x1 = x0 + LEGEND_SWATCH;
             if draws_line(&s.style) {
                 let _ = writeln!(
                     svg,
                     r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}" {}/>"#,
                     num(x0),
                     num(x1),
-                    stroke_attributes(&s.style, colors[i]),
+                    stroke_attributes(&s.style, &looks[i]),
                     y = num(cy)
                 );
             }
             if s.style.markers {
+                let m = marker(looks[i].shape, (x0 + x1) / 2.0, cy, marker_radius(&s.style));
                 let _ = writeln!(
                     svg,
-                    r#"<circle cx="{}" cy="{}" r="{}" fill="none" stroke="{}" stroke-width="1.3"/>"#,
-                    num((x0 + x1) / 2.0),
-                    num(cy),
-                    num(marker_radius(&s.style)),
-                    escape(colors[i])
+                    "{}",
+                    m.replace(
+                        "/>",
+                        &format!(
+                            r#" fill="none" stroke="{}" stroke-width="1.3"/>"#,
+                            escape(looks[i].color)
+                        )
+                    )
                 );
             }
             let _ = writeln!(
@@ -786,8 +1158,11 @@ pub(crate) fn render(fig: &Figure) -> String {
         }
         let _ = writeln!(svg, "</g>");
     }
-    let _ = writeln!(svg, "</svg>");
-    svg
+    Body {
+        svg,
+        width: l.width,
+        height: l.height,
+    }
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use chetaev_plot::{Figure, Legend, PlotError, Style};
+use chetaev_plot::{Figure, Legend, Panels, PlotError, Style};
 
 /// Parses the SVG (which fails on any malformed XML) and returns it.
 fn parse(svg: &str) -> roxmltree::Document<'_> {
@@ -487,4 +487,516 @@ fn extreme_values_stay_finite() {
     assert!(!svg.contains("NaN") && !svg.to_lowercase().contains("inf"));
     let svg = Figure::new("").line("", &[(1.0, 2.0)]).to_svg();
     parse(&svg);
+}
+
+/// A number attribute of an element.
+fn attr(n: &roxmltree::Node<'_, '_>, name: &str) -> f64 {
+    n.attribute(name)
+        .unwrap_or_else(|| panic!("no {name}"))
+        .parse()
+        .unwrap_or_else(|_| panic!("{name} is not a number"))
+}
+
+/// The rectangle `(x, y, width, height)` of the element with `class`, the `k`-th one.
+fn rect_of(doc: &roxmltree::Document<'_>, class: &str, k: usize) -> (f64, f64, f64, f64) {
+    let n = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some(class))
+        .nth(k)
+        .unwrap_or_else(|| panic!("no {class} #{k}"));
+    let r = if n.has_tag_name("rect") {
+        n
+    } else {
+        n.children()
+            .find(|c| c.has_tag_name("rect"))
+            .unwrap_or_else(|| panic!("{class} has no rect"))
+    };
+    (
+        attr(&r, "x"),
+        attr(&r, "y"),
+        attr(&r, "width"),
+        attr(&r, "height"),
+    )
+}
+
+/// The width and height of the document, from its viewBox.
+fn view_box(doc: &roxmltree::Document<'_>) -> (f64, f64) {
+    let v: Vec<f64> = doc
+        .root_element()
+        .attribute("viewBox")
+        .expect("viewBox")
+        .split_whitespace()
+        .map(|s| s.parse().expect("number"))
+        .collect();
+    assert_eq!((v[0], v[1]), (0.0, 0.0));
+    (v[2], v[3])
+}
+
+/// The width of bold text: the advance widths of DejaVu Sans Bold (the first font the SVG asks
+/// for), in em, measured by rendering each character; other characters count as 0.9 em.
+fn bold_width_bound(text: &str, font: f64) -> f64 {
+    let em: f64 = text
+        .chars()
+        .map(|c| match c {
+            'i' | 'j' | 'l' | ' ' | '/' | 'I' | 'J' => 0.38,
+            '.' | ',' | ':' | ';' | '-' => 0.41,
+            'f' | 't' | 'r' | '(' | ')' | '[' | ']' | '_' => 0.5,
+            'c' | 's' | 'z' => 0.61,
+            'm' => 1.05,
+            'w' => 0.93,
+            'M' => 1.0,
+            'W' => 1.11,
+            c if c.is_ascii_lowercase() || c.is_ascii_digit() => 0.72,
+            c if c.is_ascii_uppercase() => 0.86,
+            _ => 0.9,
+        })
+        .sum();
+    em * font
+}
+
+/// Asserts that every title line, with its width bounded as above, lies inside the viewBox, and
+/// that the lines are above the first plot frame.
+fn assert_titles_inside(doc: &roxmltree::Document<'_>) -> usize {
+    let (w, h) = view_box(doc);
+    let titles: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("title"))
+        .collect();
+    for t in &titles {
+        let text = t.text().unwrap_or_default();
+        let font = attr(t, "font-size");
+        assert_eq!(t.attribute("text-anchor"), Some("middle"));
+        let half = bold_width_bound(text, font) / 2.0;
+        let (x, y) = (attr(t, "x"), attr(t, "y"));
+        assert!(
+            x - half >= 0.0 && x + half <= w,
+            "title line '{text}' ({font} px) at x = {x} spills out of the width {w}"
+        );
+        assert!(y - font >= 0.0 && y <= h, "title line '{text}' at y = {y}");
+    }
+    titles.len()
+}
+
+#[test]
+fn series_beyond_eight_differ_in_colour_or_dash_pattern() {
+    let line = |k: usize| -> Vec<(f64, f64)> {
+        (0..20)
+            .map(|i| (f64::from(i), (f64::from(i) * 0.3 + k as f64).sin()))
+            .collect()
+    };
+    let mut fig = Figure::new("forty series").legend(Legend::Below);
+    for k in 0..40 {
+        fig = fig.line(&format!("s{k}"), &line(k));
+    }
+    let svg = fig.to_svg();
+    let doc = parse(&svg);
+    let looks: Vec<(String, Option<String>)> = series_paths(&doc)
+        .iter()
+        .map(|p| {
+            (
+                p.attribute("stroke").expect("stroke").to_string(),
+                p.attribute("stroke-dasharray").map(str::to_string),
+            )
+        })
+        .collect();
+    assert_eq!(looks.len(), 40);
+    // The first eight are the solid palette, as before.
+    for (k, (color, dash)) in looks.iter().take(8).enumerate() {
+        assert_eq!(color, chetaev_plot::PALETTE[k]);
+        assert!(dash.is_none(), "series {k} is solid");
+    }
+    // Every series from the ninth on is dashed, each block of eight with its own pattern.
+    for block in 1..5 {
+        let pattern = &looks[8 * block].1;
+        assert!(pattern.is_some(), "block {block} has a dash pattern");
+        for (k, look) in looks.iter().enumerate().skip(8 * block).take(8) {
+            assert_eq!(&look.1, pattern, "series {k}");
+            assert_eq!(look.0, chetaev_plot::PALETTE[k % 8]);
+        }
+    }
+    // No two of the forty look the same.
+    for i in 0..40 {
+        for j in i + 1..40 {
+            assert_ne!(looks[i], looks[j], "series {i} and {j} look the same");
+        }
+    }
+    // The legend's swatches carry the same patterns.
+    let swatches: Vec<Option<&str>> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("g") && n.attribute("class") == Some("legend"))
+        .flat_map(|g| g.children().filter(|c| c.has_tag_name("line")))
+        .map(|l| l.attribute("stroke-dasharray"))
+        .collect();
+    assert_eq!(swatches.len(), 40);
+    for (k, s) in swatches.iter().enumerate() {
+        assert_eq!(s.map(str::to_string), looks[k].1, "swatch {k}");
+    }
+    // An explicitly dashed series keeps the plain dash; one with its own colour does not advance
+    // the cycle.
+    let svg = Figure::new("")
+        .line_styled(
+            "own",
+            &line(0),
+            Style {
+                color: Some("black"),
+                ..Style::default()
+            },
+        )
+        .line_styled(
+            "dashed",
+            &line(1),
+            Style {
+                dashed: true,
+                ..Style::default()
+            },
+        )
+        .to_svg();
+    let doc = parse(&svg);
+    let paths = series_paths(&doc);
+    assert_eq!(paths[0].attribute("stroke-dasharray"), None);
+    assert_eq!(paths[1].attribute("stroke"), Some(chetaev_plot::PALETTE[0]));
+    assert_eq!(paths[1].attribute("stroke-dasharray"), Some("6 3.75"));
+}
+
+#[test]
+fn marker_series_beyond_eight_change_shape() {
+    let markers = Style {
+        width: 0.0,
+        markers: true,
+        ..Style::default()
+    };
+    let mut fig = Figure::new("");
+    for k in 0..10 {
+        fig = fig.line_styled(&format!("m{k}"), &[(k as f64, 1.0)], markers);
+    }
+    let svg = fig.to_svg();
+    let doc = parse(&svg);
+    let shapes: Vec<String> = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("markers"))
+        .map(|g| {
+            let c = g.first_element_child().expect("a marker");
+            c.tag_name().name().to_string()
+        })
+        .collect();
+    assert_eq!(&shapes[..8], &["circle"; 8]);
+    assert_eq!(&shapes[8..], &["rect", "rect"]);
+}
+
+#[test]
+fn titles_are_never_cut() {
+    // A tall, narrow trajectory with equal scales and a long title.
+    let pts: Vec<(f64, f64)> = (0..=50)
+        .map(|i| {
+            let s = f64::from(i) / 50.0;
+            (2.6 * s * s, 8.2 * s)
+        })
+        .collect();
+    let title = "Sled on a slope with a prescribed speed: trajectory";
+    let svg = Figure::new(title)
+        .equal_aspect()
+        .x_label("x [m]")
+        .y_label("y [m]")
+        .line("", &pts)
+        .to_svg();
+    let doc = parse(&svg);
+    assert_eq!(assert_titles_inside(&doc), 1);
+
+    // A title wider than the picture is broken into lines, all inside, all above the plot.
+    let long = "A very long title that names the scene, the picture and the coordinates shown, \
+                and then some more words that cannot fit on one line of a small figure";
+    let svg = Figure::new(long).size(360.0, 300.0).line("", &pts).to_svg();
+    let doc = parse(&svg);
+    let lines = assert_titles_inside(&doc);
+    assert!(lines >= 3, "{lines} lines");
+    let words: Vec<String> = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("title"))
+        .flat_map(|t| {
+            t.text()
+                .unwrap_or_default()
+                .split(' ')
+                .map(str::to_string)
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert_eq!(
+        words.join(" "),
+        long.split_whitespace().collect::<Vec<_>>().join(" ")
+    );
+    let (_, frame_top, _, _) = rect_of(&doc, "frame", 0);
+    let last_title = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("title"))
+        .map(|t| attr(&t, "y"))
+        .fold(0.0, f64::max);
+    assert!(
+        last_title < frame_top,
+        "title at {last_title}, plot from {frame_top}"
+    );
+}
+
+/// Whether rectangle `a` lies inside rectangle `b`.
+fn inside(a: (f64, f64, f64, f64), b: (f64, f64, f64, f64)) -> bool {
+    a.0 >= b.0 && a.1 >= b.1 && a.0 + a.2 <= b.0 + b.2 && a.1 + a.3 <= b.1 + b.3
+}
+
+#[test]
+fn legend_is_inside_the_frame_beside_it_or_below_it() {
+    // A narrow plot (equal scales, tall data): the legend does not fit inside. With room in the
+    // width asked for, it goes right of the plot; without, below it, under the x label.
+    let pts: Vec<(f64, f64)> = (0..=50)
+        .map(|i| {
+            let s = f64::from(i) / 50.0;
+            (2.6 * s * s, 8.2 * s)
+        })
+        .collect();
+    let marker = Style {
+        width: 0.0,
+        markers: true,
+        ..Style::default()
+    };
+    let narrow = Figure::new("narrow")
+        .equal_aspect()
+        .x_label("x [m]")
+        .y_label("y [m]")
+        .line("", &pts)
+        .line_styled("heading 45 degrees", &[(1.1, 0.5)], marker)
+        .line_styled("bottom", &[(2.6, 8.2)], marker);
+    let doc_svg = narrow.to_svg();
+    let doc = parse(&doc_svg);
+    let (w, h) = view_box(&doc);
+    let frame = rect_of(&doc, "frame", 0);
+    let legend = rect_of(&doc, "legend", 0);
+    assert!(inside(legend, (0.0, 0.0, w, h)), "{legend:?} in {w} × {h}");
+    assert!(
+        legend.0 > frame.0 + frame.2,
+        "right of the plot: {legend:?}, {frame:?}"
+    );
+    assert!(legend.1 >= frame.1 && legend.1 + legend.3 <= frame.1 + frame.3);
+    assert!(w <= 720.0, "within the width asked for");
+    assert_eq!(texts_in(&doc, "legend"), ["heading 45 degrees", "bottom"]);
+
+    for svg in [
+        narrow.clone().size(300.0, 450.0).to_svg(),
+        narrow.clone().legend(Legend::Below).to_svg(),
+    ] {
+        let doc = parse(&svg);
+        let (w, h) = view_box(&doc);
+        let frame = rect_of(&doc, "frame", 0);
+        let legend = rect_of(&doc, "legend", 0);
+        assert!(inside(legend, (0.0, 0.0, w, h)), "{legend:?} in {w} × {h}");
+        assert!(!inside(legend, frame), "this legend cannot fit inside");
+        let x_label = doc
+            .descendants()
+            .find(|n| n.attribute("class") == Some("x-label"))
+            .expect("x label");
+        assert!(
+            legend.1 > attr(&x_label, "y"),
+            "the legend is below the x label"
+        );
+        assert_eq!(texts_in(&doc, "legend"), ["heading 45 degrees", "bottom"]);
+    }
+
+    // A legend that fits stays inside the frame, wherever the data leave room.
+    for legend_at in [Legend::Auto, Legend::TopLeft, Legend::BottomCenter] {
+        let svg = Figure::new("")
+            .legend(legend_at)
+            .line("a steep curve", &[(0.0, 0.0), (0.9, 0.05), (1.0, 1.0)])
+            .to_svg();
+        let doc = parse(&svg);
+        assert!(
+            inside(rect_of(&doc, "legend", 0), rect_of(&doc, "frame", 0)),
+            "{legend_at:?}"
+        );
+    }
+
+    // Data everywhere: no place inside is free, so the legend goes below, beside nothing.
+    let zigzag: Vec<(f64, f64)> = (0..=400)
+        .map(|i| (f64::from(i), if i % 2 == 0 { 0.0 } else { 1.0 }))
+        .collect();
+    let svg = Figure::new("dense")
+        .x_label("t")
+        .line("zigzag", &zigzag)
+        .line("another", &[(0.0, 0.5), (400.0, 0.5)])
+        .to_svg();
+    let doc = parse(&svg);
+    let (w, h) = view_box(&doc);
+    let frame = rect_of(&doc, "frame", 0);
+    let legend = rect_of(&doc, "legend", 0);
+    assert!(legend.1 > frame.1 + frame.3, "below the plot");
+    assert!(inside(legend, (0.0, 0.0, w, h)));
+    // Both entries on one row, side by side.
+    let ys: Vec<f64> = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("legend"))
+        .flat_map(|g| g.children().filter(|c| c.has_tag_name("text")))
+        .map(|t| attr(&t, "y"))
+        .collect();
+    assert_eq!(ys.len(), 2);
+    assert_eq!(ys[0], ys[1]);
+    // The picture keeps its size: the plot made room.
+    assert_eq!((w, h), (720.0, 450.0));
+}
+
+#[test]
+fn panels_share_the_x_axis_and_keep_their_own_y_axes() {
+    let t: Vec<f64> = (0..=100).map(|i| f64::from(i) * 0.035).collect();
+    let speed: Vec<(f64, f64)> = t.iter().map(|&t| (t, 2.0 + 0.5 * t)).collect();
+    let small: Vec<(f64, f64)> = t[..50].iter().map(|&t| (t, 1e-4 * (-t).exp())).collect();
+    let big: Vec<(f64, f64)> = t.iter().map(|&t| (t, -12345.0 * t)).collect();
+    let panel = |label: &str, pts: &[(f64, f64)]| {
+        Figure::new("")
+            .x_label("t [s]")
+            .y_label(label)
+            .legend(Legend::Hidden)
+            .line(label, pts)
+    };
+    let svg = Panels::new("Sled on a slope with a prescribed speed: quantities")
+        .share_x()
+        .panel(panel("speed [m/s]", &speed))
+        .panel(panel("small [1]", &small))
+        .panel(panel("big [J]", &big))
+        .to_svg();
+    let doc = parse(&svg);
+    assert_eq!(assert_titles_inside(&doc), 1);
+    let (w, h) = view_box(&doc);
+    // Three frames, aligned, one above the other, inside the picture.
+    let frames: Vec<(f64, f64, f64, f64)> = (0..3)
+        .map(|k| {
+            let f = rect_of(&doc, "frame", k);
+            let g = doc
+                .descendants()
+                .filter(|n| n.attribute("class") == Some("panel"))
+                .nth(k)
+                .expect("panel group");
+            let tr = g.attribute("transform").expect("translate");
+            let xy: Vec<f64> = tr
+                .trim_start_matches("translate(")
+                .trim_end_matches(')')
+                .split_whitespace()
+                .map(|s| s.parse().expect("number"))
+                .collect();
+            (f.0 + xy[0], f.1 + xy[1], f.2, f.3)
+        })
+        .collect();
+    for f in &frames {
+        assert!(inside(*f, (0.0, 0.0, w, h)), "{f:?}");
+        assert_eq!((f.0, f.2), (frames[0].0, frames[0].2), "aligned");
+    }
+    assert!(frames[0].1 + frames[0].3 < frames[1].1);
+    assert!(frames[1].1 + frames[1].3 < frames[2].1);
+    // One x label, under the last panel; every panel has its own y label.
+    let x_labels = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("x-label"))
+        .count();
+    assert_eq!(x_labels, 1);
+    let y_labels: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("y-label"))
+        .filter_map(|n| n.text())
+        .collect();
+    assert_eq!(y_labels, ["speed [m/s]", "small [1]", "big [J]"]);
+    // The same x range: the x tick labels of every panel are the same.
+    let x_ticks: Vec<Vec<String>> = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("tick-labels"))
+        .map(|g| {
+            g.children()
+                .filter(|t| t.attribute("text-anchor") == Some("middle"))
+                .map(|t| t.text().unwrap_or_default().to_string())
+                .collect()
+        })
+        .collect();
+    assert_eq!(x_ticks.len(), 3);
+    assert!(x_ticks.iter().all(|t| t == &x_ticks[0]), "{x_ticks:?}");
+    // Clip paths are distinct, and every reference resolves.
+    let ids: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("clipPath"))
+        .filter_map(|n| n.attribute("id"))
+        .collect();
+    assert_eq!(ids.len(), 3);
+    assert!(ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2]);
+
+    // A grid of equal-aspect panels: two columns, each panel inside the picture.
+    let circle: Vec<(f64, f64)> = (0..=60)
+        .map(|i| {
+            let a = f64::from(i) / 60.0 * std::f64::consts::TAU;
+            (a.cos(), a.sin())
+        })
+        .collect();
+    let svg = Panels::new("three projections")
+        .columns(2)
+        .panel_size(400.0, 360.0)
+        .panel(Figure::new("x, y").equal_aspect().line("", &circle))
+        .panel(Figure::new("x, z").equal_aspect().line("", &circle))
+        .panel(Figure::new("y, z").equal_aspect().line("", &circle))
+        .to_svg();
+    let doc = parse(&svg);
+    let (w, _) = view_box(&doc);
+    assert!(w <= 800.0 + 1.0, "two columns of at most 400 px: {w}");
+    assert_eq!(
+        texts_of_class(&doc, "title"),
+        ["three projections", "x, y", "x, z", "y, z"]
+    );
+}
+
+fn texts_of_class(doc: &roxmltree::Document<'_>, class: &str) -> Vec<String> {
+    doc.descendants()
+        .filter(|n| n.attribute("class") == Some(class))
+        .map(|n| n.text().unwrap_or_default().to_string())
+        .collect()
+}
+
+#[test]
+fn rounding_noise_is_drawn_flat() {
+    // A multiplier constant up to the last bits: no fifteen-digit tick labels, a flat line.
+    let pts: Vec<(f64, f64)> = (0..40)
+        .map(|i| {
+            let noise = [0.0, 2.0, -3.0, 1.0][i % 4] * 8.66f64 * f64::EPSILON;
+            (f64::from(i as u32), 8.662_447_993_498_587 + noise)
+        })
+        .collect();
+    let svg = Figure::new("").line("", &pts).to_svg();
+    let doc = parse(&svg);
+    for label in texts_in(&doc, "tick-labels") {
+        assert!(label.chars().count() <= 4, "tick label {label}");
+    }
+    let ys: Vec<f64> = path_points(series_paths(&doc)[0].attribute("d").expect("d"))
+        .iter()
+        .map(|p| p.1)
+        .collect();
+    assert!(ys.iter().all(|&y| y == ys[0]), "{ys:?}");
+    // A real variation, however small relative to the value, is shown.
+    let pts: Vec<(f64, f64)> = (0..40)
+        .map(|i| (f64::from(i), 8.66 + 1e-9 * f64::from(i)))
+        .collect();
+    let doc_svg = Figure::new("").line("", &pts).to_svg();
+    let doc = parse(&doc_svg);
+    let ys: Vec<f64> = path_points(series_paths(&doc)[0].attribute("d").expect("d"))
+        .iter()
+        .map(|p| p.1)
+        .collect();
+    assert!(ys[0] - ys[39] > 100.0, "{ys:?}");
+}
+
+#[test]
+fn notes_sit_under_the_title() {
+    let svg = Figure::new("trajectory")
+        .note("x1 against y1, 2 of 10 coordinates")
+        .line("", &[(0.0, 0.0), (1.0, 1.0)])
+        .to_svg();
+    let doc = parse(&svg);
+    let title = doc
+        .descendants()
+        .find(|n| n.attribute("class") == Some("title"))
+        .expect("title");
+    let note = doc
+        .descendants()
+        .find(|n| n.attribute("class") == Some("note"))
+        .expect("note");
+    let (_, frame_top, _, _) = rect_of(&doc, "frame", 0);
+    assert!(attr(&title, "y") < attr(&note, "y") && attr(&note, "y") < frame_top);
 }

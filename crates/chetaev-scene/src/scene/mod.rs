@@ -6,7 +6,7 @@
 //! | file | holds |
 //! |---|---|
 //! | `schema.rs` | the file as written: serde structures, every value with its span |
-//! | `spec.rs` | the scene as validated: [`Scene`], [`SolveSpec`], [`EventSpec`], [`OutputSpec`], ... |
+//! | `spec.rs` | the scene as validated: [`Scene`], [`SolveSpec`], [`EventSpec`], [`OutputSpec`], [`Units`], ... |
 //! | `validate.rs` | from one to the other, every mistake located |
 //! | `parameters.rs` | `[parameters]` resolved in dependency order, in linear time |
 
@@ -24,7 +24,7 @@ use chetaev::prelude::Record;
 
 use crate::error::{Error, SourceFile};
 
-pub use spec::{EventSpec, GridEnd, OutputSpec, Picture, Scene, SolveSpec, Table, Times};
+pub use spec::{EventSpec, GridEnd, OutputSpec, Picture, Scene, SolveSpec, Table, Times, Units};
 
 /// The most times an output grid may have.
 pub const MAX_OUTPUT_TIMES: i64 = 10_000_000;

@@ -42,6 +42,8 @@ pub(crate) struct RawModel {
     pub(crate) forces: Option<Spanned<Vec<Spanned<String>>>>,
     pub(crate) holonomic: Option<Spanned<Vec<Spanned<String>>>>,
     pub(crate) dissipation: Option<Spanned<String>>,
+    /// Units for the pictures' labels: `t`, coordinate names, `coordinates`, `mu`, `mu_a`, `energy`.
+    pub(crate) units: Option<Spanned<BTreeMap<Spanned<String>, Spanned<String>>>>,
 }
 
 #[derive(Deserialize)]
@@ -109,6 +111,111 @@ pub(crate) struct RawOutput {
     pub(crate) pictures: Vec<Spanned<Picture>>,
     #[serde(default)]
     pub(crate) quantities: BTreeMap<Spanned<String>, Spanned<String>>,
+    /// Units of the output quantities, by name.
+    #[serde(default)]
+    pub(crate) units: BTreeMap<Spanned<String>, Spanned<String>>,
+    /// The panels of the trajectory picture.
+    pub(crate) trajectory: Option<Spanned<RawTrajectory>>,
+}
+
+/// `output.trajectory`: a list of panels, each a pair of coordinate names `["x", "y"]` or a list of
+/// such pairs drawn together `[["x1", "y1"], ["x2", "y2"]]`. Only the whole list keeps its place in
+/// the file; a name is found in it by its text.
+pub(crate) struct RawTrajectory(pub(crate) Vec<Vec<Vec<String>>>);
+
+/// One element of a panel: a name, or a list of names.
+enum NameOrList {
+    Name(String),
+    List(Vec<String>),
+}
+
+const PANEL_SHAPE: &str =
+    "a pair of coordinate names such as [\"x\", \"y\"], or a list of pairs drawn \
+                           together such as [[\"x1\", \"y1\"], [\"x2\", \"y2\"]]";
+
+impl<'de> Deserialize<'de> for NameOrList {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = NameOrList;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a coordinate name, or a pair of them")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<NameOrList, E> {
+                Ok(NameOrList::Name(v.to_string()))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<NameOrList, A::Error> {
+                let mut v = Vec::new();
+                while let Some(x) = seq.next_element::<String>()? {
+                    v.push(x);
+                }
+                Ok(NameOrList::List(v))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// One panel: `["x", "y"]` (one pair) or `[["x1", "y1"], ...]` (pairs).
+struct RawPanel(Vec<Vec<String>>);
+
+impl<'de> Deserialize<'de> for RawPanel {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawPanel;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(PANEL_SHAPE)
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<RawPanel, E> {
+                Err(E::custom(format!(
+                    "\"{v}\" alone is not a panel of the trajectory: each panel is {PANEL_SHAPE}, as in \
+                     trajectory = [[\"x\", \"y\"], [\"x\", \"z\"]]"
+                )))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawPanel, A::Error> {
+                let mut names = Vec::new();
+                let mut pairs = Vec::new();
+                while let Some(x) = seq.next_element::<NameOrList>()? {
+                    match x {
+                        NameOrList::Name(n) => names.push(n),
+                        NameOrList::List(p) => pairs.push(p),
+                    }
+                }
+                match (names.is_empty(), pairs.is_empty()) {
+                    (_, true) => Ok(RawPanel(vec![names])),
+                    (true, false) => Ok(RawPanel(pairs)),
+                    (false, false) => Err(de::Error::custom(format!(
+                        "a panel of the trajectory mixes names and lists: it is {PANEL_SHAPE}"
+                    ))),
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl<'de> Deserialize<'de> for RawTrajectory {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawTrajectory;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                write!(
+                    f,
+                    "a list of panels, each {PANEL_SHAPE}, as in trajectory = [[\"x\", \"y\"], [\"x\", \"z\"]]"
+                )
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawTrajectory, A::Error> {
+                let mut panels = Vec::new();
+                while let Some(p) = seq.next_element::<RawPanel>()? {
+                    panels.push(p.0);
+                }
+                Ok(RawTrajectory(panels))
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 /// A number, or an expression of the parameters in quotes.

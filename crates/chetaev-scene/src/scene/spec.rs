@@ -48,7 +48,27 @@ pub struct Scene {
     pub events: Vec<EventSpec>,
     /// What to write.
     pub output: OutputSpec,
+    /// Units of time, the coordinates, the multipliers, the energy and the output quantities,
+    /// for the pictures' axis labels.
+    pub units: Units,
     pub(crate) spans: Spans,
+}
+
+/// Units as declared by `[model] units` and `[output.units]`: text shown in the pictures' axis
+/// labels (`"x [m]"`), and from which the units of derivatives are written (`"ẋ [m/s]"`). `None`
+/// where nothing is declared; `Some("")` for a quantity declared without unit.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Units {
+    /// The unit of `t`.
+    pub time: Option<String>,
+    /// The unit of each coordinate, in the order of `coordinates`.
+    pub coordinates: Vec<Option<String>>,
+    /// The unit of each multiplier `μ_a`, `a = 1..K`.
+    pub multipliers: Vec<Option<String>>,
+    /// The unit of the energy (and of `L`, the works and the balance).
+    pub energy: Option<String>,
+    /// The unit of each output quantity, in the order of `output.quantities`.
+    pub quantities: Vec<Option<String>>,
 }
 
 /// Places in the file that errors found after validation point at.
@@ -124,7 +144,9 @@ pub enum Table {
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, PartialOrd, Ord)]
 #[serde(rename_all = "lowercase")]
 pub enum Picture {
-    /// The second coordinate against the first (equal scales); the coordinate against `t` if `N = 1`.
+    /// Coordinates against each other, in the panels of `output.trajectory` (by default the
+    /// second coordinate against the first; with `N = 3`, each pair); the coordinate against `t`
+    /// if `N = 1`.
     Trajectory,
     /// Every coordinate against `t`.
     State,
@@ -140,7 +162,7 @@ pub enum Picture {
     Residual,
     /// `E − E(t0)`, `W_Φ`, `∫∂L/∂t dt` and the balance against `t`.
     Energy,
-    /// Every output quantity against `t`.
+    /// Every output quantity against `t`, one panel per unit.
     Quantities,
 }
 
@@ -264,4 +286,7 @@ pub struct OutputSpec {
     pub pictures: Vec<Picture>,
     /// Named expressions of `t`, the coordinates and the velocities, in the order of the file.
     pub quantities: Vec<(String, Expr)>,
+    /// The panels of the trajectory picture, each a list of pairs of coordinate indices `(i, j)`
+    /// (`q_j` against `q_i`) drawn together; `None` for the default.
+    pub trajectory: Option<Vec<Vec<(usize, usize)>>>,
 }

@@ -10,8 +10,11 @@ use toml::Spanned;
 
 use super::schema::{
     MethodName, Number, RawAtol, RawDirection, RawOutput, RawScene, RawSolve, RawTimes,
+    RawTrajectory,
 };
-use super::spec::{EventSpec, GridEnd, OutputSpec, Picture, Scene, SolveSpec, Spans, Table, Times};
+use super::spec::{
+    EventSpec, GridEnd, OutputSpec, Picture, Scene, SolveSpec, Spans, Table, Times, Units,
+};
 use super::MAX_OUTPUT_TIMES;
 use crate::error::{Error, SourceFile};
 use crate::expr::{is_function, Expr, Symbols, RESERVED};
@@ -232,6 +235,11 @@ impl Builder {
             Some(d) => Some(self.expr(d, &motion)?),
             None => None,
         };
+        let mut units = self.model_units(
+            model.units.as_ref(),
+            &coordinates,
+            constraints.len() + holonomic.len(),
+        )?;
 
         // [initial]
         let initial = raw.initial.get_ref();
@@ -298,6 +306,7 @@ impl Builder {
             t0,
             solve.t_end,
         )?;
+        units.quantities = self.quantity_units(raw.output.as_ref(), &output.quantities)?;
 
         let meta = raw.scene.as_ref();
         Ok(Scene {
@@ -320,6 +329,7 @@ impl Builder {
             solve,
             events,
             output,
+            units,
             spans: Spans {
                 initial: raw.initial.span(),
                 q_dot: initial.q_dot.span(),
@@ -533,6 +543,7 @@ impl Builder {
                     tables: Vec::new(),
                     pictures: Vec::new(),
                     quantities: Vec::new(),
+                    trajectory: None,
                 },
                 Vec::new(),
             ));
@@ -611,6 +622,19 @@ impl Builder {
             None => Times::Steps,
             Some(t) => self.times(t, constants, t0, t_end)?,
         };
+        let trajectory = match &raw.trajectory {
+            None => None,
+            Some(t) => {
+                if !pictures.contains(&Picture::Trajectory) {
+                    return Err(self.err(
+                        t.span(),
+                        "output.trajectory chooses the panels of the 'trajectory' picture, which \
+                         `pictures` does not ask for; add \"trajectory\" to `pictures`, or remove this",
+                    ));
+                }
+                Some(self.trajectory(t, &motion.coordinates)?)
+            }
+        };
         Ok((
             OutputSpec {
                 directory: raw.directory.as_ref().map_or(default_dir, PathBuf::from),
@@ -618,9 +642,229 @@ impl Builder {
                 tables,
                 pictures,
                 quantities,
+                trajectory,
             },
             spans,
         ))
+    }
+
+    /// A unit as written: one line of text, spaces around it dropped.
+    fn unit(&self, v: &Spanned<String>) -> Result<String, Error> {
+        let text = v.get_ref().trim();
+        if text.chars().any(char::is_control) {
+            return Err(self.err(
+                v.span(),
+                "a unit is one line of text, such as \"m/s\" or \"kg m/s²\"",
+            ));
+        }
+        if text.chars().count() > 40 {
+            return Err(self.err(
+                v.span(),
+                "a unit of more than 40 characters does not fit an axis label; shorten it",
+            ));
+        }
+        Ok(text.to_string())
+    }
+
+    /// `[model] units`: keys `t`, a coordinate, `coordinates` (every coordinate without its own),
+    /// `mu` (every multiplier without its own), `mu_1` … `mu_K`, `energy`. A coordinate's own name
+    /// wins over the shorthands.
+    fn model_units(
+        &self,
+        raw: Option<&Spanned<BTreeMap<Spanned<String>, Spanned<String>>>>,
+        coordinates: &[String],
+        k: usize,
+    ) -> Result<Units, Error> {
+        let mut units = Units {
+            coordinates: vec![None; coordinates.len()],
+            multipliers: vec![None; k],
+            ..Units::default()
+        };
+        let Some(raw) = raw else {
+            return Ok(units);
+        };
+        let (mut all_coordinates, mut all_multipliers) = (None, None);
+        for (key, value) in raw.get_ref() {
+            let unit = self.unit(value)?;
+            let name = key.get_ref().as_str();
+            if let Some(i) = coordinates.iter().position(|c| c == name) {
+                units.coordinates[i] = Some(unit);
+                continue;
+            }
+            match name {
+                "t" => units.time = Some(unit),
+                "coordinates" => all_coordinates = Some(unit),
+                "mu" if k > 0 => all_multipliers = Some(unit),
+                "energy" => units.energy = Some(unit),
+                _ => {
+                    let index = name
+                        .strip_prefix("mu_")
+                        .and_then(|a| a.parse::<usize>().ok())
+                        .filter(|a| (1..=k).contains(a));
+                    match index {
+                        Some(a) => units.multipliers[a - 1] = Some(unit),
+                        None if k == 0 && (name == "mu" || name.starts_with("mu_")) => {
+                            return Err(self.err(
+                                key.span(),
+                                format!(
+                                    "the model has no constraints, so no multipliers: '{name}' has no unit to \
+                                     give; remove it"
+                                ),
+                            ));
+                        }
+                        None => {
+                            let multipliers = match k {
+                                0 => String::new(),
+                                1 => ", the multiplier (mu or mu_1)".to_string(),
+                                k => format!(", the multipliers (mu for all, or mu_1 … mu_{k})"),
+                            };
+                            return Err(self.err(
+                                key.span(),
+                                format!(
+                                    "no unit can be given to '{name}': units are given to t, the coordinates \
+                                     ({}), all coordinates at once (coordinates){multipliers} and the energy \
+                                     (energy); the units of output quantities go in [output.units]",
+                                    coordinates.join(", ")
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        for u in &mut units.coordinates {
+            if u.is_none() {
+                u.clone_from(&all_coordinates);
+            }
+        }
+        for u in &mut units.multipliers {
+            if u.is_none() {
+                u.clone_from(&all_multipliers);
+            }
+        }
+        Ok(units)
+    }
+
+    /// `[output.units]`: a unit for each output quantity named.
+    fn quantity_units(
+        &self,
+        raw: Option<&RawOutput>,
+        quantities: &[(String, Expr)],
+    ) -> Result<Vec<Option<String>>, Error> {
+        let mut units = vec![None; quantities.len()];
+        let Some(raw) = raw else {
+            return Ok(units);
+        };
+        for (key, value) in &raw.units {
+            let name = key.get_ref();
+            let Some(i) = quantities.iter().position(|(q, _)| q == name) else {
+                let known = if quantities.is_empty() {
+                    "[output.quantities] names none".to_string()
+                } else {
+                    let names: Vec<&str> = quantities.iter().map(|(q, _)| q.as_str()).collect();
+                    format!("the quantities are {}", names.join(", "))
+                };
+                return Err(self.err(
+                    key.span(),
+                    format!(
+                        "'{name}' is not an output quantity: [output.units] gives units to the names of \
+                         [output.quantities] ({known}); the units of t and the coordinates go in [model] units"
+                    ),
+                ));
+            };
+            units[i] = Some(self.unit(value)?);
+        }
+        Ok(units)
+    }
+
+    /// The place of `name` (in quotes) inside `whole`, or `whole` if it is not found there.
+    fn name_in(&self, whole: &Range<usize>, name: &str) -> Range<usize> {
+        let text = self.file.text.get(whole.clone()).unwrap_or("");
+        ["\"", "'"]
+            .iter()
+            .find_map(|q| text.find(&format!("{q}{name}{q}")))
+            .map_or(whole.clone(), |at| {
+                let start = whole.start + at + 1;
+                start..start + name.len().max(1)
+            })
+    }
+
+    /// `output.trajectory`: panels of pairs of coordinates, each name a coordinate.
+    fn trajectory(
+        &self,
+        t: &Spanned<RawTrajectory>,
+        coordinates: &[String],
+    ) -> Result<Vec<Vec<(usize, usize)>>, Error> {
+        let span = t.span();
+        let panels = &t.get_ref().0;
+        if coordinates.len() < 2 {
+            return Err(self.err(
+                span,
+                "the model has one coordinate, so the trajectory is that coordinate against t; remove \
+                 output.trajectory",
+            ));
+        }
+        if panels.is_empty() {
+            return Err(self.err(
+                span,
+                "output.trajectory lists no panel: give pairs of coordinates, as in [[\"x\", \"y\"]], or \
+                 remove it for the default",
+            ));
+        }
+        let index = |name: &str| -> Result<usize, Error> {
+            coordinates.iter().position(|c| c == name).ok_or_else(|| {
+                let hint = if name == "t" {
+                    "t is time; the trajectory draws coordinates against each other (the 'state' \
+                     picture draws them against t)"
+                        .to_string()
+                } else {
+                    format!("the coordinates are {}", coordinates.join(", "))
+                };
+                self.err(
+                    self.name_in(&span, name),
+                    format!("'{name}' is not a coordinate: {hint}"),
+                )
+            })
+        };
+        let mut out = Vec::new();
+        for panel in panels {
+            let mut pairs = Vec::new();
+            for pair in panel {
+                let [a, b] = pair.as_slice() else {
+                    let at = pair
+                        .first()
+                        .map_or(span.clone(), |n| self.name_in(&span, n));
+                    return Err(self.err(
+                        at,
+                        format!(
+                            "a pair of the trajectory names two coordinates, the horizontal then the \
+                             vertical axis, as in [\"x\", \"y\"]; this one names {}",
+                            match pair.len() {
+                                0 => "none".to_string(),
+                                1 => "one".to_string(),
+                                n => n.to_string(),
+                            }
+                        ),
+                    ));
+                };
+                let (i, j) = (index(a)?, index(b)?);
+                if i == j {
+                    return Err(self.err(
+                        self.name_in(&span, b),
+                        format!("the pair [\"{a}\", \"{b}\"] draws '{a}' against itself; name two coordinates"),
+                    ));
+                }
+                pairs.push((i, j));
+            }
+            if pairs.is_empty() {
+                return Err(self.err(
+                    span,
+                    "a panel of output.trajectory is empty; give a pair such as [\"x\", \"y\"]",
+                ));
+            }
+            out.push(pairs);
+        }
+        Ok(out)
     }
 
     fn times(
