@@ -48,6 +48,12 @@ enum Command {
         quiet: bool,
     },
     /// Parse and validate a scene, and check its output directory, without integrating it.
+    /// Show the equations the library derived for a scene, at its initial state: which blocks
+    /// vanish or are constant, what each depends on, the numbers, the multipliers.
+    Describe {
+        /// The scene file (TOML).
+        scene: PathBuf,
+    },
     Check {
         /// The scene file (TOML).
         scene: PathBuf,
@@ -251,6 +257,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Check { scene, out, force } => check(&scene, out, force),
+        Command::Describe { scene } => match Scene::load(&scene).and_then(|s| s.describe()) {
+            Ok(text) => {
+                Stdout::new().print(&format!("{}\n{text}\n", scene.display()));
+                ExitCode::SUCCESS
+            }
+            Err(e) => fail(&e),
+        },
         Command::Run {
             scene,
             out,

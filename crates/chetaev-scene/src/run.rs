@@ -70,6 +70,17 @@ impl Scene {
         }
     }
 
+    /// The equations the library derived for the scene, described at its initial state
+    /// ([`chetaev::Problem::describe`]), as plain text.
+    pub fn describe(&self) -> Result<String, Error> {
+        let problem = self.problem()?;
+        let d = problem
+            .describe(self.t0, problem.q0(), problem.qd0())
+            .map_err(|e| self.setup_error(e))?;
+        let names = self.coordinates.join(", ");
+        Ok(format!("coordinates q = ({names})\n{d}"))
+    }
+
     /// Integrates the scene, recording only what its tables and pictures need. A problem found
     /// before the integration starts is an `Err`; a failure during it is the outcome's status.
     pub fn solve(&self) -> Result<Outcome, Error> {

@@ -187,6 +187,57 @@ impl<M: Model> Problem<M> {
         Ok(d.clone())
     }
 
+    /// What the library derived for the model, at a state `(t, q, q̇)`: which blocks of the Chetaev
+    /// equations vanish or are constant and what each depends on (probed around the state; see
+    /// [`equations::structure`](crate::equations::structure)), the sparsity patterns of `W` and
+    /// `J`, the numerical blocks, and `q̈`, `μ`, `Φ` and the block system's conditioning there.
+    /// `println!("{}", problem.describe(t, q, qd)?)` prints it as plain text.
+    ///
+    /// ```
+    /// use chetaev::prelude::*;
+    ///
+    /// struct Uniform;
+    /// impl Lagrangian<2> for Uniform {
+    ///     fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+    ///         qd.dot(qd) * 0.5 - q[1] * 10.0
+    ///     }
+    /// }
+    /// impl Constraints<2, 1> for Uniform {
+    ///     fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+    ///         SVector::from([qd.dot(qd) - 100.0])
+    ///     }
+    /// }
+    /// let problem = Problem::new(Uniform, 0.0, SVector::from([0.0, 5.0]), SVector::from([10.0, 0.0]))?;
+    /// let d = problem.describe(0.0, &[0.0, 5.0], &[10.0, 0.0])?;
+    /// assert!(d.structure.w.is_constant() && d.structure.g.zero && d.structure.c.zero);
+    /// assert!(d.structure.j.qd && !d.structure.j.q);
+    /// assert!(d.to_string().contains("W = ∂²L/∂q̇²"));
+    /// # Ok::<(), chetaev::Error>(())
+    /// ```
+    pub fn describe(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> Result<crate::equations::structure::Description, Error> {
+        let dynamics = self.equations_at(t, q, qd)?;
+        let (n, k) = self.model.sizes();
+        let mut lagrangian = crate::equations::derivatives::LagrangianBlocks::new(n);
+        self.model.lagrangian_blocks(t, q, qd, &mut lagrangian);
+        let mut constraints = crate::equations::derivatives::ConstraintBlocks::new(n, k);
+        if k > 0 {
+            self.model
+                .constraint_blocks(t, q, qd, true, &mut constraints);
+        }
+        Ok(crate::equations::structure::Description {
+            structure: crate::equations::structure::probe(&self.model, t, q, qd),
+            state: (t, q.to_vec(), qd.to_vec()),
+            lagrangian,
+            constraints,
+            dynamics,
+        })
+    }
+
     /// Evaluates the equations at the initial state, checks that every value is finite and that
     /// the initial position satisfies the holonomic constraints and the initial velocity the
     /// velocity constraints (`ḣ = 0` among them).

@@ -15,6 +15,7 @@
 
 pub mod derivatives;
 pub mod saddle;
+pub mod structure;
 
 use crate::model::{Model, Real};
 use derivatives::{ConstraintBlocks, LagrangianBlocks};
