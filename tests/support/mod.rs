@@ -30,7 +30,4 @@ pub fn observed_order(err_coarse: f64, err_fine: f64, ratio: f64) -> f64 {
 #[doc = include_str!("../../README.md")]
 pub struct ReadmeDoctests;
 
-/// The guide's code, compiled and run as a doctest.
-#[cfg(doctest)]
-#[doc = include_str!("../../docs/adding-a-constraint.md")]
-pub struct GuideDoctests;
+// The guides of docs/ are compiled and run as doctests of `chetaev` (its module `guides`).

@@ -90,3 +90,26 @@ pub mod prelude {
     pub use crate::{solve, Error, Problem, Solution, Status};
     pub use nalgebra::{SMatrix, SVector};
 }
+
+/// The guides of `docs/`, rendered here so that `cargo doc` shows them; the Rust code in them is
+/// compiled and run as doctests of this crate.
+///
+/// Scene files (the `chetaev` command, in the crate `chetaev-scene`) are described in
+/// `docs/scenes.md`; performance in `docs/performance.md`; sweeps on a cluster in `docs/sweeps.md`.
+/// Links from one guide to another are relative to `docs/` in the repository.
+pub mod guides {
+    #[doc = include_str!("../../../docs/adding-a-constraint.md")]
+    pub mod adding_a_constraint {}
+    #[doc = include_str!("../../../docs/conventions.md")]
+    pub mod conventions {}
+    #[doc = include_str!("../../../docs/formulation.md")]
+    pub mod formulation {}
+    #[doc = include_str!("../../../docs/holonomic.md")]
+    pub mod holonomic {}
+    #[doc = include_str!("../../../docs/forces.md")]
+    pub mod forces {}
+    #[doc = include_str!("../../../docs/adding-a-method.md")]
+    pub mod adding_a_method {}
+    #[doc = include_str!("../../../docs/where-it-breaks.md")]
+    pub mod where_it_breaks {}
+}

@@ -5,11 +5,25 @@
 //! fail with a status that says why.
 
 use chetaev::prelude::*;
-use chetaev_suite::{distance, rel_err};
 use uniform_projectile::closed_form::{classical, table, uniform, Params};
 use uniform_projectile::model::{impact, scaled_atol, uniform_problem};
 
 const RTOL: f64 = 1e-11;
+
+/// Relative difference `|a − b| / max(|b|, tiny)`.
+fn rel_err(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
+}
+
+/// Euclidean distance `|a − b|`.
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len(), "vectors of different lengths");
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f64>()
+        .sqrt()
+}
 
 fn options(p: &Params) -> Options {
     let t_max = 20.0 * table(p).uniform.t_impact;
