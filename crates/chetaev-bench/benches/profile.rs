@@ -12,7 +12,7 @@ use std::time::Duration;
 use chetaev::equations::derivatives::{
     constraint_derivatives, lagrangian_derivatives, velocity_hessian,
 };
-use chetaev::equations::{evaluate, saddle, saddle::SaddleWorkspace, Workspace};
+use chetaev::equations::{evaluate, evaluate_with, saddle, saddle::SaddleWorkspace, Workspace};
 use chetaev::integrate::system::OdeSystem;
 use chetaev::prelude::*;
 use chetaev_bench::handwritten::{Full, Reduced};
@@ -47,6 +47,27 @@ fn profile(c: &mut Criterion) {
             .map(|d| d.qdd[0])
         })
     });
+    let compiled = problem.compiled();
+    for (name, full) in [
+        ("compiled dynamics (right-hand side)", false),
+        ("compiled dynamics (with the energy balance)", true),
+    ] {
+        let mut workspace = Workspace::for_model(&fixed);
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                evaluate_with(
+                    black_box(&fixed),
+                    compiled,
+                    &mut workspace,
+                    t,
+                    black_box(q.as_slice()),
+                    black_box(qd.as_slice()),
+                    full,
+                )
+                .map(|(d, _)| d.qdd[0])
+            })
+        });
+    }
     g.bench_function("lagrangian_derivatives (passes A, B, C)", |b| {
         b.iter(|| lagrangian_derivatives(black_box(&model), t, black_box(&q), black_box(&qd)))
     });

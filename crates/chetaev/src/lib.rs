@@ -76,7 +76,7 @@ pub use integrate::driver::solve;
 pub use nalgebra;
 /// The dual numbers behind [`Real`](model::Real), re-exported so a user's version cannot clash.
 pub use num_dual;
-pub use problem::Problem;
+pub use problem::{Problem, Route};
 pub use solution::{Solution, Status};
 
 /// Common imports.
@@ -87,7 +87,7 @@ pub mod prelude {
     pub use crate::integrate::{AnyMethod, Controller, Dop853, Dopri5, Method, Rk4, Rodas4, Tsit5};
     pub use crate::model::{Constraints, DynModel, Lagrangian, Model, Real, Unconstrained};
     pub use crate::solution::Series;
-    pub use crate::{solve, Error, Problem, Solution, Status};
+    pub use crate::{solve, Error, Problem, Route, Solution, Status};
     pub use nalgebra::{SMatrix, SVector};
 }
 

@@ -19,6 +19,7 @@
 use nalgebra::SVector;
 use num_dual::DualNum;
 
+use crate::equations::compiled::Compiled;
 use crate::equations::derivatives::{self, ConstraintBlocks, LagrangianBlocks};
 use crate::equations::saddle::SaddleFailure;
 use crate::equations::Workspace;
@@ -210,6 +211,38 @@ pub trait DynModel {
     }
 }
 
+/// A model's own functions at one point, as [`Model::functions`] writes them.
+#[derive(Clone, Debug)]
+pub struct Functions<T> {
+    /// `L`.
+    pub l: T,
+    /// The velocity constraints `f`.
+    pub f: Vec<T>,
+    /// The holonomic constraints `h`.
+    pub h: Vec<T>,
+    /// The forces `Q` not derivable from `L`, when `has_forces`.
+    pub forces: Vec<T>,
+    /// Whether the model has forces `Q`.
+    pub has_forces: bool,
+    /// The dissipation function `D`, if any.
+    pub dissipation: Option<T>,
+}
+
+impl<T: Real> Functions<T> {
+    /// Zeroed values for a model with `n` coordinates, `kv` velocity and `kh` holonomic
+    /// constraints.
+    pub fn new(n: usize, kv: usize, kh: usize) -> Self {
+        Self {
+            l: T::zero(),
+            f: vec![T::zero(); kv],
+            h: vec![T::zero(); kh],
+            forces: vec![T::zero(); n],
+            has_forces: false,
+            dissipation: None,
+        }
+    }
+}
+
 /// What the equations engine needs of a model: its sizes and the derivative blocks of `L` and `f`
 /// at a point `(t, q, q̇)` given as slices of length `n`, for any scalar `T` (`f64` for values, a
 /// dual number when the engine differentiates the reduced equations once more).
@@ -226,6 +259,17 @@ pub trait Model {
     /// How many of the `k` constraints are holonomic (the last ones).
     fn holonomic_count(&self) -> usize {
         0
+    }
+
+    /// The model's own functions over any scalar, with nothing derived: `L`, the velocity
+    /// constraints `f` (the first `k − holonomic_count` rows) into `f`, the holonomic constraints
+    /// `h` into `h`, the forces `Q` into `forces` (returning whether there are any) and the
+    /// dissipation function `D`. The engine records them once as an expression graph
+    /// ([`equations::compiled`](crate::equations::compiled)). Returns whether it wrote them; the
+    /// default does not, and such a model is evaluated by the dual-number blocks alone.
+    fn functions<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut Functions<T>) -> bool {
+        let _ = (t, q, qd, out);
+        false
     }
 
     /// The holonomic constraints `h(t, q)` (length [`Model::holonomic_count`]) into `h`, and, when
@@ -275,6 +319,24 @@ pub trait Model {
     ) -> Result<(), SaddleFailure> {
         crate::equations::evaluate_blocks(self, ws, t, q, qd)
     }
+
+    /// The reduced equations by a route of the flavour's own that uses the structure found in
+    /// `plan` (the model's compiled equations), or `None` to evaluate the compiled tape. A static
+    /// model keeps its fixed-size dual passes and skips the blocks the plan proves zero or
+    /// constant; `full = false` may leave out the energy `E`.
+    #[inline]
+    fn evaluate_planned<T: Real>(
+        &self,
+        plan: &Compiled,
+        ws: &mut Workspace<T>,
+        t: T,
+        q: &[T],
+        qd: &[T],
+        full: bool,
+    ) -> Option<Result<(), SaddleFailure>> {
+        let _ = (plan, ws, t, q, qd, full);
+        None
+    }
 }
 
 /// A static model (`Lagrangian<N> + Constraints<N, K>`) as a [`Model`]. [`Problem::new`] wraps
@@ -301,6 +363,24 @@ where
 
     fn holonomic_count(&self) -> usize {
         self.0.holonomic_count()
+    }
+
+    fn functions<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut Functions<T>) -> bool {
+        let q = SVector::<T, N>::from_column_slice(q);
+        let qd = SVector::<T, N>::from_column_slice(qd);
+        out.l = self.0.lagrangian(t, &q, &qd);
+        out.f
+            .copy_from_slice(self.0.constraints(t, &q, &qd).as_slice());
+        self.0.holonomic(t, &q, &mut out.h);
+        out.has_forces = match self.0.forces(t, &q, &qd) {
+            Some(f) => {
+                out.forces.copy_from_slice(f.as_slice());
+                true
+            }
+            None => false,
+        };
+        out.dissipation = self.0.dissipation(t, &q, &qd);
+        true
     }
 
     fn holonomic_blocks(&self, t: f64, q: &[f64], h: &mut [f64], hq: Option<&mut [f64]>) {
@@ -359,7 +439,22 @@ where
             // The holonomic rows have sizes known only at run time.
             return crate::equations::evaluate_blocks(self, ws, t, q, qd);
         }
-        crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, ws, t, q, qd)
+        crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, None, ws, t, q, qd, true)
+    }
+
+    #[inline(never)]
+    fn evaluate_planned<T: Real>(
+        &self,
+        plan: &Compiled,
+        ws: &mut Workspace<T>,
+        t: T,
+        q: &[T],
+        qd: &[T],
+        full: bool,
+    ) -> Option<Result<(), SaddleFailure>> {
+        (self.0.holonomic_count() == 0).then(|| {
+            crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, t, q, qd, full)
+        })
     }
 
     #[inline]
@@ -398,6 +493,15 @@ impl<M: DynModel> Model for M {
 
     fn holonomic_count(&self) -> usize {
         DynModel::holonomic_count(self)
+    }
+
+    fn functions<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut Functions<T>) -> bool {
+        out.l = DynModel::lagrangian(self, t, q, qd);
+        DynModel::constraints(self, t, q, qd, &mut out.f);
+        DynModel::holonomic(self, t, q, &mut out.h);
+        out.has_forces = DynModel::forces(self, t, q, qd, &mut out.forces);
+        out.dissipation = DynModel::dissipation(self, t, q, qd);
+        true
     }
 
     fn holonomic_blocks(&self, t: f64, q: &[f64], h: &mut [f64], hq: Option<&mut [f64]>) {

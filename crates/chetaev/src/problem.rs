@@ -1,8 +1,11 @@
 //! A model with its initial state, validated.
 
+use std::sync::Arc;
+
 use nalgebra::SVector;
 
-use crate::equations::{evaluate, Workspace};
+use crate::equations::compiled::Compiled;
+use crate::equations::{evaluate, evaluate_with, Workspace};
 use crate::error::Error;
 use crate::integrate::projection::{
     constraint_scale, project_positions, project_velocity, Projection,
@@ -23,6 +26,20 @@ pub struct Problem<M> {
     t0: f64,
     q0: Vec<f64>,
     qd0: Vec<f64>,
+    compiled: Option<Arc<Compiled>>,
+}
+
+/// How a problem's equations are evaluated ([`Problem::with_route`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Route {
+    /// By the model's expression graph, recorded and differentiated once, with its structure
+    /// (zero and constant blocks, a constant metric factorised once) used at every evaluation;
+    /// by dual numbers where the model cannot be recorded. The default.
+    #[default]
+    Graph,
+    /// By dual numbers at every evaluation: the reference the compiled equations are checked
+    /// against.
+    Dual,
 }
 
 impl<M, const N: usize, const K: usize> Problem<Fixed<M, N, K>>
@@ -101,9 +118,34 @@ impl<M: Model> Problem<M> {
     /// Builds a problem for any [`Model`]; see [`Problem::new`] and [`Problem::dynamic`].
     pub fn from_model(model: M, t0: f64, q0: Vec<f64>, qd0: Vec<f64>) -> Result<Self, Error> {
         check_state(&model, t0, &q0, &qd0)?;
-        let problem = Self { model, t0, q0, qd0 };
+        let mut problem = Self {
+            model,
+            t0,
+            q0,
+            qd0,
+            compiled: None,
+        };
         problem.check_initial_state()?;
+        problem.compiled = compile(&problem.model, t0, &problem.q0, &problem.qd0).map(Arc::new);
         Ok(problem)
+    }
+
+    /// The same problem with its equations evaluated by `route` ([`Route::Graph`], the default, or
+    /// [`Route::Dual`]).
+    pub fn with_route(mut self, route: Route) -> Self {
+        self.compiled = match route {
+            Route::Dual => None,
+            Route::Graph => self
+                .compiled
+                .or_else(|| compile(&self.model, self.t0, &self.q0, &self.qd0).map(Arc::new)),
+        };
+        self
+    }
+
+    /// The compiled equations and the structure found in them, when the model could be recorded
+    /// (see [`equations::compiled`](crate::equations::compiled)); `None` on [`Route::Dual`].
+    pub fn compiled(&self) -> Option<&Compiled> {
+        self.compiled.as_deref()
     }
 
     /// [`Problem::from_model`] with the initial velocity first projected onto the constraints.
@@ -183,7 +225,8 @@ impl<M: Model> Problem<M> {
     ) -> Result<crate::equations::Dynamics<f64>, Error> {
         check_state(&self.model, t, q, qd)?;
         let mut ws = Workspace::for_model(&self.model);
-        let d = evaluate(&self.model, &mut ws, t, q, qd).map_err(|e| locate(e, t, q, qd))?;
+        let (d, _) = evaluate_with(&self.model, self.compiled(), &mut ws, t, q, qd, true)
+            .map_err(|e| locate(e, t, q, qd))?;
         Ok(d.clone())
     }
 
@@ -292,6 +335,24 @@ impl<M: Model> Problem<M> {
         }
         Ok(())
     }
+}
+
+/// The compiled equations of `model`, if it can be recorded and they agree with the dual-number
+/// path at the initial state (to 1e-9 relative in `q̈`, `μ` and `E`).
+fn compile<M: Model>(model: &M, t0: f64, q0: &[f64], qd0: &[f64]) -> Option<Compiled> {
+    let compiled = Compiled::new(model, t0, q0, qd0)?;
+    let mut ws = Workspace::for_model(model);
+    let reference = evaluate(model, &mut ws, t0, q0, qd0).ok()?.clone();
+    let mut ws = Workspace::for_model(model);
+    let (fast, _) = evaluate_with(model, Some(&compiled), &mut ws, t0, q0, qd0, true).ok()?;
+    let close = |a: &[f64], b: &[f64]| {
+        let scale = a.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-9 * scale)
+    };
+    let agree = close(&reference.qdd, &fast.qdd)
+        && close(&reference.mu, &fast.mu)
+        && close(&[reference.energy], &[fast.energy]);
+    agree.then_some(compiled)
 }
 
 fn norm(v: &[f64]) -> f64 {

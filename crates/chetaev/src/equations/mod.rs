@@ -13,11 +13,14 @@
 //! This is the one equations engine: it works on slices with the sizes of the [`Model`], whatever
 //! the flavour the model was written in.
 
+pub mod compiled;
 pub mod derivatives;
+pub mod graph;
 pub mod saddle;
 pub mod structure;
 
 use crate::model::{Model, Real};
+use compiled::{Compiled, CompiledFailure, CompiledWorkspace};
 use derivatives::{ConstraintBlocks, LagrangianBlocks};
 use saddle::{SaddleFailure, SaddleWorkspace};
 
@@ -61,6 +64,7 @@ pub struct Workspace<T> {
     lagrangian: LagrangianBlocks<T>,
     constraints: ConstraintBlocks<T>,
     saddle: SaddleWorkspace<T>,
+    compiled: Option<CompiledWorkspace<T>>,
     dynamics: Dynamics<T>,
 }
 
@@ -74,6 +78,7 @@ impl<T: Real> Workspace<T> {
             lagrangian: LagrangianBlocks::new(0),
             constraints: ConstraintBlocks::new(0, 0),
             saddle: SaddleWorkspace::default(),
+            compiled: None,
             dynamics: Dynamics {
                 qdd: vec![T::zero(); n],
                 mu: vec![T::zero(); k],
@@ -136,6 +141,40 @@ where
     Ok(&ws.dynamics)
 }
 
+/// [`evaluate`] by the compiled equations of the model when there are some ([`Compiled`]), and by
+/// the dual-number blocks otherwise or where a guard of the compiled equations flips (a branch of
+/// the model's code taken the other way). With `full = false` the energy balance (`E`, `∂L/∂t`,
+/// `Q`, `q̇·Q`) may be left out. Returns the dynamics and whether the dual-number path was taken
+/// in place of compiled equations.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate_with<'w, M, T>(
+    model: &M,
+    compiled: Option<&Compiled>,
+    ws: &'w mut Workspace<T>,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    full: bool,
+) -> Result<(&'w Dynamics<T>, bool), SaddleFailure>
+where
+    M: Model + ?Sized,
+    T: Real,
+{
+    let Some(c) = compiled else {
+        return evaluate(model, ws, t, q, qd).map(|d| (d, false));
+    };
+    if let Some(result) = model.evaluate_planned(c, ws, t, q, qd, full) {
+        return result.map(|()| (&ws.dynamics, false));
+    }
+    let cws = ws.compiled.get_or_insert_with(|| CompiledWorkspace::new(c));
+    match c.evaluate(cws, &mut ws.dynamics, t, q, qd, full) {
+        Ok(()) => Ok((&ws.dynamics, false)),
+        Err(CompiledFailure::Saddle(e)) => Err(e),
+        Err(CompiledFailure::Guard(_)) => evaluate(model, ws, t, q, qd).map(|d| (d, true)),
+    }
+}
+
 /// [`evaluate`] from the blocks of [`Model::lagrangian_blocks`] and [`Model::constraint_blocks`]
 /// on slices: the route of every model that has no faster one.
 #[inline]
@@ -157,6 +196,7 @@ where
         constraints: cb,
         saddle: sw,
         dynamics: d,
+        ..
     } = ws;
     let (n, k) = (*n, *k);
     if lb.p.len() != n {
@@ -218,27 +258,80 @@ where
 /// [`evaluate`] for a static model: the same equations and the same block solve, with every block
 /// a fixed-size `SVector`/`SMatrix` on the stack, so the sizes are known to the compiler
 /// throughout.
+///
+/// With the model's compiled equations (`plan`), only what their structure needs is evaluated: a
+/// constant `W` is never differentiated again (its factor is the plan's), a constant `r` needs no
+/// pass over `L` at all, `g`, `c` and `Q` are skipped where they are zero, and the block system is
+/// solved by the Schur complement. With `full = false` the energy `E` (which needs `p = ∂L/∂q̇`)
+/// is left out. Without a plan every block is evaluated.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn evaluate_fixed<M, T, const N: usize, const K: usize>(
     model: &M,
+    plan: Option<&Compiled>,
     ws: &mut Workspace<T>,
     t: T,
     q: &[T],
     qd: &[T],
+    full: bool,
 ) -> Result<(), SaddleFailure>
 where
     M: crate::model::Lagrangian<N> + crate::model::Constraints<N, K> + ?Sized,
     T: Real,
 {
+    use compiled::{cholesky, cholesky_solve, Metric};
+    use derivatives::fixed as fx;
     use nalgebra::{SMatrix, SVector};
     let q = SVector::<T, N>::from_column_slice(q);
     let qd = SVector::<T, N>::from_column_slice(qd);
-    let ld = derivatives::lagrangian_derivatives(model, t, &q, &qd);
-    let forces = derivatives::fixed::forces(model, t, &q, &qd);
-    let r = match forces {
-        Some(f) => ld.dl_dq - ld.g + f,
-        None => ld.dl_dq - ld.g,
+    let s = plan.map(|p| p.structure());
+    let zero = |b: fn(&structure::Structure) -> bool| s.is_some_and(b);
+    let known_w = plan.and_then(|p| p.constant_factor());
+
+    // L, p = ∂L/∂q̇ (for E) and W.
+    let (l, p, w) = match known_w {
+        Some(_) if full => {
+            let (l, p) = fx::momentum(model, t, &q, &qd);
+            (l, Some(p), None)
+        }
+        Some(_) => (model.lagrangian(t, &q, &qd), None, None),
+        None => {
+            let (l, p, w) = fx::velocity_hessian(model, t, &q, &qd);
+            (l, Some(p), Some(w))
+        }
     };
+    // r = ∂L/∂q − g + Q, and ∂L/∂t and Q for the energy balance.
+    let quiet = zero(|s| s.dl_dt.zero) && zero(|s| s.forces.zero);
+    let (r, dl_dt, forces) = match plan.and_then(|p| p.r_constant()) {
+        Some(rc) if quiet => (
+            SVector::<T, N>::from_fn(|i, _| T::from(rc[i])),
+            T::zero(),
+            None,
+        ),
+        _ => {
+            let dl_dq = match plan.and_then(|p| p.dl_dq_constant()) {
+                Some(c) => SVector::<T, N>::from_fn(|i, _| T::from(c[i])),
+                None => fx::position_gradient(model, t, &q, &qd),
+            };
+            let (g, dl_dt) = if zero(|s| s.g.zero) && zero(|s| s.dl_dt.zero) {
+                (SVector::<T, N>::zeros(), T::zero())
+            } else {
+                let (g, dl_dir) = fx::along_motion(model, t, &q, &qd);
+                (g, dl_dir - dl_dq.dot(&qd))
+            };
+            let forces = if zero(|s| s.forces.zero) {
+                None
+            } else {
+                fx::forces(model, t, &q, &qd)
+            };
+            let r = match forces {
+                Some(f) => dl_dq - g + f,
+                None => dl_dq - g,
+            };
+            (r, dl_dt, forces)
+        }
+    };
+    // f, J = ∂f/∂q̇, c = (∂f/∂q) q̇ + ∂f/∂t.
     let (f, j, c) = if K == 0 {
         (
             SVector::<T, K>::zeros(),
@@ -246,32 +339,104 @@ where
             SVector::<T, K>::zeros(),
         )
     } else {
-        let cd = derivatives::constraint_derivatives::<M, T, N, K>(model, t, &q, &qd);
-        (cd.f, cd.j, cd.c)
+        let (f, j) = fx::constraint_jacobian::<M, T, N, K>(model, t, &q, &qd);
+        let c = if zero(|s| s.c.zero) {
+            SVector::<T, K>::zeros()
+        } else {
+            fx::constraint_direction::<M, T, N, K>(model, t, &q, &qd)
+        };
+        (f, j, c)
     };
-    if !ld.l.re().is_finite() || f.iter().any(|f| !f.re().is_finite()) {
+    if !l.re().is_finite() || f.iter().any(|f| !f.re().is_finite()) {
         return Err(SaddleFailure::NonFinite);
     }
-    let pivot_ratio = saddle::solve_blocks(
-        &mut ws.saddle,
-        N,
-        K,
-        |i, m| ld.w[(i, m)],
-        |a, i| j[(a, i)],
-        |i| r[i],
-        |a| -c[a],
-    )?;
-    let x = ws.saddle.solution();
+    for a in 0..K {
+        if j.row(a).iter().all(|v| v.re() == 0.0) {
+            return Err(SaddleFailure::ZeroConstraintRow { row: a });
+        }
+    }
+
+    // a = W⁻¹ r and Y = W⁻¹ Jᵀ (column a is W⁻¹ J_aᵀ), by the plan's factor or a Cholesky
+    // factorisation of W here; the pivoted elimination where W is not positive definite.
+    let mut a0 = r;
+    let mut y: SMatrix<T, N, K> = j.transpose();
+    let mut wf = w.unwrap_or_else(SMatrix::<T, N, N>::zeros);
+    let w_ratio = match known_w {
+        Some((Metric::Diagonal(inv), ratio, _)) => {
+            for i in 0..N {
+                a0[i] *= inv[i];
+                for b in 0..K {
+                    y[(i, b)] *= inv[i];
+                }
+            }
+            Some(ratio)
+        }
+        Some((Metric::Factor(lf), ratio, _)) => {
+            let l = |i: usize, m: usize| T::from(lf[i * N + m]);
+            cholesky_solve(l, N, a0.as_mut_slice());
+            for b in 0..K {
+                cholesky_solve(l, N, y.column_mut(b).as_mut_slice());
+            }
+            Some(ratio)
+        }
+        _ => cholesky(wf.as_mut_slice(), N).inspect(|_| {
+            let wf = &wf;
+            let l = |i: usize, m: usize| wf.as_slice()[i * N + m];
+            cholesky_solve(l, N, a0.as_mut_slice());
+            for b in 0..K {
+                cholesky_solve(l, N, y.column_mut(b).as_mut_slice());
+            }
+        }),
+    };
+    let (qdd, mu, pivot_ratio) = match w_ratio {
+        Some(w_ratio) if K == 0 => (a0, SVector::<T, K>::zeros(), w_ratio),
+        Some(w_ratio) => {
+            // S = J Y, S μ = −c − J a, q̈ = a + Y μ.
+            let mut sm: SMatrix<T, K, K> = j * y;
+            let mut mu = -c - j * a0;
+            let s_ratio = cholesky(sm.as_mut_slice(), K).unwrap_or(0.0);
+            if s_ratio < saddle::SINGULAR_PIVOT_RATIO {
+                return Err(SaddleFailure::Singular {
+                    pivot_ratio: s_ratio,
+                });
+            }
+            let sm = &sm;
+            cholesky_solve(|i, m| sm.as_slice()[i * K + m], K, mu.as_mut_slice());
+            (a0 + y * mu, mu, w_ratio.min(s_ratio))
+        }
+        None => {
+            let wm = w.unwrap_or_else(SMatrix::<T, N, N>::zeros);
+            let ratio = saddle::solve_blocks(
+                &mut ws.saddle,
+                N,
+                K,
+                |i, m| wm[(i, m)],
+                |a, i| j[(a, i)],
+                |i| r[i],
+                |a| -c[a],
+            )?;
+            let x = ws.saddle.solution();
+            (
+                SVector::<T, N>::from_column_slice(&x[..N]),
+                SVector::<T, K>::from_column_slice(&x[N..N + K]),
+                ratio,
+            )
+        }
+    };
+    if qdd.iter().chain(mu.iter()).any(|v| !v.re().is_finite()) {
+        return Err(SaddleFailure::NonFinite);
+    }
     let d = &mut ws.dynamics;
-    d.qdd.copy_from_slice(&x[..N]);
-    d.mu.copy_from_slice(&x[N..N + K]);
-    let mu = SVector::<T, K>::from_column_slice(&d.mu);
+    d.qdd.copy_from_slice(qdd.as_slice());
+    d.mu.copy_from_slice(mu.as_slice());
     let phi = j.tr_mul(&mu);
     d.phi.copy_from_slice(phi.as_slice());
     d.f.copy_from_slice(f.as_slice());
-    d.l = ld.l;
-    d.energy = qd.dot(&ld.p) - ld.l;
-    d.dl_dt = ld.dl_dt;
+    d.l = l;
+    if let Some(p) = p {
+        d.energy = qd.dot(&p) - l;
+    }
+    d.dl_dt = dl_dt;
     d.power = qd.dot(&phi);
     match forces {
         Some(f) => {
@@ -289,6 +454,10 @@ where
             d.j[a * N + i] = j[(a, i)].re();
         }
     }
-    d.w_scale = ld.w.iter().fold(0.0f64, |m, v| m.max(v.re().abs()));
+    d.w_scale = match (known_w, w) {
+        (Some((_, _, scale)), _) => scale,
+        (None, Some(w)) => w.iter().fold(0.0f64, |m, v| m.max(v.re().abs())),
+        (None, None) => 0.0,
+    };
     Ok(())
 }

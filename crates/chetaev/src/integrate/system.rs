@@ -7,7 +7,8 @@
 
 use num_dual::Dual64;
 
-use crate::equations::{evaluate, saddle::SaddleFailure, Dynamics, Workspace};
+use crate::equations::compiled::Compiled;
+use crate::equations::{evaluate_with, saddle::SaddleFailure, Dynamics, Workspace};
 use crate::error::Error;
 use crate::model::Model;
 
@@ -59,6 +60,9 @@ pub struct Stats {
     pub projection_iterations: usize,
     /// Evaluations of event functions.
     pub event_evaluations: usize,
+    /// Evaluations by dual numbers in place of the compiled equations, where a comparison in the
+    /// model's code went the other way than when it was recorded.
+    pub graph_fallbacks: usize,
 }
 
 impl Stats {
@@ -99,6 +103,8 @@ pub(crate) fn locate(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
 /// driver integrates, and what another integrator (a backend) can integrate.
 pub struct ReducedOde<'a, M: ?Sized> {
     pub(crate) model: &'a M,
+    /// The compiled equations, when the problem has them.
+    compiled: Option<&'a Compiled>,
     pub(crate) n: usize,
     pub(crate) ws: Workspace<f64>,
     /// Scratch space for the dual evaluations of the Jacobian, made on first use.
@@ -217,6 +223,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     pub fn new(model: &'a M, energy: bool) -> Self {
         Self {
             model,
+            compiled: None,
             n: model.sizes().0,
             ws: Workspace::for_model(model),
             jac_ws: None,
@@ -243,6 +250,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         let forces = model.force_blocks(problem.t0(), problem.q0(), problem.qd0(), &mut buf);
         Self {
             forces,
+            compiled: problem.compiled(),
             ..Self::new(model, energy)
         }
     }
@@ -266,7 +274,10 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     /// The full dynamics at a state, for output (counted as an output evaluation).
     pub fn evaluate(&mut self, t: f64, q: &[f64], qd: &[f64]) -> Result<&Dynamics<f64>, Error> {
         self.stats.output_evaluations += 1;
-        evaluate(self.model, &mut self.ws, t, q, qd).map_err(|e| locate(e, t, q, qd))
+        let (d, fell_back) = evaluate_with(self.model, self.compiled, &mut self.ws, t, q, qd, true)
+            .map_err(|e| locate(e, t, q, qd))?;
+        self.stats.graph_fallbacks += usize::from(fell_back);
+        Ok(d)
     }
 }
 
@@ -297,9 +308,18 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         self.stats.rhs_evaluations += 1;
         let n = self.n;
         let (q, qd) = (&y[..n], &y[n..2 * n]);
-        evaluate(self.model, &mut self.ws, t, q, qd).map_err(|e| locate(e, t, q, qd))?;
+        let (d, fell_back) = evaluate_with(
+            self.model,
+            self.compiled,
+            &mut self.ws,
+            t,
+            q,
+            qd,
+            self.energy,
+        )
+        .map_err(|e| locate(e, t, q, qd))?;
+        self.stats.graph_fallbacks += usize::from(fell_back);
         self.last_t = t;
-        let d = self.ws.dynamics();
         dy[..n].copy_from_slice(qd);
         dy[n..2 * n].copy_from_slice(&d.qdd);
         if self.energy {
@@ -339,8 +359,9 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 qd[i] = Dual64::new(y[n + i], seed(n + i));
             }
             let td = Dual64::new(t, seed(2 * n));
-            let d = evaluate(model, ws, td, &q, &qd)
+            let (d, fell_back) = evaluate_with(model, self.compiled, ws, td, &q, &qd, self.energy)
                 .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
+            self.stats.graph_fallbacks += usize::from(fell_back);
             let mut put = |row: usize, v: f64| {
                 if dir < 2 * n {
                     jac[row * dim + dir] = v;

@@ -62,11 +62,34 @@ where
     M: Lagrangian<N> + ?Sized,
     T: Real,
 {
-    let n = Const::<N>;
-
     let (l, p, w) = velocity_hessian(model, t, q, qd);
+    let dl_dq = position_gradient(model, t, q, qd);
+    let (g, dl_dir) = along_motion(model, t, q, qd);
+    let dl_dt = dl_dir - dl_dq.dot(qd);
+    LagrangianDerivatives {
+        l,
+        p,
+        w,
+        dl_dq,
+        g,
+        dl_dt,
+    }
+}
 
-    // Pass B: ∂/∂q̇ of the derivative along (δq, δt) = (q̇, 1).
+/// Pass B: `g = (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t` (shape `N`) and the derivative of `L` along
+/// `(δq, δt) = (q̇, 1)`, `∂L/∂q·q̇ + ∂L/∂t`.
+#[inline(always)]
+pub(crate) fn along_motion<M, T, const N: usize>(
+    model: &M,
+    t: T,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+) -> (SVector<T, N>, T)
+where
+    M: Lagrangian<N> + ?Sized,
+    T: Real,
+{
+    let n = Const::<N>;
     type B<T, const N: usize> = HyperDualVec<T, f64, Const<N>, U1>;
     let tb = B::<T, N>::new(
         t,
@@ -91,10 +114,25 @@ where
         )
     });
     let lb = model.lagrangian(tb, &qb, &qdb);
-    let dl_dir = lb.eps2.unwrap_generic(U1, U1)[0];
-    let g = lb.eps1eps2.unwrap_generic(n, U1);
+    (
+        lb.eps1eps2.unwrap_generic(n, U1),
+        lb.eps2.unwrap_generic(U1, U1)[0],
+    )
+}
 
-    // Pass C: gradient over q.
+/// Pass C: `∂L/∂q` (shape `N`).
+#[inline(always)]
+pub(crate) fn position_gradient<M, T, const N: usize>(
+    model: &M,
+    t: T,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+) -> SVector<T, N>
+where
+    M: Lagrangian<N> + ?Sized,
+    T: Real,
+{
+    let n = Const::<N>;
     type C<T, const N: usize> = DualVec<T, f64, Const<N>>;
     let tc = C::<T, N>::from_re(t);
     let mut qc: SVector<C<T, N>, N> = q.map(C::from_re);
@@ -102,18 +140,29 @@ where
         x.eps = Derivative::derivative_generic(n, U1, i);
     }
     let qdc: SVector<C<T, N>, N> = qd.map(C::from_re);
-    let lc = model.lagrangian(tc, &qc, &qdc);
-    let dl_dq = lc.eps.unwrap_generic(n, U1);
+    model.lagrangian(tc, &qc, &qdc).eps.unwrap_generic(n, U1)
+}
 
-    let dl_dt = dl_dir - dl_dq.dot(qd);
-    LagrangianDerivatives {
-        l,
-        p,
-        w,
-        dl_dq,
-        g,
-        dl_dt,
+/// `L` and `p = ∂L/∂q̇` (shape `N`) from one gradient pass over `q̇`.
+#[inline(always)]
+pub(crate) fn momentum<M, T, const N: usize>(
+    model: &M,
+    t: T,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+) -> (T, SVector<T, N>)
+where
+    M: Lagrangian<N> + ?Sized,
+    T: Real,
+{
+    let n = Const::<N>;
+    type D<T, const N: usize> = DualVec<T, f64, Const<N>>;
+    let mut qdv: SVector<D<T, N>, N> = qd.map(D::from_re);
+    for (i, x) in qdv.iter_mut().enumerate() {
+        x.eps = Derivative::derivative_generic(n, U1, i);
     }
+    let l = model.lagrangian(D::<T, N>::from_re(t), &q.map(D::from_re), &qdv);
+    (l.re, l.eps.unwrap_generic(n, U1))
 }
 
 /// Above this many coordinates `W` is taken column by column (see [`velocity_hessian`]).
@@ -227,7 +276,7 @@ where
 
 /// `f` and `J = ∂f/∂q̇` (shape `K × N`) from one gradient pass over `q̇`.
 #[inline(always)]
-fn constraint_jacobian<M, T, const N: usize, const K: usize>(
+pub(crate) fn constraint_jacobian<M, T, const N: usize, const K: usize>(
     model: &M,
     t: T,
     q: &SVector<T, N>,
@@ -253,7 +302,7 @@ where
 
 /// `c = (∂f/∂q) q̇ + ∂f/∂t` from one directional derivative along `(δq, δt) = (q̇, 1)`.
 #[inline(always)]
-fn constraint_direction<M, T, const N: usize, const K: usize>(
+pub(crate) fn constraint_direction<M, T, const N: usize, const K: usize>(
     model: &M,
     t: T,
     q: &SVector<T, N>,

@@ -1,0 +1,727 @@
+//! The Chetaev equations of a model compiled from its expression graph: the structure found once
+//! per problem, and a right-hand side that evaluates only what the structure needs.
+//!
+//! At construction the model's `L`, `f`, `h`, `Q` and `D` are recorded once ([`graph`]) at the
+//! initial state, and every block the equations need is derived symbolically:
+//!
+//! ```text
+//! p = ∂L/∂q̇,  W = ∂p/∂q̇,  r = ∂L/∂q − (∂p/∂q) q̇ − ∂p/∂t + Q − ∂D/∂q̇     (n, n × n, n)
+//! f = [f_v; ḣ],  J = ∂f/∂q̇,  c = (∂f/∂q) q̇ + ∂f/∂t                     (k, k × n, k)
+//! ```
+//!
+//! with `ḣ = (∂h/∂q) q̇ + ∂h/∂t`, so holonomic rows need nothing of their own. Each block is then
+//! known to be zero, constant, or dependent on `t`, `q`, `q̇` (a proof about the expressions, not a
+//! sample), and the right-hand side is a [`Tape`] of only the operations that vary. The block
+//! system `W q̈ − Jᵀμ = r`, `J q̈ = −c` is solved by the Schur complement,
+//!
+//! ```text
+//! a = W⁻¹ r,   Y = W⁻¹ Jᵀ (n × k),   S = J Y (k × k),   S μ = −c − J a,   q̈ = a + Y μ
+//! ```
+//!
+//! with `W` factorised by Cholesky once when it is constant (inverted outright when diagonal), and
+//! at each evaluation when it varies. Where `W` is not positive definite (a singular or indefinite
+//! metric that is regular only on the null space of `J`), the pivoted elimination of [`saddle`]
+//! solves the whole block system instead, as the dual-number path does.
+//!
+//! A comparison in the model's code is a guard of the tape: when one flips, [`evaluate`] reports
+//! it and the caller falls back to the dual-number path ([`super::evaluate`]) for that evaluation.
+//!
+//! [`graph`]: super::graph
+//! [`saddle`]: super::saddle
+
+use std::fmt;
+
+use super::graph::{record, Deps, Graph, GuardFlip, Sym, Tape, DEP_Q, DEP_QD, DEP_T};
+use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
+use super::structure::{Dependence, Structure};
+use super::Dynamics;
+use crate::model::{Functions, Model, Real};
+
+/// How `W` is handled.
+#[derive(Clone, Debug)]
+pub(crate) enum Metric {
+    /// Constant and diagonal: `1/W_ii`.
+    Diagonal(Vec<f64>),
+    /// Constant and positive definite: its Cholesky factor (row-major lower triangle).
+    Factor(Vec<f64>),
+    /// Constant but not positive definite: its entries, for the pivoted elimination.
+    Indefinite(Vec<f64>),
+    /// Varying: its entries on and above the diagonal come from the tape.
+    Varying,
+}
+
+/// The node ids of every block, for showing the equations.
+#[derive(Clone, Debug)]
+struct Blocks {
+    l: u32,
+    p: Vec<u32>,
+    w: Vec<u32>,
+    dl_dq: Vec<u32>,
+    g: Vec<u32>,
+    dl_dt: u32,
+    f: Vec<u32>,
+    j: Vec<u32>,
+    c: Vec<u32>,
+    forces: Vec<u32>,
+    r: Vec<u32>,
+    energy: u32,
+    power_forces: u32,
+}
+
+/// The compiled equations of one model; see the module docs. Built by
+/// [`Problem`](crate::Problem) once per problem.
+#[derive(Clone)]
+pub struct Compiled {
+    n: usize,
+    k: usize,
+    graph: Graph,
+    blocks: Blocks,
+    structure: Structure,
+    /// The right-hand side: `L`, `f`, `r`, `J` (its nonzero entries), `c`, `W` (when varying).
+    core: Tape,
+    /// The same and the energy balance: `∂L/∂t`, `E`, `q̇·Q`, `Q`.
+    full: Tape,
+    j_entries: Vec<(usize, usize)>,
+    w_entries: Vec<(usize, usize)>,
+    metric: Metric,
+    /// Pivot ratio of a constant `W`'s factorisation (1 when varying: taken per evaluation).
+    w_ratio: f64,
+    /// `max |W_ij|` of a constant `W`.
+    w_scale: f64,
+    /// `r` and `∂L/∂q`, where constant.
+    r_const: Option<Vec<f64>>,
+    dl_dq_const: Option<Vec<f64>>,
+}
+
+impl fmt::Debug for Compiled {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Compiled")
+            .field("sizes", &(self.n, self.k))
+            .field("structure", &self.structure)
+            .field("operations", &(self.core.len(), self.full.len()))
+            .field("guards", &self.graph.guards().len())
+            .finish()
+    }
+}
+
+/// Why a compiled evaluation did not give the equations.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CompiledFailure {
+    /// The block system failed, as the dual-number path would.
+    Saddle(SaddleFailure),
+    /// A branch of the model's code goes the other way here: evaluate by dual numbers instead.
+    Guard(GuardFlip),
+}
+
+impl From<SaddleFailure> for CompiledFailure {
+    fn from(e: SaddleFailure) -> Self {
+        Self::Saddle(e)
+    }
+}
+
+/// Scratch space of a compiled evaluation for one scalar type.
+#[derive(Clone, Debug)]
+pub struct CompiledWorkspace<T> {
+    core: Vec<T>,
+    full: Vec<T>,
+    /// `W` (row-major `n × n`), then its factor.
+    w: Vec<T>,
+    wf: Vec<T>,
+    /// `J` dense (row-major `k × n`), `Y` (`k × n`: row `a` is `W⁻¹ J_aᵀ`), `a = W⁻¹ r`, `S`.
+    j: Vec<T>,
+    y: Vec<T>,
+    a: Vec<T>,
+    s: Vec<T>,
+    r: Vec<T>,
+    c: Vec<T>,
+    mu: Vec<T>,
+    saddle: SaddleWorkspace<T>,
+}
+
+impl<T: Real> CompiledWorkspace<T> {
+    /// Scratch space for `compiled`.
+    pub fn new(compiled: &Compiled) -> Self {
+        let (n, k) = (compiled.n, compiled.k);
+        let varying = matches!(compiled.metric, Metric::Varying);
+        Self {
+            core: compiled.core.slots(),
+            full: compiled.full.slots(),
+            w: vec![T::zero(); if varying { n * n } else { 0 }],
+            wf: vec![T::zero(); if varying { n * n } else { 0 }],
+            j: vec![T::zero(); k * n],
+            y: vec![T::zero(); k * n],
+            a: vec![T::zero(); n],
+            s: vec![T::zero(); k * k],
+            r: vec![T::zero(); n],
+            c: vec![T::zero(); k],
+            mu: vec![T::zero(); k],
+            saddle: SaddleWorkspace::default(),
+        }
+    }
+}
+
+fn dependence(graph: &Graph, ids: &[u32]) -> Dependence {
+    let deps: Deps = ids.iter().fold(0, |d, &id| d | graph.deps(id));
+    Dependence {
+        t: deps & DEP_T != 0,
+        q: deps & DEP_Q != 0,
+        qd: deps & DEP_QD != 0,
+        zero: ids.iter().all(|&id| graph.is_zero(id)),
+    }
+}
+
+impl Compiled {
+    /// Records `model` at `(t, q, q̇)` and derives its equations; `None` where the model does not
+    /// offer its functions ([`Model::functions`]) or its recording cannot be trusted (a value
+    /// taken out of the graph).
+    pub fn new<M: Model + ?Sized>(model: &M, t: f64, q: &[f64], qd: &[f64]) -> Option<Self> {
+        let (n, k) = model.sizes();
+        let holonomic = model.holonomic_count();
+        let kv = k - holonomic;
+        let (mut g, recorded) = record(|| {
+            let ts = Sym::input(DEP_T, t);
+            let qs: Vec<Sym> = q.iter().map(|&v| Sym::input(DEP_Q, v)).collect();
+            let qds: Vec<Sym> = qd.iter().map(|&v| Sym::input(DEP_QD, v)).collect();
+            let mut out = Functions::<Sym>::new(n, kv, holonomic);
+            let offered = model.functions(ts, &qs, &qds, &mut out);
+            offered.then(|| {
+                let nodes = |v: &[Sym]| v.iter().map(|s| s.node()).collect::<Vec<u32>>();
+                (
+                    ts.node(),
+                    nodes(&qs),
+                    nodes(&qds),
+                    out.l.node(),
+                    nodes(&out.f),
+                    nodes(&out.h),
+                    out.has_forces.then(|| nodes(&out.forces)),
+                    out.dissipation.map(|d| d.node()),
+                )
+            })
+        });
+        let (tn, qn, qdn, l, fv, h, forces, dissipation) = recorded?;
+        if g.escaped() {
+            return None;
+        }
+        let one = g.constant_node(1.0);
+        let zero = g.constant_node(0.0);
+        // Moving along (δq, δt) = (q̇, 1) with q̇ held: the total time derivative without q̈.
+        let along: Vec<(u32, u32)> = qn
+            .iter()
+            .zip(&qdn)
+            .map(|(&qi, &vi)| (qi, vi))
+            .chain([(tn, one)])
+            .collect();
+
+        let p = g.gradient(l, &qdn, DEP_QD);
+        let mut w = Vec::with_capacity(n * n);
+        for &pi in &p {
+            w.extend(g.gradient(pi, &qdn, DEP_QD));
+        }
+        let dl_dq = g.gradient(l, &qn, DEP_Q);
+        let dl_dt = g.gradient(l, &[tn], DEP_T)[0];
+        let gv = g.directional(&p, &along, DEP_Q | DEP_T);
+        let hdot = g.directional(&h, &along, DEP_Q | DEP_T);
+        let f: Vec<u32> = fv.iter().copied().chain(hdot).collect();
+        let mut j = Vec::with_capacity(k * n);
+        for &fa in &f {
+            j.extend(g.gradient(fa, &qdn, DEP_QD));
+        }
+        let c = g.directional(&f, &along, DEP_Q | DEP_T);
+        let mut qf = forces.unwrap_or_else(|| vec![zero; n]);
+        if let Some(d) = dissipation {
+            for (qi, dd) in qf.iter_mut().zip(g.gradient(d, &qdn, DEP_QD)) {
+                *qi = g.sub(*qi, dd);
+            }
+        }
+        let r: Vec<u32> = (0..n)
+            .map(|i| {
+                let x = g.sub(dl_dq[i], gv[i]);
+                g.add(x, qf[i])
+            })
+            .collect();
+        let mut energy = g.neg(l);
+        let mut power_forces = zero;
+        for i in 0..n {
+            let e = g.mul(qdn[i], p[i]);
+            energy = g.add(energy, e);
+            let pf = g.mul(qdn[i], qf[i]);
+            power_forces = g.add(power_forces, pf);
+        }
+
+        let structure = Structure {
+            sizes: (n, k),
+            holonomic,
+            w: dependence(&g, &w),
+            dl_dq: dependence(&g, &dl_dq),
+            g: dependence(&g, &gv),
+            dl_dt: dependence(&g, &[dl_dt]),
+            j: dependence(&g, &j),
+            c: dependence(&g, &c),
+            forces: dependence(&g, &qf),
+            w_pattern: w.iter().map(|&id| !g.is_zero(id)).collect(),
+            j_pattern: j.iter().map(|&id| !g.is_zero(id)).collect(),
+        };
+
+        let j_entries: Vec<(usize, usize)> = (0..k * n)
+            .filter(|&e| structure.j_pattern[e])
+            .map(|e| (e / n, e % n))
+            .collect();
+        let w_constant = w.iter().all(|&id| g.constant(id).is_some());
+        let w_values: Vec<f64> = w.iter().map(|&id| g.constant(id).unwrap_or(0.0)).collect();
+        let w_scale = w_values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let (metric, w_ratio) = if w_constant {
+            constant_metric(&w_values, n)
+        } else {
+            (Metric::Varying, 1.0)
+        };
+        let w_entries: Vec<(usize, usize)> = if matches!(metric, Metric::Varying) {
+            (0..n)
+                .flat_map(|i| (i..n).map(move |m| (i, m)))
+                .filter(|&(i, m)| structure.w_pattern[i * n + m])
+                .collect()
+        } else {
+            Vec::new()
+        };
+
+        let mut core_out = vec![l];
+        core_out.extend(&f);
+        core_out.extend(&r);
+        core_out.extend(j_entries.iter().map(|&(a, i)| j[a * n + i]));
+        core_out.extend(&c);
+        core_out.extend(w_entries.iter().map(|&(i, m)| w[i * n + m]));
+        let mut full_out = core_out.clone();
+        full_out.extend([dl_dt, energy, power_forces]);
+        full_out.extend(&qf);
+        let constants = |ids: &[u32]| {
+            ids.iter()
+                .map(|&id| g.constant(id))
+                .collect::<Option<Vec<f64>>>()
+        };
+        let r_const = constants(&r);
+        let dl_dq_const = constants(&dl_dq);
+        let core = Tape::new(&g, &core_out);
+        let full = Tape::new(&g, &full_out);
+        Some(Self {
+            n,
+            k,
+            graph: g,
+            blocks: Blocks {
+                l,
+                p,
+                w,
+                dl_dq,
+                g: gv,
+                dl_dt,
+                f,
+                j,
+                c,
+                forces: qf,
+                r,
+                energy,
+                power_forces,
+            },
+            structure,
+            core,
+            full,
+            j_entries,
+            w_entries,
+            metric,
+            w_ratio,
+            w_scale,
+            r_const,
+            dl_dq_const,
+        })
+    }
+
+    /// `W` when it is constant and factorised once, with its pivot ratio and `max |W_ij|`.
+    pub(crate) fn constant_factor(&self) -> Option<(&Metric, f64, f64)> {
+        matches!(self.metric, Metric::Diagonal(_) | Metric::Factor(_)).then_some((
+            &self.metric,
+            self.w_ratio,
+            self.w_scale,
+        ))
+    }
+
+    /// `r = ∂L/∂q − g + Q` where it is constant.
+    pub(crate) fn r_constant(&self) -> Option<&[f64]> {
+        self.r_const.as_deref()
+    }
+
+    /// `∂L/∂q` where it is constant.
+    pub(crate) fn dl_dq_constant(&self) -> Option<&[f64]> {
+        self.dl_dq_const.as_deref()
+    }
+
+    /// The structure found: which blocks are zero, constant, or depend on `t`, `q`, `q̇`, and the
+    /// sparsity of `W` and `J` (proved from the expressions).
+    pub fn structure(&self) -> &Structure {
+        &self.structure
+    }
+
+    /// Operations per evaluation: `(right-hand side, with the energy balance)`.
+    pub fn operations(&self) -> (usize, usize) {
+        (self.core.len(), self.full.len())
+    }
+
+    /// The number of comparisons in the model's code that the tape re-checks.
+    pub fn guards(&self) -> usize {
+        self.graph.guards().len()
+    }
+
+    /// Whether `W` is constant and factorised once (diagonal or by Cholesky).
+    pub fn constant_metric(&self) -> bool {
+        matches!(self.metric, Metric::Diagonal(_) | Metric::Factor(_))
+    }
+
+    /// The derived equations as text, with the inputs named `t`, `q1…qn`, `q̇1…q̇n` (plain) or
+    /// `t`, `q_1…`, `\dot q_1…` (LaTeX): `L`, `∂L/∂q`, `W`, `g`, `f`, `J`, `c`, `Q`, and the right-hand
+    /// side `r` of `W q̈ − Jᵀμ = r`, each entry as an expression (zero entries left out).
+    pub fn equations_text(&self, latex: bool) -> Vec<(String, String)> {
+        let n = self.n;
+        let names: Vec<String> = std::iter::once("t".to_string())
+            .chain((1..=n).map(|i| {
+                if latex {
+                    format!("q_{{{i}}}")
+                } else {
+                    format!("q{i}")
+                }
+            }))
+            .chain((1..=n).map(|i| {
+                if latex {
+                    format!("\\dot q_{{{i}}}")
+                } else {
+                    format!("q̇{i}")
+                }
+            }))
+            .collect();
+        let show = |id: u32| {
+            if latex {
+                self.graph.to_latex(id, &names)
+            } else {
+                self.graph.to_text(id, &names)
+            }
+        };
+        let b = &self.blocks;
+        let mut out = vec![("L".to_string(), show(b.l))];
+        let mut vector = |name: &str, ids: &[u32], cols: usize| {
+            for (e, &id) in ids.iter().enumerate() {
+                if self.graph.is_zero(id) {
+                    continue;
+                }
+                let label = match e.checked_div(cols) {
+                    None => format!("{name}[{}]", e + 1),
+                    Some(row) => format!("{name}[{},{}]", row + 1, e % cols + 1),
+                };
+                out.push((label, show(id)));
+            }
+        };
+        vector("∂L/∂q", &b.dl_dq, 0);
+        vector("W", &b.w, n);
+        vector("g", &b.g, 0);
+        vector("f", &b.f, 0);
+        vector("J", &b.j, n);
+        vector("c", &b.c, 0);
+        vector("Q", &b.forces, 0);
+        vector("r", &b.r, 0);
+        let _ = (&b.p, b.dl_dt, b.energy, b.power_forces);
+        out
+    }
+
+    /// Evaluates the reduced equations at `(t, q, q̇)` into `d`; with `full` also the energy
+    /// balance (`E`, `∂L/∂t`, `Q`, `q̇·Q`). `q̈`, `μ`, `Φ`, `f`, `L`, the power `q̇·Φ`, `J` and the
+    /// conditioning are always written.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn evaluate<T: Real>(
+        &self,
+        ws: &mut CompiledWorkspace<T>,
+        d: &mut Dynamics<T>,
+        t: T,
+        q: &[T],
+        qd: &[T],
+        full: bool,
+    ) -> Result<(), CompiledFailure> {
+        let n = self.n;
+        let mut slots = std::mem::take(if full { &mut ws.full } else { &mut ws.core });
+        let read = self.read(&mut slots, ws, d, t, q, qd, full);
+        if full {
+            ws.full = slots;
+        } else {
+            ws.core = slots;
+        }
+        d.l = read?;
+        d.pivot_ratio = self.solve(ws)?;
+        d.qdd.copy_from_slice(&ws.a);
+        d.mu.copy_from_slice(&ws.mu);
+        if d.qdd.iter().chain(&d.mu).any(|v| !v.re().is_finite()) {
+            return Err(SaddleFailure::NonFinite.into());
+        }
+        let mut power = T::zero();
+        for (i, (phi_i, &qd_i)) in d.phi.iter_mut().zip(qd).enumerate() {
+            let mut phi = T::zero();
+            for (a, &mu_a) in ws.mu.iter().enumerate() {
+                phi += ws.j[a * n + i] * mu_a;
+            }
+            *phi_i = phi;
+            power += qd_i * phi;
+        }
+        d.power = power;
+        for (dst, src) in d.j.iter_mut().zip(&ws.j) {
+            *dst = src.re();
+        }
+        d.w_scale = match self.metric {
+            Metric::Varying => ws.w.iter().fold(0.0f64, |m, v| m.max(v.re().abs())),
+            _ => self.w_scale,
+        };
+        Ok(())
+    }
+
+    /// Evaluates the tape (`full` or `core`) into `slots` and reads its outputs into `ws` (`r`,
+    /// `J`, `c`, `W`) and `d` (`f`, and with `full` the energy balance); returns `L`.
+    ///
+    /// Output layout: `L`, `f` (k), `r` (n), `J` entries, `c` (k), `W` entries, then with `full`
+    /// `∂L/∂t`, `E`, `q̇·Q`, `Q` (n).
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn read<T: Real>(
+        &self,
+        slots: &mut [T],
+        ws: &mut CompiledWorkspace<T>,
+        d: &mut Dynamics<T>,
+        t: T,
+        q: &[T],
+        qd: &[T],
+        full: bool,
+    ) -> Result<T, CompiledFailure> {
+        let (n, k) = (self.n, self.k);
+        let tape = if full { &self.full } else { &self.core };
+        tape.eval(slots, |i| {
+            if i == 0 {
+                t
+            } else if i <= n {
+                q[i - 1]
+            } else {
+                qd[i - 1 - n]
+            }
+        })
+        .map_err(CompiledFailure::Guard)?;
+        let out = |i: usize| tape.output(slots, i);
+        let l = out(0);
+        for (a, fa) in d.f.iter_mut().enumerate() {
+            *fa = out(1 + a);
+        }
+        if !l.re().is_finite() || d.f.iter().any(|f| !f.re().is_finite()) {
+            return Err(SaddleFailure::NonFinite.into());
+        }
+        let mut o = 1 + k;
+        for (i, ri) in ws.r.iter_mut().enumerate() {
+            *ri = out(o + i);
+        }
+        o += n;
+        for (e, &(a, i)) in self.j_entries.iter().enumerate() {
+            ws.j[a * n + i] = out(o + e);
+        }
+        o += self.j_entries.len();
+        for (a, ca) in ws.c.iter_mut().enumerate() {
+            *ca = out(o + a);
+        }
+        o += k;
+        for (e, &(i, m)) in self.w_entries.iter().enumerate() {
+            let v = out(o + e);
+            ws.w[i * n + m] = v;
+            ws.w[m * n + i] = v;
+        }
+        o += self.w_entries.len();
+        if full {
+            d.dl_dt = out(o);
+            d.energy = out(o + 1);
+            d.power_forces = out(o + 2);
+            for (i, fi) in d.forces.iter_mut().enumerate() {
+                *fi = out(o + 3 + i);
+            }
+        }
+        Ok(l)
+    }
+
+    /// Solves the block system from `ws.r`, `ws.j`, `ws.c` (and `ws.w` when varying): `q̈` into
+    /// `ws.a`, `μ` into `ws.mu`; returns the pivot ratio.
+    fn solve<T: Real>(&self, ws: &mut CompiledWorkspace<T>) -> Result<f64, SaddleFailure> {
+        let (n, k) = (self.n, self.k);
+        for a in 0..k {
+            if ws.j[a * n..(a + 1) * n].iter().all(|v| v.re() == 0.0) {
+                return Err(SaddleFailure::ZeroConstraintRow { row: a });
+            }
+        }
+        let w_ratio = match &self.metric {
+            Metric::Diagonal(inv) => {
+                let mul = |x: &mut [T]| {
+                    for (xi, &di) in x.iter_mut().zip(inv) {
+                        *xi *= di;
+                    }
+                };
+                ws.a.copy_from_slice(&ws.r);
+                mul(&mut ws.a);
+                ws.y.copy_from_slice(&ws.j);
+                for row in ws.y.chunks_exact_mut(n.max(1)) {
+                    mul(row);
+                }
+                self.w_ratio
+            }
+            Metric::Factor(lf) => {
+                let l = |i: usize, m: usize| T::from(lf[i * n + m]);
+                self.metric_solves(ws, l);
+                self.w_ratio
+            }
+            Metric::Indefinite(w) => return self.eliminate(ws, |i, m| T::from(w[i * n + m])),
+            Metric::Varying => {
+                ws.wf.copy_from_slice(&ws.w);
+                match cholesky(&mut ws.wf, n) {
+                    Some(ratio) => {
+                        let wf = std::mem::take(&mut ws.wf);
+                        self.metric_solves(ws, |i, m| wf[i * n + m]);
+                        ws.wf = wf;
+                        ratio
+                    }
+                    None => {
+                        let w = std::mem::take(&mut ws.w);
+                        let result = self.eliminate(ws, |i, m| w[i * n + m]);
+                        ws.w = w;
+                        return result;
+                    }
+                }
+            }
+        };
+        if k == 0 {
+            return Ok(w_ratio);
+        }
+        // S = J Y, the right-hand side −c − J a, then μ and q̈ = a + Yᵀ μ.
+        for a in 0..k {
+            let ja = &ws.j[a * n..(a + 1) * n];
+            for b in 0..=a {
+                let yb = &ws.y[b * n..(b + 1) * n];
+                let s = dot(ja, yb);
+                ws.s[a * k + b] = s;
+                ws.s[b * k + a] = s;
+            }
+            ws.mu[a] = -ws.c[a] - dot(ja, &ws.a);
+        }
+        let s_ratio = cholesky(&mut ws.s, k).unwrap_or(0.0);
+        if s_ratio < SINGULAR_PIVOT_RATIO {
+            return Err(SaddleFailure::Singular {
+                pivot_ratio: s_ratio,
+            });
+        }
+        let s = std::mem::take(&mut ws.s);
+        cholesky_solve(|i, m| s[i * k + m], k, &mut ws.mu);
+        ws.s = s;
+        for a in 0..k {
+            let mu = ws.mu[a];
+            for (ai, &yi) in ws.a.iter_mut().zip(&ws.y[a * n..(a + 1) * n]) {
+                *ai += yi * mu;
+            }
+        }
+        Ok(w_ratio.min(s_ratio))
+    }
+
+    /// `a = W⁻¹ r` and the rows of `Y = (W⁻¹ Jᵀ)ᵀ` with `W = L Lᵀ`, `l(i, m) = L_im`.
+    fn metric_solves<T: Real>(&self, ws: &mut CompiledWorkspace<T>, l: impl Fn(usize, usize) -> T) {
+        let n = self.n;
+        ws.a.copy_from_slice(&ws.r);
+        cholesky_solve(&l, n, &mut ws.a);
+        ws.y.copy_from_slice(&ws.j);
+        for row in ws.y.chunks_exact_mut(n.max(1)) {
+            cholesky_solve(&l, n, row);
+        }
+    }
+
+    /// The whole block system by pivoted elimination (a metric that is not positive definite).
+    fn eliminate<T: Real>(
+        &self,
+        ws: &mut CompiledWorkspace<T>,
+        w: impl Fn(usize, usize) -> T,
+    ) -> Result<f64, SaddleFailure> {
+        let (n, k) = (self.n, self.k);
+        let CompiledWorkspace {
+            j, r, c, saddle, ..
+        } = ws;
+        let ratio =
+            saddle::solve_blocks(saddle, n, k, w, |a, i| j[a * n + i], |i| r[i], |a| -c[a])?;
+        let x = ws.saddle.solution();
+        ws.a.copy_from_slice(&x[..n]);
+        ws.mu.copy_from_slice(&x[n..n + k]);
+        Ok(ratio)
+    }
+}
+
+/// The handling of a constant `W` and its pivot ratio.
+fn constant_metric(w: &[f64], n: usize) -> (Metric, f64) {
+    let diagonal = (0..n).all(|i| (0..n).all(|m| i == m || w[i * n + m] == 0.0));
+    if diagonal {
+        let d: Vec<f64> = (0..n).map(|i| w[i * n + i]).collect();
+        if d.iter().all(|&v| v > 0.0) {
+            return (Metric::Diagonal(d.iter().map(|v| 1.0 / v).collect()), 1.0);
+        }
+        return (Metric::Indefinite(w.to_vec()), 1.0);
+    }
+    let mut f = w.to_vec();
+    match cholesky(&mut f, n) {
+        Some(ratio) => (Metric::Factor(f), ratio),
+        None => (Metric::Indefinite(w.to_vec()), 1.0),
+    }
+}
+
+#[inline]
+fn dot<T: Real>(a: &[T], b: &[T]) -> T {
+    a.iter().zip(b).fold(T::zero(), |s, (&x, &y)| s + x * y)
+}
+
+/// Cholesky factorisation `A = L Lᵀ` in place (row-major `n × n`, the lower triangle becomes `L`).
+/// Returns `min_i L_ii² / A_ii` (1 for a diagonal matrix; small when a column is nearly dependent
+/// on the earlier ones), or `None` where `A` is not positive definite to working precision.
+#[inline]
+pub(crate) fn cholesky<T: Real>(a: &mut [T], n: usize) -> Option<f64> {
+    let mut ratio = 1.0f64;
+    for j in 0..n {
+        let ajj = a[j * n + j];
+        let mut d = ajj;
+        for p in 0..j {
+            let l = a[j * n + p];
+            d -= l * l;
+        }
+        let (dr, ar) = (d.re(), ajj.re());
+        if !(dr > 0.0 && ar > 0.0) || dr <= SINGULAR_PIVOT_RATIO * ar {
+            return None;
+        }
+        ratio = ratio.min(dr / ar);
+        let ljj = d.sqrt();
+        a[j * n + j] = ljj;
+        for i in j + 1..n {
+            let mut s = a[i * n + j];
+            for p in 0..j {
+                s -= a[i * n + p] * a[j * n + p];
+            }
+            a[i * n + j] = s / ljj;
+        }
+    }
+    Some(ratio)
+}
+
+/// Solves `L Lᵀ x = b` in place, `l(i, m) = L_im` for `m ≤ i`.
+#[inline]
+#[allow(clippy::needless_range_loop)] // both triangles are indexed by (row, column)
+pub(crate) fn cholesky_solve<T: Real>(l: impl Fn(usize, usize) -> T, n: usize, b: &mut [T]) {
+    for i in 0..n {
+        let mut s = b[i];
+        for m in 0..i {
+            s -= l(i, m) * b[m];
+        }
+        b[i] = s / l(i, i);
+    }
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for m in i + 1..n {
+            s -= l(m, i) * b[m];
+        }
+        b[i] = s / l(i, i);
+    }
+}

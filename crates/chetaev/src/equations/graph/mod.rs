@@ -1,0 +1,478 @@
+//! An expression graph of a model, recorded once by evaluating the user's `L`, `f`, `h`, `Q` and
+//! `D` with a tracing scalar ([`Sym`]), then differentiated symbolically, folded and shared, and
+//! evaluated as a compact [`Tape`].
+//!
+//! This is how the library finds a model's structure by itself (in the manner of CasADi's SX
+//! graphs): a block whose expression folds to `0` is identically zero; one that depends on no input
+//! is constant and computed once; the inputs each expression depends on give the sparsity of `W`,
+//! `J` and the reduced Jacobian. These are proofs about the recorded expressions, not samples.
+//!
+//! - Every node is created once (hash-consing): equal subexpressions are shared.
+//! - Constants fold at creation, with the algebraic identities `x + 0`, `x·1`, `x·0`, `x − x`, ...
+//!   (`x·0 = 0` also where `x` would be infinite: the finiteness of `L` and `f` themselves is still
+//!   checked at every evaluation).
+//! - A comparison of recorded values (a branch in the user's code: `if x > 0.0`) becomes a
+//!   [`Guard`]: the tape re-checks it at every evaluation and reports a flip, and the engine then
+//!   falls back to the dual-number path for that evaluation.
+//! - A value taken out of the graph (`x.re()` on a recorded value) cannot be followed: the
+//!   recording is marked as escaped and not used.
+//!
+//! The graph is thread-local while recording ([`record`]); a finished [`Graph`] is plain data.
+
+mod diff;
+mod sym;
+mod tape;
+mod text;
+
+pub use sym::Sym;
+pub use tape::{GuardFlip, Tape};
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+use crate::model::Real;
+
+/// Elementary functions of one argument.
+#[allow(missing_docs)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Fun {
+    Sqrt,
+    Cbrt,
+    Exp,
+    Exp2,
+    ExpM1,
+    Ln,
+    Log2,
+    Log10,
+    Ln1p,
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Sinh,
+    Cosh,
+    Tanh,
+    Asinh,
+    Acosh,
+    Atanh,
+    Abs,
+    Signum,
+    Recip,
+}
+
+impl Fun {
+    /// `f(x)` for any scalar.
+    #[inline]
+    pub fn apply<T: Real>(self, x: T) -> T {
+        match self {
+            Fun::Sqrt => x.sqrt(),
+            Fun::Cbrt => x.cbrt(),
+            Fun::Exp => x.exp(),
+            Fun::Exp2 => x.exp2(),
+            Fun::ExpM1 => x.exp_m1(),
+            Fun::Ln => x.ln(),
+            Fun::Log2 => x.log2(),
+            Fun::Log10 => x.log10(),
+            Fun::Ln1p => x.ln_1p(),
+            Fun::Sin => x.sin(),
+            Fun::Cos => x.cos(),
+            Fun::Tan => x.tan(),
+            Fun::Asin => x.asin(),
+            Fun::Acos => x.acos(),
+            Fun::Atan => x.atan(),
+            Fun::Sinh => x.sinh(),
+            Fun::Cosh => x.cosh(),
+            Fun::Tanh => x.tanh(),
+            Fun::Asinh => x.asinh(),
+            Fun::Acosh => x.acosh(),
+            Fun::Atanh => x.atanh(),
+            Fun::Abs => x.abs(),
+            Fun::Signum => x.signum(),
+            Fun::Recip => x.recip(),
+        }
+    }
+
+    /// The name used when printing.
+    pub fn name(self) -> &'static str {
+        match self {
+            Fun::Sqrt => "sqrt",
+            Fun::Cbrt => "cbrt",
+            Fun::Exp => "exp",
+            Fun::Exp2 => "exp2",
+            Fun::ExpM1 => "expm1",
+            Fun::Ln => "ln",
+            Fun::Log2 => "log2",
+            Fun::Log10 => "log10",
+            Fun::Ln1p => "ln1p",
+            Fun::Sin => "sin",
+            Fun::Cos => "cos",
+            Fun::Tan => "tan",
+            Fun::Asin => "asin",
+            Fun::Acos => "acos",
+            Fun::Atan => "atan",
+            Fun::Sinh => "sinh",
+            Fun::Cosh => "cosh",
+            Fun::Tanh => "tanh",
+            Fun::Asinh => "asinh",
+            Fun::Acosh => "acosh",
+            Fun::Atanh => "atanh",
+            Fun::Abs => "abs",
+            Fun::Signum => "sign",
+            Fun::Recip => "recip",
+        }
+    }
+}
+
+/// One node of the graph; operands are indices of earlier nodes, so the node list is in
+/// topological order.
+#[allow(missing_docs)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Node {
+    Const(f64),
+    /// Input number `i` (the engine's layout: `t`, then `q`, then `q̇`).
+    Input(u32),
+    Add(u32, u32),
+    Sub(u32, u32),
+    Mul(u32, u32),
+    Div(u32, u32),
+    Neg(u32),
+    Powi(u32, i32),
+    Powf(u32, f64),
+    Atan2(u32, u32),
+    Fun(Fun, u32),
+}
+
+impl Node {
+    /// The value of this node from its operands' values `v`.
+    #[inline]
+    pub fn eval<T: Real>(&self, v: impl Fn(u32) -> T) -> T {
+        match *self {
+            Node::Const(c) => T::from(c),
+            Node::Input(_) => unreachable!("inputs are set, not evaluated"),
+            Node::Add(a, b) => v(a) + v(b),
+            Node::Sub(a, b) => v(a) - v(b),
+            Node::Mul(a, b) => v(a) * v(b),
+            Node::Div(a, b) => v(a) / v(b),
+            Node::Neg(a) => -v(a),
+            Node::Powi(a, n) => v(a).powi(n),
+            Node::Powf(a, p) => v(a).powf(p),
+            Node::Atan2(a, b) => v(a).atan2(v(b)),
+            Node::Fun(f, a) => f.apply(v(a)),
+        }
+    }
+
+    /// The operands.
+    pub fn operands(&self) -> ([u32; 2], usize) {
+        match *self {
+            Node::Const(_) | Node::Input(_) => ([0, 0], 0),
+            Node::Neg(a) | Node::Powi(a, _) | Node::Powf(a, _) | Node::Fun(_, a) => ([a, 0], 1),
+            Node::Add(a, b)
+            | Node::Sub(a, b)
+            | Node::Mul(a, b)
+            | Node::Div(a, b)
+            | Node::Atan2(a, b) => ([a, b], 2),
+        }
+    }
+}
+
+/// The hash-consing key of a node (floating-point payloads by their bits).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct Key(u8, u32, u32, u64);
+
+fn key(node: &Node) -> Key {
+    match *node {
+        Node::Const(c) => Key(0, 0, 0, c.to_bits()),
+        Node::Input(i) => Key(1, i, 0, 0),
+        Node::Add(a, b) => Key(2, a, b, 0),
+        Node::Sub(a, b) => Key(3, a, b, 0),
+        Node::Mul(a, b) => Key(4, a, b, 0),
+        Node::Div(a, b) => Key(5, a, b, 0),
+        Node::Neg(a) => Key(6, a, 0, 0),
+        Node::Powi(a, n) => Key(7, a, n as u32, 0),
+        Node::Powf(a, p) => Key(8, a, 0, p.to_bits()),
+        Node::Atan2(a, b) => Key(9, a, b, 0),
+        Node::Fun(f, a) => Key(10 + f as u8, a, 0, 0),
+    }
+}
+
+/// On which inputs a node depends, as bits: [`DEP_T`], [`DEP_Q`], [`DEP_QD`].
+pub type Deps = u8;
+/// Depends on time.
+pub const DEP_T: Deps = 1;
+/// Depends on a position.
+pub const DEP_Q: Deps = 2;
+/// Depends on a velocity.
+pub const DEP_QD: Deps = 4;
+
+/// A comparison made while recording, with its outcome there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Guard {
+    /// Left operand (a node).
+    pub a: u32,
+    /// Right operand (a node).
+    pub b: u32,
+    /// `a.partial_cmp(b)` when recorded.
+    pub outcome: Option<std::cmp::Ordering>,
+}
+
+/// A recorded expression graph.
+#[derive(Clone, Debug, Default)]
+pub struct Graph {
+    nodes: Vec<Node>,
+    deps: Vec<Deps>,
+    /// Each node's value at the recorded point.
+    values: Vec<f64>,
+    map: HashMap<Key, u32>,
+    guards: Vec<Guard>,
+    escaped: bool,
+    /// Input classes, by input number.
+    inputs: Vec<Deps>,
+}
+
+/// A node index that is a free constant in a [`Sym`] (no node yet).
+pub(crate) const FREE: u32 = u32::MAX;
+
+impl Graph {
+    /// The nodes, in topological order.
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The dependence bits of node `id`.
+    pub fn deps(&self, id: u32) -> Deps {
+        self.deps[id as usize]
+    }
+
+    /// The comparisons recorded as guards.
+    pub fn guards(&self) -> &[Guard] {
+        &self.guards
+    }
+
+    /// Whether a recorded value left the graph (`re()`), so that the recording cannot be trusted.
+    pub fn escaped(&self) -> bool {
+        self.escaped
+    }
+
+    /// The constant value of `id`, if it is a constant node.
+    pub fn constant(&self, id: u32) -> Option<f64> {
+        match self.nodes[id as usize] {
+            Node::Const(c) => Some(c),
+            _ => None,
+        }
+    }
+
+    /// Whether `id` is the constant zero.
+    pub fn is_zero(&self, id: u32) -> bool {
+        self.constant(id) == Some(0.0)
+    }
+
+    /// A new input node of class `class` with value `value`; inputs are numbered in creation order.
+    pub fn input(&mut self, class: Deps, value: f64) -> u32 {
+        let i = self.inputs.len() as u32;
+        self.inputs.push(class);
+        let id = self.nodes.len() as u32;
+        self.nodes.push(Node::Input(i));
+        self.deps.push(class);
+        self.values.push(value);
+        id
+    }
+
+    /// The constant `c` as a node.
+    pub fn constant_node(&mut self, c: f64) -> u32 {
+        self.intern(Node::Const(c))
+    }
+
+    fn intern(&mut self, node: Node) -> u32 {
+        let k = key(&node);
+        if let Some(&id) = self.map.get(&k) {
+            return id;
+        }
+        let (ops, count) = node.operands();
+        let deps = ops[..count]
+            .iter()
+            .fold(0, |d, &o| d | self.deps[o as usize]);
+        let value = match node {
+            Node::Const(c) => c,
+            _ => node.eval(|o| self.values[o as usize]),
+        };
+        let id = self.nodes.len() as u32;
+        self.nodes.push(node);
+        self.deps.push(deps);
+        self.values.push(value);
+        self.map.insert(k, id);
+        id
+    }
+
+    /// Adds `node` after folding constants and applying algebraic identities; returns its id.
+    pub fn push(&mut self, node: Node) -> u32 {
+        let c = |g: &Self, id: u32| g.constant(id);
+        // Fold a node whose operands are all constant.
+        let (ops, count) = node.operands();
+        if count > 0 && ops[..count].iter().all(|&o| c(self, o).is_some()) {
+            let v = node.eval(|o| self.values[o as usize]);
+            return self.constant_node(v);
+        }
+        let node = match node {
+            Node::Add(a, b) => {
+                if c(self, a) == Some(0.0) {
+                    return b;
+                }
+                if c(self, b) == Some(0.0) {
+                    return a;
+                }
+                if let Node::Neg(nb) = self.nodes[b as usize] {
+                    return self.push(Node::Sub(a, nb));
+                }
+                Node::Add(a.min(b), a.max(b))
+            }
+            Node::Sub(a, b) => {
+                if a == b {
+                    return self.constant_node(0.0);
+                }
+                if c(self, b) == Some(0.0) {
+                    return a;
+                }
+                if c(self, a) == Some(0.0) {
+                    return self.push(Node::Neg(b));
+                }
+                if let Node::Neg(nb) = self.nodes[b as usize] {
+                    return self.push(Node::Add(a, nb));
+                }
+                Node::Sub(a, b)
+            }
+            Node::Mul(a, b) => {
+                for (x, y) in [(a, b), (b, a)] {
+                    match c(self, x) {
+                        Some(0.0) => return self.constant_node(0.0),
+                        Some(1.0) => return y,
+                        Some(-1.0) => return self.push(Node::Neg(y)),
+                        _ => {}
+                    }
+                }
+                Node::Mul(a.min(b), a.max(b))
+            }
+            Node::Div(a, b) => {
+                if c(self, b) == Some(1.0) {
+                    return a;
+                }
+                if c(self, a) == Some(0.0) {
+                    return a;
+                }
+                if c(self, a) == Some(1.0) {
+                    return self.push(Node::Fun(Fun::Recip, b));
+                }
+                Node::Div(a, b)
+            }
+            Node::Neg(a) => {
+                if let Node::Neg(x) = self.nodes[a as usize] {
+                    return x;
+                }
+                Node::Neg(a)
+            }
+            Node::Powi(a, n) => match n {
+                0 => return self.constant_node(1.0),
+                1 => return a,
+                2 => return self.push(Node::Mul(a, a)),
+                -1 => return self.push(Node::Fun(Fun::Recip, a)),
+                _ => Node::Powi(a, n),
+            },
+            Node::Powf(a, p) => {
+                if p == 1.0 {
+                    return a;
+                }
+                if p == 0.0 {
+                    return self.constant_node(1.0);
+                }
+                Node::Powf(a, p)
+            }
+            other => other,
+        };
+        self.intern(node)
+    }
+
+    /// Shorthands for building derivative expressions.
+    pub(crate) fn add(&mut self, a: u32, b: u32) -> u32 {
+        self.push(Node::Add(a, b))
+    }
+    pub(crate) fn sub(&mut self, a: u32, b: u32) -> u32 {
+        self.push(Node::Sub(a, b))
+    }
+    pub(crate) fn mul(&mut self, a: u32, b: u32) -> u32 {
+        self.push(Node::Mul(a, b))
+    }
+    pub(crate) fn div(&mut self, a: u32, b: u32) -> u32 {
+        self.push(Node::Div(a, b))
+    }
+    pub(crate) fn neg(&mut self, a: u32) -> u32 {
+        self.push(Node::Neg(a))
+    }
+    pub(crate) fn scale(&mut self, s: f64, a: u32) -> u32 {
+        let s = self.constant_node(s);
+        self.mul(s, a)
+    }
+    pub(crate) fn fun(&mut self, f: Fun, a: u32) -> u32 {
+        self.push(Node::Fun(f, a))
+    }
+
+    /// Records a comparison of two nodes.
+    pub(crate) fn guard(&mut self, a: u32, b: u32, outcome: Option<std::cmp::Ordering>) {
+        let g = Guard { a, b, outcome };
+        if !self.guards.contains(&g) {
+            self.guards.push(g);
+        }
+    }
+
+    /// The nodes reachable from `roots`, in ascending (topological) order.
+    pub fn reachable(&self, roots: &[u32]) -> Vec<u32> {
+        let mut seen = vec![false; self.nodes.len()];
+        let mut stack: Vec<u32> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            if std::mem::replace(&mut seen[id as usize], true) {
+                continue;
+            }
+            let (ops, count) = self.nodes[id as usize].operands();
+            stack.extend_from_slice(&ops[..count]);
+        }
+        (0..self.nodes.len() as u32)
+            .filter(|&i| seen[i as usize])
+            .collect()
+    }
+}
+
+thread_local! {
+    static RECORDING: RefCell<Option<Graph>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` on the graph being recorded on this thread. Outside [`record`] there is none, and a
+/// [`Sym`] can then only be a free constant.
+pub(crate) fn with_graph<R>(f: impl FnOnce(&mut Graph) -> R) -> R {
+    RECORDING.with(|r| {
+        let mut r = r.borrow_mut();
+        let g = r
+            .as_mut()
+            .unwrap_or_else(|| unreachable!("a recorded Sym is used only while recording"));
+        f(g)
+    })
+}
+
+/// Records on this thread: `f` receives a fresh graph's builder (the input scalars are made with
+/// [`Sym::input`]) and returns its outputs; the finished graph is returned with them. Panics in `f`
+/// (a model that panics) leave no graph behind.
+pub fn record<O>(f: impl FnOnce() -> O) -> (Graph, O) {
+    struct Reset;
+    impl Drop for Reset {
+        fn drop(&mut self) {
+            RECORDING.with(|r| *r.borrow_mut() = None);
+        }
+    }
+    RECORDING.with(|r| *r.borrow_mut() = Some(Graph::default()));
+    let reset = Reset;
+    let out = f();
+    let graph = RECORDING
+        .with(|r| r.borrow_mut().take())
+        .unwrap_or_default();
+    drop(reset);
+    (graph, out)
+}

@@ -1,0 +1,320 @@
+//! The compiled equations (the model's expression graph, its structure, the Schur solve) against
+//! the dual-number reference: the same numbers at any state, the same motions, the structure
+//! proved where it holds, the fallback where a branch of the model flips, and no compiled
+//! equations where a model takes a value out of the graph.
+
+use chetaev::equations::structure::Structure;
+use chetaev::prelude::*;
+
+/// The paper's particle: `W` constant and diagonal, `∂L/∂q` constant, `g = 0`, `c = 0`.
+#[derive(Clone)]
+struct Uniform;
+impl Lagrangian<2> for Uniform {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5 - q[1] * 10.0
+    }
+}
+impl Constraints<2, 1> for Uniform {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        SVector::from([qd.dot(qd) - 100.0])
+    }
+}
+
+/// A double pendulum (angles) whose joint speeds keep `θ̇1² + θ̇2² = v²`: `W` depends on `q`.
+#[derive(Clone)]
+struct Pendulum {
+    v: f64,
+}
+impl Lagrangian<2> for Pendulum {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        let (m1, m2, l1, l2, g) = (1.0, 0.7, 1.2, 0.9, 9.81);
+        qd[0] * qd[0] * (0.5 * (m1 + m2) * l1 * l1)
+            + qd[1] * qd[1] * (0.5 * m2 * l2 * l2)
+            + qd[0] * qd[1] * (q[0] - q[1]).cos() * (m2 * l1 * l2)
+            + q[0].cos() * ((m1 + m2) * g * l1)
+            + q[1].cos() * (m2 * g * l2)
+    }
+}
+impl Constraints<2, 1> for Pendulum {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        SVector::from([qd.dot(qd) - self.v * self.v])
+    }
+}
+
+/// The same pendulum with run-time sizes, and a driven pivot (`L` depends on `t`): evaluated by
+/// the compiled tape, with `W` varying and factorised at each evaluation.
+#[derive(Clone)]
+struct DynPendulum {
+    v: f64,
+}
+impl DynModel for DynPendulum {
+    fn sizes(&self) -> (usize, usize) {
+        (2, 1)
+    }
+    fn lagrangian<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> R {
+        let qs = SVector::from([q[0], q[1]]);
+        let qds = SVector::from([qd[0], qd[1]]);
+        Pendulum { v: self.v }.lagrangian(t, &qs, &qds) + qd[0] * q[1].sin() * (t * 1.3).cos()
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd[0] * qd[0] + qd[1] * qd[1] - self.v * self.v;
+    }
+}
+
+fn dyn_pendulum() -> Problem<DynPendulum> {
+    Problem::dynamic(DynPendulum { v: 1.0 }, 0.0, vec![0.3, -0.2], vec![1.0, 0.0]).expect("ok")
+}
+
+/// Run-time sizes with everything at once: a particle on the sphere `|q| = ρ` (holonomic) at
+/// constant speed `v`, in a gravity that varies in time, with drag (Rayleigh) and a driving force.
+#[derive(Clone)]
+struct Sphere {
+    rho: f64,
+    v: f64,
+}
+impl DynModel for Sphere {
+    fn sizes(&self) -> (usize, usize) {
+        (3, 1)
+    }
+    fn lagrangian<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> R {
+        let kinetic = (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]) * 0.5;
+        kinetic - q[2] * ((t * 0.7).sin() * 0.5 + 9.81)
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2] - self.v * self.v;
+    }
+    fn holonomic_count(&self) -> usize {
+        1
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &[R], h: &mut [R]) {
+        h[0] = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] - self.rho * self.rho;
+    }
+    fn forces<R: Real>(&self, t: R, _q: &[R], _qd: &[R], out: &mut [R]) -> bool {
+        out[0] = t.sin() * 0.3;
+        out[1] = R::zero();
+        out[2] = R::zero();
+        true
+    }
+    fn dissipation<R: Real>(&self, _t: R, _q: &[R], qd: &[R]) -> Option<R> {
+        Some((qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]) * 0.05)
+    }
+}
+
+fn sphere() -> Problem<Sphere> {
+    let s = Sphere { rho: 2.0, v: 1.5 };
+    Problem::dynamic(s, 0.0, vec![2.0, 0.0, 0.0], vec![0.0, 1.5, 0.0]).expect("consistent")
+}
+
+/// Compares the compiled and the dual-number equations of `problem` at states around
+/// `(q0, q̇0)` (not on the constraints: the equations hold anywhere).
+fn compare_at_states<M: Model + Clone>(problem: &Problem<M>) {
+    assert!(problem.compiled().is_some(), "the model should compile");
+    let dual = problem.clone().with_route(Route::Dual);
+    assert!(dual.compiled().is_none());
+    let (q0, qd0) = (problem.q0().to_vec(), problem.qd0().to_vec());
+    for s in 0..6 {
+        let shift = |x: &[f64], k: usize| -> Vec<f64> {
+            x.iter()
+                .enumerate()
+                .map(|(i, v)| v + 0.1 * ((s * 7 + i * 3 + k) % 5) as f64 - 0.2)
+                .collect()
+        };
+        let (t, q, qd) = (0.3 * s as f64, shift(&q0, 1), shift(&qd0, 2));
+        let a = problem.equations_at(t, &q, &qd).expect("regular");
+        let b = dual.equations_at(t, &q, &qd).expect("regular");
+        let close = |x: &[f64], y: &[f64], what: &str| {
+            let scale = y.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            for (u, v) in x.iter().zip(y) {
+                assert!(
+                    (u - v).abs() <= 1e-11 * scale,
+                    "{what}: {x:?} against {y:?}"
+                );
+            }
+        };
+        close(&a.qdd, &b.qdd, "q̈");
+        close(&a.mu, &b.mu, "μ");
+        close(&a.phi, &b.phi, "Φ");
+        close(&a.f, &b.f, "f");
+        close(&a.forces, &b.forces, "Q");
+        close(
+            &[a.energy, a.dl_dt, a.power, a.power_forces, a.l],
+            &[b.energy, b.dl_dt, b.power, b.power_forces, b.l],
+            "E, ∂L/∂t, q̇·Φ, q̇·Q, L",
+        );
+    }
+}
+
+#[test]
+fn compiled_equations_equal_the_dual_number_equations_at_any_state() {
+    let uniform = Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok");
+    compare_at_states(&uniform);
+    let pendulum = Problem::new(
+        Pendulum { v: 1.0 },
+        0.0,
+        [0.3, -0.2].into(),
+        [1.0, 0.0].into(),
+    )
+    .expect("ok");
+    compare_at_states(&pendulum);
+    compare_at_states(&sphere());
+    compare_at_states(&dyn_pendulum());
+}
+
+/// Solves both routes with `method` and compares the motions and multipliers.
+fn compare_motion<M: Model + Clone>(problem: &Problem<M>, method: impl Method + Copy, t_end: f64) {
+    let o = Options::until(t_end)
+        .tolerances(1e-11, 1e-11)
+        .output_grid(0.0, 11);
+    let a = solve(problem, method, &o).expect("valid options");
+    let b = solve(&problem.clone().with_route(Route::Dual), method, &o).expect("valid options");
+    assert!(
+        a.is_success() && b.is_success(),
+        "{:?} {:?}",
+        a.status,
+        b.status
+    );
+    assert_eq!(a.len(), b.len());
+    for i in 0..a.len() {
+        for (x, y) in a.q[i]
+            .iter()
+            .chain(&a.qd[i])
+            .zip(b.q[i].iter().chain(&b.qd[i]))
+        {
+            assert!(
+                (x - y).abs() < 1e-8 * y.abs().max(1.0),
+                "at {}: {x} {y}",
+                a.t[i]
+            );
+        }
+        for (x, y) in a.mu[i].iter().zip(&b.mu[i]) {
+            assert!(
+                (x - y).abs() < 1e-8 * y.abs().max(1.0),
+                "μ at {}: {x} {y}",
+                a.t[i]
+            );
+        }
+    }
+}
+
+#[test]
+fn compiled_motions_equal_the_dual_number_motions_for_explicit_and_implicit_methods() {
+    let pendulum = Problem::new(
+        Pendulum { v: 1.0 },
+        0.0,
+        [0.3, -0.2].into(),
+        [1.0, 0.0].into(),
+    )
+    .expect("ok");
+    compare_motion(&pendulum, Dop853::default(), 3.0);
+    compare_motion(&pendulum, Rodas4, 3.0);
+    compare_motion(&dyn_pendulum(), Dop853::default(), 3.0);
+    compare_motion(&dyn_pendulum(), Rodas4, 3.0);
+    compare_motion(&sphere(), Dopri5::default(), 2.0);
+    compare_motion(&sphere(), Rodas4, 2.0);
+}
+
+fn structure<M: Model>(p: &Problem<M>) -> &Structure {
+    p.compiled().expect("compiled").structure()
+}
+
+#[test]
+fn the_structure_is_found_from_l_and_f_alone() {
+    let uniform = Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok");
+    let s = structure(&uniform);
+    assert!(s.w.is_constant() && !s.w.zero);
+    assert_eq!(s.w_pattern, vec![true, false, false, true]);
+    assert!(s.dl_dq.is_constant() && s.g.zero && s.dl_dt.zero && s.c.zero && s.forces.zero);
+    assert!(s.j.qd && !s.j.q && !s.j.t);
+    assert!(uniform.compiled().expect("compiled").constant_metric());
+
+    let pendulum = Problem::new(
+        Pendulum { v: 1.0 },
+        0.0,
+        [0.3, -0.2].into(),
+        [1.0, 0.0].into(),
+    )
+    .expect("ok");
+    let s = structure(&pendulum);
+    assert!(s.w.q && !s.w.qd && !s.w.t);
+    assert!(s.g.q && s.g.qd && !s.g.zero && s.c.zero);
+    assert!(!pendulum.compiled().expect("compiled").constant_metric());
+
+    let sphere = sphere();
+    let s = structure(&sphere);
+    assert_eq!((s.sizes, s.holonomic), ((3, 2), 1));
+    assert!(s.dl_dt.t && s.dl_dq.t && !s.dl_dq.q);
+    assert!(s.forces.t && s.forces.qd && !s.forces.q);
+    // The holonomic row of J is ∂h/∂q = 2q; the velocity row 2q̇; c of ḣ = 2|q̇|².
+    assert!(s.j.q && s.j.qd && s.c.qd && !s.c.q);
+}
+
+/// `V = k q²` with `k` chosen by a branch on the sign of `q`: the recorded branch is a guard.
+#[derive(Clone)]
+struct Kinked;
+impl DynModel for Kinked {
+    fn sizes(&self) -> (usize, usize) {
+        (1, 0)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        let k = if q[0] > 0.0 { 1.0 } else { 4.0 };
+        qd[0] * qd[0] * 0.5 - q[0] * q[0] * (0.5 * k)
+    }
+}
+
+#[test]
+fn a_branch_that_flips_falls_back_to_dual_numbers_and_gives_the_same_motion() {
+    let problem = Problem::dynamic(Kinked, 0.0, vec![1.0], vec![0.0]).expect("ok");
+    let compiled = problem.compiled().expect("compiled");
+    assert_eq!(compiled.guards(), 1);
+    let o = Options::until(3.0).tolerances(1e-10, 1e-10);
+    let a = solve(&problem, Dop853::default(), &o).expect("valid");
+    let b = solve(
+        &problem.clone().with_route(Route::Dual),
+        Dop853::default(),
+        &o,
+    )
+    .expect("ok");
+    assert!(a.stats.graph_fallbacks > 0, "{:?}", a.stats);
+    assert_eq!(b.stats.graph_fallbacks, 0);
+    let (_, qa, _) = a.last().expect("recorded");
+    let (_, qb, _) = b.last().expect("recorded");
+    assert!((qa[0] - qb[0]).abs() < 1e-9, "{} {}", qa[0], qb[0]);
+    // Exact: cos t until q = 0 at t = π/2, then an oscillation of frequency 2 with q̇ = −1.
+    let t = 3.0 - std::f64::consts::FRAC_PI_2;
+    assert!((qa[0] - (-(2.0 * t).sin() / 2.0)).abs() < 1e-8, "{}", qa[0]);
+}
+
+/// A model that takes a value out of the graph (`re()`): it is not compiled, and still solves.
+struct Escaping;
+impl DynModel for Escaping {
+    fn sizes(&self) -> (usize, usize) {
+        (1, 0)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        let k = if q[0].re() > 0.0 { 1.0 } else { 4.0 };
+        qd[0] * qd[0] * 0.5 - q[0] * q[0] * (0.5 * k)
+    }
+}
+
+#[test]
+fn a_model_that_takes_values_out_of_the_graph_is_evaluated_by_dual_numbers() {
+    let problem = Problem::dynamic(Escaping, 0.0, vec![1.0], vec![0.0]).expect("ok");
+    assert!(problem.compiled().is_none());
+    let sol = solve(&problem, Dop853::default(), &Options::until(1.0)).expect("valid");
+    assert!(sol.is_success());
+}
+
+#[test]
+fn the_derived_equations_print_as_text_and_latex() {
+    let uniform = Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok");
+    let c = uniform.compiled().expect("compiled");
+    let text = c.equations_text(false);
+    let find = |name: &str| text.iter().find(|(k, _)| k == name).map(|(_, v)| v.clone());
+    assert_eq!(find("J[1,1]").as_deref(), Some("q̇1 + q̇1"));
+    assert_eq!(find("W[1,1]").as_deref(), Some("1"));
+    assert_eq!(find("W[1,2]"), None, "zero entries are left out");
+    let latex = c.equations_text(true);
+    assert!(latex
+        .iter()
+        .any(|(k, v)| k == "f[1]" && v.contains("\\dot q_{1}")));
+}
