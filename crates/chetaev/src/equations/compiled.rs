@@ -77,9 +77,10 @@ pub struct Compiled {
     graph: Graph,
     blocks: Blocks,
     structure: Structure,
-    /// The right-hand side: `L`, `f`, `r`, `J` (its nonzero entries), `c`, `W` (when varying).
+    /// The right-hand side: `L`, `f`, `r`, `J` (its nonzero entries), `c`, `W` (when varying), and
+    /// the rates of the energy quadratures `∂L/∂t`, `q̇·Q`.
     core: Tape,
-    /// The same and the energy balance: `∂L/∂t`, `E`, `q̇·Q`, `Q`.
+    /// The same and the diagnostics at output points: `E`, `Q`.
     full: Tape,
     j_entries: Vec<(usize, usize)>,
     w_entries: Vec<(usize, usize)>,
@@ -289,8 +290,9 @@ impl Compiled {
         core_out.extend(j_entries.iter().map(|&(a, i)| j[a * n + i]));
         core_out.extend(&c);
         core_out.extend(w_entries.iter().map(|&(i, m)| w[i * n + m]));
+        core_out.extend([dl_dt, power_forces]);
         let mut full_out = core_out.clone();
-        full_out.extend([dl_dt, energy, power_forces]);
+        full_out.push(energy);
         full_out.extend(&qf);
         let constants = |ids: &[u32]| {
             ids.iter()
@@ -427,9 +429,9 @@ impl Compiled {
         out
     }
 
-    /// Evaluates the reduced equations at `(t, q, q̇)` into `d`; with `full` also the energy
-    /// balance (`E`, `∂L/∂t`, `Q`, `q̇·Q`). `q̈`, `μ`, `Φ`, `f`, `L`, the power `q̇·Φ`, `J` and the
-    /// conditioning are always written.
+    /// Evaluates the reduced equations at `(t, q, q̇)` into `d`; with `full` also `E` and `Q`.
+    /// `q̈`, `μ`, `Φ`, `f`, `L`, the powers `q̇·Φ` and `q̇·Q`, `∂L/∂t`, `J` and the conditioning are
+    /// always written.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub fn evaluate<T: Real>(
@@ -479,8 +481,8 @@ impl Compiled {
     /// Evaluates the tape (`full` or `core`) into `slots` and reads its outputs into `ws` (`r`,
     /// `J`, `c`, `W`) and `d` (`f`, and with `full` the energy balance); returns `L`.
     ///
-    /// Output layout: `L`, `f` (k), `r` (n), `J` entries, `c` (k), `W` entries, then with `full`
-    /// `∂L/∂t`, `E`, `q̇·Q`, `Q` (n).
+    /// Output layout: `L`, `f` (k), `r` (n), `J` entries, `c` (k), `W` entries, `∂L/∂t`, `q̇·Q`,
+    /// then with `full` `E`, `Q` (n).
     #[inline]
     #[allow(clippy::too_many_arguments)]
     fn read<T: Real>(
@@ -532,10 +534,10 @@ impl Compiled {
             ws.w[m * n + i] = v;
         }
         o += self.w_entries.len();
+        d.dl_dt = out(o);
+        d.power_forces = out(o + 1);
         if full {
-            d.dl_dt = out(o);
-            d.energy = out(o + 1);
-            d.power_forces = out(o + 2);
+            d.energy = out(o + 2);
             for (i, fi) in d.forces.iter_mut().enumerate() {
                 *fi = out(o + 3 + i);
             }
@@ -605,15 +607,28 @@ impl Compiled {
             }
             ws.mu[a] = -ws.c[a] - dot(ja, &ws.a);
         }
-        let s_ratio = cholesky(&mut ws.s, k).unwrap_or(0.0);
+        let s_ratio = if k == 1 {
+            // One constraint: S is a positive number unless J_1 W⁻¹ J_1ᵀ vanishes (as in the
+            // static route, so that both round alike).
+            let s0 = ws.s[0];
+            ws.mu[0] /= s0;
+            if s0.re() > 0.0 {
+                1.0
+            } else {
+                0.0
+            }
+        } else {
+            let ratio = cholesky(&mut ws.s, k).unwrap_or(0.0);
+            let s = std::mem::take(&mut ws.s);
+            cholesky_solve(|i, m| s[i * k + m], k, &mut ws.mu);
+            ws.s = s;
+            ratio
+        };
         if s_ratio < SINGULAR_PIVOT_RATIO {
             return Err(SaddleFailure::Singular {
                 pivot_ratio: s_ratio,
             });
         }
-        let s = std::mem::take(&mut ws.s);
-        cholesky_solve(|i, m| s[i * k + m], k, &mut ws.mu);
-        ws.s = s;
         for a in 0..k {
             let mu = ws.mu[a];
             for (ai, &yi) in ws.a.iter_mut().zip(&ws.y[a * n..(a + 1) * n]) {

@@ -143,8 +143,8 @@ where
 
 /// [`evaluate`] by the compiled equations of the model when there are some ([`Compiled`]), and by
 /// the dual-number blocks otherwise or where a guard of the compiled equations flips (a branch of
-/// the model's code taken the other way). With `full = false` the energy balance (`E`, `∂L/∂t`,
-/// `Q`, `q̇·Q`) may be left out. Returns the dynamics and whether the dual-number path was taken
+/// the model's code taken the other way). With `full = false` the energy `E` and the forces `Q`
+/// may be left out (the right-hand side needs only the powers `q̇·Φ`, `q̇·Q` and `∂L/∂t`). Returns the dynamics and whether the dual-number path was taken
 /// in place of compiled equations.
 #[inline]
 #[allow(clippy::too_many_arguments)]
@@ -394,14 +394,26 @@ where
             // S = J Y, S μ = −c − J a, q̈ = a + Y μ.
             let mut sm: SMatrix<T, K, K> = j * y;
             let mut mu = -c - j * a0;
-            let s_ratio = cholesky(sm.as_mut_slice(), K).unwrap_or(0.0);
+            let s_ratio = if K == 1 {
+                // One constraint: S is a positive number unless J_1 W⁻¹ J_1ᵀ vanishes.
+                let s0 = sm[(0, 0)];
+                mu[0] /= s0;
+                if s0.re() > 0.0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            } else {
+                let ratio = cholesky(sm.as_mut_slice(), K).unwrap_or(0.0);
+                let sm = &sm;
+                cholesky_solve(|i, m| sm.as_slice()[i * K + m], K, mu.as_mut_slice());
+                ratio
+            };
             if s_ratio < saddle::SINGULAR_PIVOT_RATIO {
                 return Err(SaddleFailure::Singular {
                     pivot_ratio: s_ratio,
                 });
             }
-            let sm = &sm;
-            cholesky_solve(|i, m| sm.as_slice()[i * K + m], K, mu.as_mut_slice());
             (a0 + y * mu, mu, w_ratio.min(s_ratio))
         }
         None => {
@@ -427,24 +439,31 @@ where
         return Err(SaddleFailure::NonFinite);
     }
     let d = &mut ws.dynamics;
-    d.qdd.copy_from_slice(qdd.as_slice());
-    d.mu.copy_from_slice(mu.as_slice());
+    let put = |dst: &mut [T], src: &[T]| {
+        for (x, &y) in dst.iter_mut().zip(src) {
+            *x = y;
+        }
+    };
+    put(&mut d.qdd[..N], qdd.as_slice());
+    put(&mut d.mu[..K], mu.as_slice());
     let phi = j.tr_mul(&mu);
-    d.phi.copy_from_slice(phi.as_slice());
-    d.f.copy_from_slice(f.as_slice());
+    put(&mut d.phi[..N], phi.as_slice());
+    put(&mut d.f[..K], f.as_slice());
     d.l = l;
-    if let Some(p) = p {
+    if let Some(p) = p.filter(|_| full) {
         d.energy = qd.dot(&p) - l;
     }
     d.dl_dt = dl_dt;
     d.power = qd.dot(&phi);
     match forces {
         Some(f) => {
-            d.forces.copy_from_slice(f.as_slice());
+            put(&mut d.forces[..N], f.as_slice());
             d.power_forces = qd.dot(&f);
         }
         None => {
-            d.forces.iter_mut().for_each(|v| *v = T::zero());
+            if full {
+                d.forces[..N].iter_mut().for_each(|v| *v = T::zero());
+            }
             d.power_forces = T::zero();
         }
     }

@@ -359,7 +359,7 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 qd[i] = Dual64::new(y[n + i], seed(n + i));
             }
             let td = Dual64::new(t, seed(2 * n));
-            let (d, fell_back) = evaluate_with(model, self.compiled, ws, td, &q, &qd, self.energy)
+            let (d, fell_back) = evaluate_with(model, self.compiled, ws, td, &q, &qd, false)
                 .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
             self.stats.graph_fallbacks += usize::from(fell_back);
             let mut put = |row: usize, v: f64| {
