@@ -63,28 +63,17 @@ where
         n,
         event_evaluations: 0,
     };
-    let mut counts = Stats::default();
-    let mut t_last = t0;
-    let outcome = step_loop(
-        &mut sys,
-        &mut hooks,
-        &method,
-        t0,
-        &mut y,
-        &settings,
-        &mut counts,
-        &mut t_last,
-    );
-    if let Err(e) = outcome {
+    let mut run = Progress::start(t0, y);
+    if let Err(e) = step_loop(&mut sys, &mut hooks, &method, &settings, &mut run) {
         // Keep the last accepted state, wherever the output was asked for; a failure to record it
         // (its own evaluation failing) leaves the error as it is.
-        if hooks.sol.t.last() != Some(&t_last) {
-            let _ = hooks.record(&mut sys, t_last, &y);
+        if hooks.sol.t.last() != Some(&run.t) {
+            let _ = hooks.record(&mut sys, run.t, &run.y);
         }
         hooks.sol.status = Status::Failed(e);
     }
     let event_evaluations = hooks.event_evaluations;
-    sol.stats = counts.merged(sys.stats, event_evaluations);
+    sol.stats = run.counts.merged(sys.stats, event_evaluations);
     Ok(sol)
 }
 
@@ -321,64 +310,10 @@ impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
     }
 }
 
-/// Options of [`solve_ode`]: a plain first-order system with no events, projection or diagnostics.
-#[derive(Clone, Debug, PartialEq)]
-pub struct OdeOptions {
-    /// The end time (earlier than the start integrates backward).
-    pub t_end: f64,
-    /// Relative tolerance.
-    pub rtol: f64,
-    /// Absolute tolerance, one per controlled component (or one for all).
-    pub atol: Atol,
-    /// First step size; chosen automatically when `None`.
-    pub initial_step: Option<f64>,
-    /// Largest step size.
-    pub max_step: Option<f64>,
-    /// Step limit.
-    pub max_steps: usize,
-    /// Where to record.
-    pub output: Output,
-    /// Step-size controller; the method's own when `None`.
-    pub controller: Option<Controller>,
-}
-
-impl OdeOptions {
-    /// Integrate to `t_end` with `rtol = 1e-6`, `atol = 1e-9`, recording every step.
-    pub fn until(t_end: f64) -> Self {
-        Self {
-            t_end,
-            rtol: 1e-6,
-            atol: Atol::Scalar(1e-9),
-            initial_step: None,
-            max_step: None,
-            max_steps: 1_000_000,
-            output: Output::Steps,
-            controller: None,
-        }
-    }
-
-    /// Sets the relative and absolute tolerance.
-    pub fn tolerances(mut self, rtol: f64, atol: f64) -> Self {
-        self.rtol = rtol;
-        self.atol = Atol::Scalar(atol);
-        self
-    }
-
-    /// The same settings as [`Options`] (with no events, projection or diagnostics).
-    fn as_options(&self) -> Options {
-        Options {
-            t_end: self.t_end,
-            rtol: self.rtol,
-            atol: self.atol.clone(),
-            initial_step: self.initial_step,
-            max_step: self.max_step,
-            max_steps: self.max_steps,
-            output: self.output.clone(),
-            controller: self.controller,
-            ..Options::until(self.t_end).record(Record::State)
-        }
-    }
-}
+/// The options of [`solve_ode`]: the same [`Options`] as [`solve`]. A plain system has no
+/// constraints to project onto and no `(q, q̇)` to give event functions, so [`solve_ode`] refuses
+/// events and projection, and records the state only, whatever [`Options::record`] says.
+pub type OdeOptions = Options;
 
 /// The result of [`solve_ode`].
 #[derive(Clone, Debug)]
@@ -442,33 +377,35 @@ pub fn solve_ode<S: OdeSystem, Me: Method>(
             hint: "the initial state must have the system's dimension",
         });
     }
-    let o = options.as_options();
-    let settings = LoopSettings::new(&o, &method, t0, sys.controlled_dim())?;
+    if !options.events.is_empty() || options.projection.is_some() {
+        return Err(Error::InvalidOption {
+            name: "events or projection",
+            value: options.events.len() as f64,
+            hint: "a plain first-order system has no (q, q̇) for events or constraints to project \
+                   onto: use solve with a model for these",
+        });
+    }
+    let settings = LoopSettings::new(options, &method, t0, sys.controlled_dim())?;
     let mut sol = OdeSolution {
         t: Vec::new(),
         y: Vec::new(),
         stats: Stats::default(),
         error: None,
     };
-    let mut y = y0.to_vec();
-    let mut counts = Stats::default();
-    let mut t_last = t0;
+    let mut run = Progress::start(t0, y0.to_vec());
     let outcome = step_loop(
         sys,
         &mut PlainHooks { sol: &mut sol },
         &method,
-        t0,
-        &mut y,
         &settings,
-        &mut counts,
-        &mut t_last,
+        &mut run,
     );
-    if outcome.is_err() && sol.t.last() != Some(&t_last) {
-        sol.t.push(t_last);
-        sol.y.push(y.clone());
+    if outcome.is_err() && sol.t.last() != Some(&run.t) {
+        sol.t.push(run.t);
+        sol.y.push(run.y);
     }
     sol.error = outcome.err();
-    sol.stats = counts;
+    sol.stats = run.counts;
     Ok(sol)
 }
 
@@ -491,25 +428,47 @@ struct EventState {
     pts: Vec<(f64, f64)>,
 }
 
+/// Where a step loop has got to: the last accepted time and state, and the steps counted so far.
+/// It starts at the initial point and is what is left when the loop returns, on failure too.
+pub(crate) struct Progress {
+    /// The time of the last accepted state.
+    pub t: f64,
+    /// The last accepted state.
+    pub y: Vec<f64>,
+    /// Accepted and rejected steps.
+    pub counts: Stats,
+}
+
+impl Progress {
+    /// At `(t0, y0)`, no step taken.
+    pub(crate) fn start(t0: f64, y0: Vec<f64>) -> Self {
+        Self {
+            t: t0,
+            y: y0,
+            counts: Stats::default(),
+        }
+    }
+}
+
 /// The step loop shared by every driver: step-size control, dense output at requested times, event
-/// location, projection and recording. `y` holds the last accepted state on return, and `t_last`
-/// its time.
-#[allow(clippy::too_many_arguments)]
+/// location, projection and recording, from and to `progress`.
 pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     sys: &mut S,
     hooks: &mut H,
     method: &Me,
-    t0: f64,
-    y: &mut [f64],
     settings: &LoopSettings<'_>,
-    counts: &mut Stats,
-    t_last: &mut f64,
+    progress: &mut Progress,
 ) -> Result<(), Error> {
+    let Progress {
+        t: t_last,
+        y,
+        counts,
+    } = progress;
+    let (t0, y) = (*t_last, &mut y[..]);
     let t_end = settings.t_end;
     let norm = &settings.norm;
     let info = &settings.info;
     let controller = &settings.controller;
-    *t_last = t0;
     hooks.record(sys, t0, y)?;
     if t_end == t0 {
         return Ok(());
@@ -926,4 +885,23 @@ fn initial_step<S: OdeSystem>(
         (0.01 / d1.max(d2)).powf(1.0 / p)
     };
     Ok((100.0 * h0).min(h1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::events::Event;
+    use super::super::testing::Sys;
+    use super::super::Dopri5;
+    use super::*;
+
+    #[test]
+    fn solve_ode_refuses_events_and_projection() {
+        let mut sys = Sys::explicit(1, |_t: f64, y: &[f64], dy: &mut [f64]| dy[0] = -y[0]);
+        let with_event = Options::until(1.0).event(Event::new("zero", |_t, q, _qd| q[0]));
+        let run = solve_ode(&mut sys, Dopri5::default(), 0.0, &[1.0], &with_event);
+        assert!(matches!(run, Err(Error::InvalidOption { .. })));
+        let projected = Options::until(1.0).project(Default::default());
+        let run = solve_ode(&mut sys, Dopri5::default(), 0.0, &[1.0], &projected);
+        assert!(matches!(run, Err(Error::InvalidOption { .. })));
+    }
 }
