@@ -79,15 +79,14 @@ where
 
 /// What the step loop is asked to do, validated once for every driver.
 pub(crate) struct LoopSettings<'o> {
-    pub t_end: f64,
+    /// The options, validated.
+    pub options: &'o Options,
+    /// The norm of error control made from `rtol` and `atol`.
     pub norm: ErrorNorm,
-    pub output: &'o Output,
-    pub max_steps: usize,
-    pub initial_step: Option<f64>,
-    pub max_step: Option<f64>,
+    /// The method's facts.
     pub info: MethodInfo,
+    /// The step-size controller: the options' or else the method's.
     pub controller: Controller,
-    pub event_samples: usize,
 }
 
 impl<'o> LoopSettings<'o> {
@@ -199,15 +198,10 @@ impl<'o> LoopSettings<'o> {
         let controller = o.controller.unwrap_or(info.controller);
         controller.validate()?;
         Ok(Self {
-            t_end: o.t_end,
+            options: o,
             norm: ErrorNorm::new(o.rtol, atol),
-            output: &o.output,
-            max_steps: o.max_steps,
-            initial_step: o.initial_step,
-            max_step: o.max_step,
             info,
             controller,
-            event_samples: o.event_samples,
         })
     }
 }
@@ -465,7 +459,8 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         counts,
     } = progress;
     let (t0, y) = (*t_last, &mut y[..]);
-    let t_end = settings.t_end;
+    let options = settings.options;
+    let t_end = options.t_end;
     let norm = &settings.norm;
     let info = &settings.info;
     let controller = &settings.controller;
@@ -477,19 +472,19 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     let dim = y.len();
     let mut stepper = method.stepper(dim);
     let n_events = hooks.n_events();
-    stepper.set_dense_output(n_events > 0 || matches!(settings.output, Output::Times(_)));
+    stepper.set_dense_output(n_events > 0 || matches!(options.output, Output::Times(_)));
     stepper.reset(sys, t0, y)?;
 
     let mut events = EventState {
         g: vec![0.0; n_events],
         zero_at_start: vec![false; n_events],
-        pts: Vec::with_capacity(settings.event_samples + 2),
+        pts: Vec::with_capacity(options.event_samples + 2),
     };
     for i in 0..n_events {
         events.g[i] = hooks.event_value(i, t0, y)?;
         events.zero_at_start[i] = events.g[i] == 0.0;
     }
-    let mut pending_times: Vec<f64> = match settings.output {
+    let mut pending_times: Vec<f64> = match &options.output {
         Output::Times(ts) => {
             let mut v: Vec<f64> = ts
                 .iter()
@@ -501,14 +496,14 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         }
         _ => Vec::new(),
     };
-    let h_max = settings
+    let h_max = options
         .max_step
         .unwrap_or(f64::INFINITY)
         .min((t_end - t0).abs());
 
     let mut h = match info.fixed_step {
         Some(h) => h,
-        None => match settings.initial_step {
+        None => match options.initial_step {
             Some(h) => h.abs(),
             None => initial_step(sys, t0, y, t_end, norm, dir, info.order)?,
         },
@@ -525,10 +520,10 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     let mut rejected_last = false;
     let mut err_prev = 1e-4f64;
     loop {
-        if steps >= settings.max_steps {
+        if steps >= options.max_steps {
             return Err(Error::MaxSteps {
                 t,
-                max_steps: settings.max_steps,
+                max_steps: options.max_steps,
             });
         }
         steps += 1;
@@ -598,7 +593,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
                 (t, t_new, h, dir),
                 &y_new,
                 &mut buf,
-                settings.event_samples,
+                options.event_samples,
             )?
         } else {
             None
@@ -647,7 +642,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         y.copy_from_slice(&y_new);
         t = t_new;
         *t_last = t;
-        if last || matches!(settings.output, Output::Steps) {
+        if last || matches!(options.output, Output::Steps) {
             hooks.record(sys, t, y)?;
         }
         if last {
