@@ -10,8 +10,8 @@
 
 use std::cell::Cell;
 
-use super::driver::{solve_ode, OdeOptions};
-use super::options::{Options, Output};
+use super::driver::solve_ode;
+use super::options::Options;
 use super::testing::{fixed_steps, loose, Jac, Rhs, Sys};
 use super::{AnyMethod, Method, MethodInfo, Stepper};
 use crate::equations::derivatives::{ConstraintBlocks, LagrangianBlocks};
@@ -186,10 +186,7 @@ fn every_adaptive_method_has_an_error_proportional_to_its_tolerance() -> Result<
         for e in 3..=13 {
             let tol = 10f64.powi(-e);
             let mut sys = test_ode();
-            let o = OdeOptions {
-                output: Output::Final,
-                ..OdeOptions::until(5.0).tolerances(tol, tol)
-            };
+            let o = Options::until(5.0).tolerances(tol, tol).output_final();
             let sol = solve_ode(&mut sys, method, 0.0, &[1.0, 1.0], &o)?;
             assert!(sol.error.is_none(), "{}: {:?}", info.name, sol.error);
             let y = sol.y.last().expect("the final state is recorded");

@@ -6,41 +6,43 @@
 //! Sections II.5, II.6 and IV.2 (the code DOPRI5).
 
 use super::system::OdeSystem;
-use super::{combine, weighted, Controller, Method, MethodInfo, Stage, Step, Stepper};
+use super::{combine, weighted, Controller, Method, MethodInfo, Stage, Stages54, Step, Stepper};
 use super::{Pool, StiffnessTest, Trial};
 use crate::error::Error;
 
 // The stages 2 to 6 (stage 7 is the derivative at the new point, from the weights of the step).
-const S2: Stage<1> = Stage {
-    c: 1.0 / 5.0,
-    a: [1.0 / 5.0],
-};
-const S3: Stage<2> = Stage {
-    c: 3.0 / 10.0,
-    a: [3.0 / 40.0, 9.0 / 40.0],
-};
-const S4: Stage<3> = Stage {
-    c: 4.0 / 5.0,
-    a: [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0],
-};
-const S5: Stage<4> = Stage {
-    c: 8.0 / 9.0,
-    a: [
-        19372.0 / 6561.0,
-        -25360.0 / 2187.0,
-        64448.0 / 6561.0,
-        -212.0 / 729.0,
-    ],
-};
-const S6: Stage<5> = Stage {
-    c: 1.0,
-    a: [
-        9017.0 / 3168.0,
-        -355.0 / 33.0,
-        46732.0 / 5247.0,
-        49.0 / 176.0,
-        -5103.0 / 18656.0,
-    ],
+const STAGES: Stages54 = Stages54 {
+    s2: Stage {
+        c: 1.0 / 5.0,
+        a: [1.0 / 5.0],
+    },
+    s3: Stage {
+        c: 3.0 / 10.0,
+        a: [3.0 / 40.0, 9.0 / 40.0],
+    },
+    s4: Stage {
+        c: 4.0 / 5.0,
+        a: [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0],
+    },
+    s5: Stage {
+        c: 8.0 / 9.0,
+        a: [
+            19372.0 / 6561.0,
+            -25360.0 / 2187.0,
+            64448.0 / 6561.0,
+            -212.0 / 729.0,
+        ],
+    },
+    s6: Stage {
+        c: 1.0,
+        a: [
+            9017.0 / 3168.0,
+            -355.0 / 33.0,
+            46732.0 / 5247.0,
+            49.0 / 176.0,
+            -5103.0 / 18656.0,
+        ],
+    },
 };
 // The weights of the step, b_1 and b_3 to b_6 (b_2 = b_7 = 0).
 const B: [f64; 5] = [
@@ -150,27 +152,11 @@ impl Stepper for Dopri5Stepper {
     fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
         let (t, h, y, y_new, norm) = trial.parts();
         let [k1, k2, k3, k4, k5, k6, k7, yt, ysti, ..] = self.pool.all::<VECTORS>();
-        combine(yt, y, h, &S2.a, [k1]);
-        sys.rhs(t + S2.c * h, yt, k2)?;
-        combine(yt, y, h, &S3.a, [k1, k2]);
-        sys.rhs(t + S3.c * h, yt, k3)?;
-        combine(yt, y, h, &S4.a, [k1, k2, k3]);
-        sys.rhs(t + S4.c * h, yt, k4)?;
-        combine(yt, y, h, &S5.a, [k1, k2, k3, k4]);
-        sys.rhs(t + S5.c * h, yt, k5)?;
-        combine(ysti, y, h, &S6.a, [k1, k2, k3, k4, k5]);
-        sys.rhs(t + h, ysti, k6)?;
+        // The argument of stage 6 stays in `ysti` for the stiffness test.
+        STAGES.eval(sys, (t, h, y), [k1, k2, k3, k4, k5, k6], yt, ysti)?;
         combine(y_new, y, h, &B, [k1, k3, k4, k5, k6]);
         sys.rhs(t + h, y_new, k7)?;
-        // The error estimate, weighted and summed in one pass (no error vector is stored).
-        let ke = [&*k1, k3, k4, k5, k6, k7];
-        let mut sum = 0.0;
-        for i in 0..norm.len() {
-            let e = h * weighted(&E, &ke, i);
-            let r = e / norm.scale(i, y[i], y_new[i]);
-            sum += r * r;
-        }
-        Ok((sum / norm.len() as f64).sqrt())
+        Ok(norm.of_combination(h, &E, &[&*k1, k3, k4, k5, k6, k7], y, y_new))
     }
 
     fn commit<S: OdeSystem>(&mut self, _sys: &mut S, step: Step<'_>) -> Result<(), Error> {

@@ -63,42 +63,30 @@ where
         n,
         event_evaluations: 0,
     };
-    let mut counts = Stats::default();
-    let mut t_last = t0;
-    let outcome = step_loop(
-        &mut sys,
-        &mut hooks,
-        &method,
-        t0,
-        &mut y,
-        &settings,
-        &mut counts,
-        &mut t_last,
-    );
-    if let Err(e) = outcome {
+    let mut run = Progress::start(t0, y);
+    if let Err(e) = step_loop(&mut sys, &mut hooks, &method, &settings, &mut run) {
         // Keep the last accepted state, wherever the output was asked for; a failure to record it
         // (its own evaluation failing) leaves the error as it is.
-        if hooks.sol.t.last() != Some(&t_last) {
-            let _ = hooks.record(&mut sys, t_last, &y);
+        if hooks.sol.t.last() != Some(&run.t) {
+            let _ = hooks.record(&mut sys, run.t, &run.y);
         }
         hooks.sol.status = Status::Failed(e);
     }
     let event_evaluations = hooks.event_evaluations;
-    sol.stats = counts.merged(sys.stats, event_evaluations);
+    sol.stats = run.counts.merged(sys.stats, event_evaluations);
     Ok(sol)
 }
 
 /// What the step loop is asked to do, validated once for every driver.
 pub(crate) struct LoopSettings<'o> {
-    pub t_end: f64,
+    /// The options, validated.
+    pub options: &'o Options,
+    /// The norm of error control made from `rtol` and `atol`.
     pub norm: ErrorNorm,
-    pub output: &'o Output,
-    pub max_steps: usize,
-    pub initial_step: Option<f64>,
-    pub max_step: Option<f64>,
+    /// The method's facts.
     pub info: MethodInfo,
+    /// The step-size controller: the options' or else the method's.
     pub controller: Controller,
-    pub event_samples: usize,
 }
 
 impl<'o> LoopSettings<'o> {
@@ -210,15 +198,10 @@ impl<'o> LoopSettings<'o> {
         let controller = o.controller.unwrap_or(info.controller);
         controller.validate()?;
         Ok(Self {
-            t_end: o.t_end,
+            options: o,
             norm: ErrorNorm::new(o.rtol, atol),
-            output: &o.output,
-            max_steps: o.max_steps,
-            initial_step: o.initial_step,
-            max_step: o.max_step,
             info,
             controller,
-            event_samples: o.event_samples,
         })
     }
 }
@@ -321,64 +304,10 @@ impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
     }
 }
 
-/// Options of [`solve_ode`]: a plain first-order system with no events, projection or diagnostics.
-#[derive(Clone, Debug, PartialEq)]
-pub struct OdeOptions {
-    /// The end time (earlier than the start integrates backward).
-    pub t_end: f64,
-    /// Relative tolerance.
-    pub rtol: f64,
-    /// Absolute tolerance, one per controlled component (or one for all).
-    pub atol: Atol,
-    /// First step size; chosen automatically when `None`.
-    pub initial_step: Option<f64>,
-    /// Largest step size.
-    pub max_step: Option<f64>,
-    /// Step limit.
-    pub max_steps: usize,
-    /// Where to record.
-    pub output: Output,
-    /// Step-size controller; the method's own when `None`.
-    pub controller: Option<Controller>,
-}
-
-impl OdeOptions {
-    /// Integrate to `t_end` with `rtol = 1e-6`, `atol = 1e-9`, recording every step.
-    pub fn until(t_end: f64) -> Self {
-        Self {
-            t_end,
-            rtol: 1e-6,
-            atol: Atol::Scalar(1e-9),
-            initial_step: None,
-            max_step: None,
-            max_steps: 1_000_000,
-            output: Output::Steps,
-            controller: None,
-        }
-    }
-
-    /// Sets the relative and absolute tolerance.
-    pub fn tolerances(mut self, rtol: f64, atol: f64) -> Self {
-        self.rtol = rtol;
-        self.atol = Atol::Scalar(atol);
-        self
-    }
-
-    /// The same settings as [`Options`] (with no events, projection or diagnostics).
-    fn as_options(&self) -> Options {
-        Options {
-            t_end: self.t_end,
-            rtol: self.rtol,
-            atol: self.atol.clone(),
-            initial_step: self.initial_step,
-            max_step: self.max_step,
-            max_steps: self.max_steps,
-            output: self.output.clone(),
-            controller: self.controller,
-            ..Options::until(self.t_end).record(Record::State)
-        }
-    }
-}
+/// The options of [`solve_ode`]: the same [`Options`] as [`solve`]. A plain system has no
+/// constraints to project onto and no `(q, q̇)` to give event functions, so [`solve_ode`] refuses
+/// events and projection, and records the state only, whatever [`Options::record`] says.
+pub type OdeOptions = Options;
 
 /// The result of [`solve_ode`].
 #[derive(Clone, Debug)]
@@ -442,33 +371,35 @@ pub fn solve_ode<S: OdeSystem, Me: Method>(
             hint: "the initial state must have the system's dimension",
         });
     }
-    let o = options.as_options();
-    let settings = LoopSettings::new(&o, &method, t0, sys.controlled_dim())?;
+    if !options.events.is_empty() || options.projection.is_some() {
+        return Err(Error::InvalidOption {
+            name: "events or projection",
+            value: options.events.len() as f64,
+            hint: "a plain first-order system has no (q, q̇) for events or constraints to project \
+                   onto: use solve with a model for these",
+        });
+    }
+    let settings = LoopSettings::new(options, &method, t0, sys.controlled_dim())?;
     let mut sol = OdeSolution {
         t: Vec::new(),
         y: Vec::new(),
         stats: Stats::default(),
         error: None,
     };
-    let mut y = y0.to_vec();
-    let mut counts = Stats::default();
-    let mut t_last = t0;
+    let mut run = Progress::start(t0, y0.to_vec());
     let outcome = step_loop(
         sys,
         &mut PlainHooks { sol: &mut sol },
         &method,
-        t0,
-        &mut y,
         &settings,
-        &mut counts,
-        &mut t_last,
+        &mut run,
     );
-    if outcome.is_err() && sol.t.last() != Some(&t_last) {
-        sol.t.push(t_last);
-        sol.y.push(y.clone());
+    if outcome.is_err() && sol.t.last() != Some(&run.t) {
+        sol.t.push(run.t);
+        sol.y.push(run.y);
     }
     sol.error = outcome.err();
-    sol.stats = counts;
+    sol.stats = run.counts;
     Ok(sol)
 }
 
@@ -491,25 +422,48 @@ struct EventState {
     pts: Vec<(f64, f64)>,
 }
 
+/// Where a step loop has got to: the last accepted time and state, and the steps counted so far.
+/// It starts at the initial point and is what is left when the loop returns, on failure too.
+pub(crate) struct Progress {
+    /// The time of the last accepted state.
+    pub t: f64,
+    /// The last accepted state.
+    pub y: Vec<f64>,
+    /// Accepted and rejected steps.
+    pub counts: Stats,
+}
+
+impl Progress {
+    /// At `(t0, y0)`, no step taken.
+    pub(crate) fn start(t0: f64, y0: Vec<f64>) -> Self {
+        Self {
+            t: t0,
+            y: y0,
+            counts: Stats::default(),
+        }
+    }
+}
+
 /// The step loop shared by every driver: step-size control, dense output at requested times, event
-/// location, projection and recording. `y` holds the last accepted state on return, and `t_last`
-/// its time.
-#[allow(clippy::too_many_arguments)]
+/// location, projection and recording, from and to `progress`.
 pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     sys: &mut S,
     hooks: &mut H,
     method: &Me,
-    t0: f64,
-    y: &mut [f64],
     settings: &LoopSettings<'_>,
-    counts: &mut Stats,
-    t_last: &mut f64,
+    progress: &mut Progress,
 ) -> Result<(), Error> {
-    let t_end = settings.t_end;
+    let Progress {
+        t: t_last,
+        y,
+        counts,
+    } = progress;
+    let (t0, y) = (*t_last, &mut y[..]);
+    let options = settings.options;
+    let t_end = options.t_end;
     let norm = &settings.norm;
     let info = &settings.info;
     let controller = &settings.controller;
-    *t_last = t0;
     hooks.record(sys, t0, y)?;
     if t_end == t0 {
         return Ok(());
@@ -518,19 +472,19 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     let dim = y.len();
     let mut stepper = method.stepper(dim);
     let n_events = hooks.n_events();
-    stepper.set_dense_output(n_events > 0 || matches!(settings.output, Output::Times(_)));
+    stepper.set_dense_output(n_events > 0 || matches!(options.output, Output::Times(_)));
     stepper.reset(sys, t0, y)?;
 
     let mut events = EventState {
         g: vec![0.0; n_events],
         zero_at_start: vec![false; n_events],
-        pts: Vec::with_capacity(settings.event_samples + 2),
+        pts: Vec::with_capacity(options.event_samples + 2),
     };
     for i in 0..n_events {
         events.g[i] = hooks.event_value(i, t0, y)?;
         events.zero_at_start[i] = events.g[i] == 0.0;
     }
-    let mut pending_times: Vec<f64> = match settings.output {
+    let mut pending_times: Vec<f64> = match &options.output {
         Output::Times(ts) => {
             let mut v: Vec<f64> = ts
                 .iter()
@@ -542,14 +496,14 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         }
         _ => Vec::new(),
     };
-    let h_max = settings
+    let h_max = options
         .max_step
         .unwrap_or(f64::INFINITY)
         .min((t_end - t0).abs());
 
     let mut h = match info.fixed_step {
         Some(h) => h,
-        None => match settings.initial_step {
+        None => match options.initial_step {
             Some(h) => h.abs(),
             None => initial_step(sys, t0, y, t_end, norm, dir, info.order)?,
         },
@@ -566,10 +520,10 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     let mut rejected_last = false;
     let mut err_prev = 1e-4f64;
     loop {
-        if steps >= settings.max_steps {
+        if steps >= options.max_steps {
             return Err(Error::MaxSteps {
                 t,
-                max_steps: settings.max_steps,
+                max_steps: options.max_steps,
             });
         }
         steps += 1;
@@ -639,7 +593,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
                 (t, t_new, h, dir),
                 &y_new,
                 &mut buf,
-                settings.event_samples,
+                options.event_samples,
             )?
         } else {
             None
@@ -688,7 +642,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         y.copy_from_slice(&y_new);
         t = t_new;
         *t_last = t;
-        if last || matches!(settings.output, Output::Steps) {
+        if last || matches!(options.output, Output::Steps) {
             hooks.record(sys, t, y)?;
         }
         if last {
@@ -926,4 +880,23 @@ fn initial_step<S: OdeSystem>(
         (0.01 / d1.max(d2)).powf(1.0 / p)
     };
     Ok((100.0 * h0).min(h1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::events::Event;
+    use super::super::testing::Sys;
+    use super::super::Dopri5;
+    use super::*;
+
+    #[test]
+    fn solve_ode_refuses_events_and_projection() {
+        let mut sys = Sys::explicit(1, |_t: f64, y: &[f64], dy: &mut [f64]| dy[0] = -y[0]);
+        let with_event = Options::until(1.0).event(Event::new("zero", |_t, q, _qd| q[0]));
+        let run = solve_ode(&mut sys, Dopri5::default(), 0.0, &[1.0], &with_event);
+        assert!(matches!(run, Err(Error::InvalidOption { .. })));
+        let projected = Options::until(1.0).project(Default::default());
+        let run = solve_ode(&mut sys, Dopri5::default(), 0.0, &[1.0], &projected);
+        assert!(matches!(run, Err(Error::InvalidOption { .. })));
+    }
 }

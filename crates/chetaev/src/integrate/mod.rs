@@ -429,6 +429,27 @@ impl ErrorNorm {
         (self.sum_sq(e, y, y_new) / self.atol.len() as f64).sqrt()
     }
 
+    /// The weighted RMS norm of the error estimate `e = h Σ_s w_s k_s` of an embedded pair, with
+    /// `w_s = b_s − b̂_s` over the stages `k`: formed, weighted and summed in one pass, so no error
+    /// vector is stored.
+    #[inline(always)]
+    pub(crate) fn of_combination<const S: usize>(
+        &self,
+        h: f64,
+        w: &[f64; S],
+        k: &[&[f64]; S],
+        y: &[f64],
+        y_new: &[f64],
+    ) -> f64 {
+        let mut sum = 0.0;
+        for i in 0..self.atol.len() {
+            let e = h * weighted(w, k, i);
+            let r = e / self.scale(i, y[i], y_new[i]);
+            sum += r * r;
+        }
+        (sum / self.atol.len() as f64).sqrt()
+    }
+
     /// Number of controlled components.
     pub fn len(&self) -> usize {
         self.atol.len()
@@ -515,6 +536,56 @@ impl StiffnessTest {
 pub(crate) struct Stage<const S: usize> {
     pub(crate) c: f64,
     pub(crate) a: [f64; S],
+}
+
+impl<const S: usize> Stage<S> {
+    /// Evaluates the stage at `(t, h, y)`: its argument `arg = y + h Σ_j a_ij k_j` over the earlier
+    /// stages `k`, then `out = F(t + c_i h, arg)`.
+    #[inline(always)]
+    pub(crate) fn eval<Sy: OdeSystem>(
+        &self,
+        sys: &mut Sy,
+        (t, h, y): (f64, f64, &[f64]),
+        k: [&[f64]; S],
+        arg: &mut [f64],
+        out: &mut [f64],
+    ) -> Result<(), Error> {
+        combine(arg, y, h, &self.a, k);
+        sys.rhs(t + self.c * h, arg, out)
+    }
+}
+
+/// Stages 2 to 6 of a seven-stage explicit pair of order 5(4) whose stages each combine all the
+/// earlier ones, stage 6 sitting at `c_6 = 1` and stage 7 being the derivative at the new point
+/// (first same as last): Dormand–Prince 5(4) and Tsitouras 5(4) have this shape.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Stages54 {
+    pub(crate) s2: Stage<1>,
+    pub(crate) s3: Stage<2>,
+    pub(crate) s4: Stage<3>,
+    pub(crate) s5: Stage<4>,
+    pub(crate) s6: Stage<5>,
+}
+
+impl Stages54 {
+    /// `k_2..k_6` of the step `(t, h, y)` from `k_1` (the first of `k`): the arguments of stages 2
+    /// to 5 are formed in `arg`, that of stage 6 in `arg6` (a method that needs it afterwards, as
+    /// the stiffness test does, keeps it there).
+    #[inline(always)]
+    pub(crate) fn eval<Sy: OdeSystem>(
+        &self,
+        sys: &mut Sy,
+        at: (f64, f64, &[f64]),
+        [k1, k2, k3, k4, k5, k6]: [&mut [f64]; 6],
+        arg: &mut [f64],
+        arg6: &mut [f64],
+    ) -> Result<(), Error> {
+        self.s2.eval(sys, at, [k1], arg, k2)?;
+        self.s3.eval(sys, at, [k1, k2], arg, k3)?;
+        self.s4.eval(sys, at, [k1, k2, k3], arg, k4)?;
+        self.s5.eval(sys, at, [k1, k2, k3, k4], arg, k5)?;
+        self.s6.eval(sys, at, [k1, k2, k3, k4, k5], arg6, k6)
+    }
 }
 
 /// `out = y + h Σ_s a_s k_s` over the stages `k` with the coefficients `a`.

@@ -41,7 +41,7 @@ pub enum Record {
 }
 
 /// Options of one solve. Build with [`Options::until`] and the builder methods.
-#[derive(Clone)]
+#[derive(Clone, Debug)]
 pub struct Options {
     /// The end time; earlier than the start time integrates backward.
     pub t_end: f64,
@@ -76,26 +76,6 @@ pub struct Options {
     ///
     /// [`MethodInfo::controller`]: super::MethodInfo::controller
     pub controller: Option<Controller>,
-}
-
-impl std::fmt::Debug for Options {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Options")
-            .field("t_end", &self.t_end)
-            .field("rtol", &self.rtol)
-            .field("atol", &self.atol)
-            .field("initial_step", &self.initial_step)
-            .field("max_step", &self.max_step)
-            .field("max_steps", &self.max_steps)
-            .field("output", &self.output)
-            .field("record", &self.record)
-            .field("events", &self.events.len())
-            .field("projection", &self.projection)
-            .field("event_samples", &self.event_samples)
-            .field("rank_tolerance", &self.rank_tolerance)
-            .field("controller", &self.controller)
-            .finish()
-    }
 }
 
 impl Options {

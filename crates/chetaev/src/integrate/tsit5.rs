@@ -14,47 +14,50 @@
 #![allow(clippy::excessive_precision)]
 
 use super::system::OdeSystem;
-use super::{combine, weighted, Controller, Method, MethodInfo, Stage, Step, Stepper, Trial};
+use super::Trial;
+use super::{combine, weighted, Controller, Method, MethodInfo, Stage, Stages54, Step, Stepper};
 use crate::error::Error;
 
 // The stages 2 to 6 (stage 7 is the derivative at the new point, from the weights of the step).
-const S2: Stage<1> = Stage {
-    c: 0.161,
-    a: [0.161],
-};
-const S3: Stage<2> = Stage {
-    c: 0.327,
-    a: [
-        -0.8480655492356988544426874250230774675121e-2,
-        0.3354806554923569885444268742502307746751,
-    ],
-};
-const S4: Stage<3> = Stage {
-    c: 0.9,
-    a: [
-        2.897153057105493432130432594192938764924,
-        -6.359448489975074843148159912383825625952,
-        4.362295432869581411017727318190886861027,
-    ],
-};
-const S5: Stage<4> = Stage {
-    c: 0.9800255409045096857298102862870245954942,
-    a: [
-        5.325864828439256604428877920840511317836,
-        -11.74888356406282787774717033978577296188,
-        7.495539342889836208304604784564358155658,
-        -0.9249506636175524925650207933207191611349e-1,
-    ],
-};
-const S6: Stage<5> = Stage {
-    c: 1.0,
-    a: [
-        5.861455442946420028659251486982647890394,
-        -12.92096931784710929170611868178335939541,
-        8.159367898576158643180400794539253485181,
-        -0.7158497328140099722453054252582973869127e-1,
-        -0.2826905039406838290900305721271224146717e-1,
-    ],
+const STAGES: Stages54 = Stages54 {
+    s2: Stage {
+        c: 0.161,
+        a: [0.161],
+    },
+    s3: Stage {
+        c: 0.327,
+        a: [
+            -0.8480655492356988544426874250230774675121e-2,
+            0.3354806554923569885444268742502307746751,
+        ],
+    },
+    s4: Stage {
+        c: 0.9,
+        a: [
+            2.897153057105493432130432594192938764924,
+            -6.359448489975074843148159912383825625952,
+            4.362295432869581411017727318190886861027,
+        ],
+    },
+    s5: Stage {
+        c: 0.9800255409045096857298102862870245954942,
+        a: [
+            5.325864828439256604428877920840511317836,
+            -11.74888356406282787774717033978577296188,
+            7.495539342889836208304604784564358155658,
+            -0.9249506636175524925650207933207191611349e-1,
+        ],
+    },
+    s6: Stage {
+        c: 1.0,
+        a: [
+            5.861455442946420028659251486982647890394,
+            -12.92096931784710929170611868178335939541,
+            8.159367898576158643180400794539253485181,
+            -0.7158497328140099722453054252582973869127e-1,
+            -0.2826905039406838290900305721271224146717e-1,
+        ],
+    },
 };
 // The weights b_1 to b_6 of the step (row 7 of the tableau: stage 7 is the derivative at the new
 // point).
@@ -167,27 +170,18 @@ impl Stepper for Tsit5Stepper {
     fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
         let (t, h, y, y_new, norm) = trial.parts();
         let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
-        let yt = &mut self.ytmp;
-        combine(yt, y, h, &S2.a, [k1]);
-        sys.rhs(t + S2.c * h, yt, k2)?;
-        combine(yt, y, h, &S3.a, [k1, k2]);
-        sys.rhs(t + S3.c * h, yt, k3)?;
-        combine(yt, y, h, &S4.a, [k1, k2, k3]);
-        sys.rhs(t + S4.c * h, yt, k4)?;
-        combine(yt, y, h, &S5.a, [k1, k2, k3, k4]);
-        sys.rhs(t + S5.c * h, yt, k5)?;
-        combine(yt, y, h, &S6.a, [k1, k2, k3, k4, k5]);
-        sys.rhs(t + h, yt, k6)?;
+        // The argument of stage 6 is not needed afterwards: it is formed in `y_new`, which the
+        // step overwrites next.
+        STAGES.eval(
+            sys,
+            (t, h, y),
+            [k1, k2, k3, k4, k5, k6],
+            &mut self.ytmp,
+            y_new,
+        )?;
         combine(y_new, y, h, &B, [k1, k2, k3, k4, k5, k6]);
         sys.rhs(t + h, y_new, k7)?;
-        let ke = [&**k1, k2, k3, k4, k5, k6, k7];
-        let mut sum = 0.0;
-        for i in 0..norm.len() {
-            let e = h * weighted(&E, &ke, i);
-            let r = e / norm.scale(i, y[i], y_new[i]);
-            sum += r * r;
-        }
-        Ok((sum / norm.len() as f64).sqrt())
+        Ok(norm.of_combination(h, &E, &[&**k1, k2, k3, k4, k5, k6, k7], y, y_new))
     }
 
     fn commit<S: OdeSystem>(&mut self, _sys: &mut S, step: Step<'_>) -> Result<(), Error> {
