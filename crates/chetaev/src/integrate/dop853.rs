@@ -340,10 +340,12 @@ const RCONT: usize = 18;
 /// vectors of length `n` laid end to end in `data`, as disjoint mutable slices.
 ///
 /// A chain of `split_at_mut(n)`, written out, so every slice has the length `n` itself as far as
-/// the compiler can see: a loop over `0..n` indexing several of them checks no index and stays
-/// vectorised. (Cutting them with `chunks_exact_mut` and a fallback for the missing ones, or with
-/// `std::array::from_fn`, which is not inlined for twenty-odd elements, loses that: every access in
-/// the stage loops is checked again.)
+/// the compiler can see: the stage loops over `0..n` drop their bounds checks (all but one per
+/// component in the scalar loop that handles fewer than five components, see
+/// `docs/performance/step-loop.md`), and the slices stay in registers across the right-hand-side
+/// calls. Cutting them with `chunks_exact_mut` and an empty fallback for a missing chunk, or with
+/// `std::array::from_fn` (not inlined for twenty-odd elements), loses the lengths, and with them
+/// the checks come back into every stage loop.
 macro_rules! split {
     ($data:expr, $n:expr => $($name:tt),+) => {
         let (rest, n): (&mut [f64], usize) = ($data, $n);
