@@ -89,6 +89,12 @@ impl Comparison {
         geometric_mean(&self.all_ratios().map(Some).collect::<Vec<_>>())
     }
 
+    /// The median of the equal-error ratios, both readings together.
+    pub fn median_ratio(&self) -> Option<f64> {
+        let mut r: Vec<f64> = self.all_ratios().collect();
+        (!r.is_empty()).then(|| crate::timing::median(&mut r))
+    }
+
     /// The largest equal-error ratio.
     pub fn max_ratio(&self) -> Option<f64> {
         self.all_ratios().reduce(f64::max)

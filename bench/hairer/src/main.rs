@@ -292,7 +292,8 @@ fn print_table(c: &Comparison) {
         }
     }
     println!(
-        "  C/H at equal error (both readings): geometric mean {}, min {}, max {} over {} values\n",
+        "  C/H at equal error (both readings): median {}, geometric mean {}, min {}, max {} over {} values\n",
+        opt(c.median_ratio(), 3),
         opt(c.geometric_mean(), 3),
         opt(c.min_ratio(), 3),
         opt(c.max_ratio(), 3),
@@ -303,14 +304,15 @@ fn print_table(c: &Comparison) {
 fn print_summary(cs: &[Comparison]) {
     println!("Summary: time of chetaev / time of Hairer at equal error");
     println!(
-        "  {:<10} {:<15} {:>9} {:>7} {:>7} {:>7}",
-        "problem", "method", "geo-mean", "min", "max", "points"
+        "  {:<10} {:<15} {:>7} {:>9} {:>7} {:>7} {:>7}",
+        "problem", "method", "median", "geo-mean", "min", "max", "points"
     );
     for c in cs {
         println!(
-            "  {:<10} {:<15} {:>9} {:>7} {:>7} {:>7}",
+            "  {:<10} {:<15} {:>7} {:>9} {:>7} {:>7} {:>7}",
             c.problem,
             format!("{:?}/{}", c.pair, c.pair.code().name()),
+            opt(c.median_ratio(), 3),
             opt(c.geometric_mean(), 3),
             opt(c.min_ratio(), 3),
             opt(c.max_ratio(), 3),
@@ -332,6 +334,7 @@ fn comparison_json(c: &Comparison) -> Value {
         "problem": c.problem,
         "chetaev": format!("{:?}", c.pair),
         "hairer": c.pair.code().name(),
+        "ratio_at_equal_error_median": c.median_ratio(),
         "ratio_at_equal_error_geometric_mean": c.geometric_mean(),
         "ratio_at_equal_error_min": c.min_ratio(),
         "ratio_at_equal_error_max": c.max_ratio(),

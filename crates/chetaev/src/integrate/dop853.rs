@@ -315,10 +315,8 @@ impl Method for Dop853 {
     }
     fn stepper(&self, dim: usize) -> Dop853Stepper {
         Dop853Stepper {
-            k: std::array::from_fn(|_| vec![0.0; dim]),
-            ytmp: vec![0.0; dim],
-            ysti: vec![0.0; dim],
-            rcont: std::array::from_fn(|_| vec![0.0; dim]),
+            work: vec![0.0; VECTORS * dim],
+            dim,
             stiffness: StiffnessTest::new(
                 self.stiffness_detection,
                 STIFF_H_LAMBDA,
@@ -330,15 +328,39 @@ impl Method for Dop853 {
     }
 }
 
+/// The stepper's vectors, in this order: the stages `k1..k16` (1–12 of the step, 13 the derivative
+/// at the new point, 14–16 of the dense output), the stage argument, the argument of stage 12 (kept
+/// for the stiffness test, as stage 12 shares the node `t + h` with stage 13), and the eight
+/// dense-output coefficients.
+const VECTORS: usize = 16 + 2 + 8;
+/// Where the dense-output coefficients start.
+const RCONT: usize = 18;
+
+/// `split!(data, n => a, b, _, c)` binds `a`, `b`, `c` to the first, second and fourth of the
+/// vectors of length `n` laid end to end in `data`, as disjoint mutable slices.
+///
+/// A chain of `split_at_mut(n)`, written out, so every slice has the length `n` itself as far as
+/// the compiler can see: the stage loops over `0..n` drop their bounds checks (all but one per
+/// component in the scalar loop that handles fewer than five components, see
+/// `docs/performance/step-loop.md`), and the slices stay in registers across the right-hand-side
+/// calls. Cutting them with `chunks_exact_mut` and an empty fallback for a missing chunk, or with
+/// `std::array::from_fn` (not inlined for twenty-odd elements), loses the lengths, and with them
+/// the checks come back into every stage loop.
+macro_rules! split {
+    ($data:expr, $n:expr => $($name:tt),+) => {
+        let (rest, n): (&mut [f64], usize) = ($data, $n);
+        $(let ($name, rest) = rest.split_at_mut(n);)+
+        let _ = rest;
+    };
+}
+
 /// The working state of [`Dop853`].
 #[derive(Clone, Debug)]
 pub struct Dop853Stepper {
-    /// Stages 1–12 of the step, 13 (the derivative at the new point) and 14–16 of the dense output.
-    k: [Vec<f64>; 16],
-    ytmp: Vec<f64>,
-    /// The argument of stage 12, which shares the node `t + h` with stage 13.
-    ysti: Vec<f64>,
-    rcont: [Vec<f64>; 8],
+    /// The [`VECTORS`] work vectors of length `dim`, in one allocation (a solve of a few
+    /// microseconds would otherwise spend a noticeable part of it allocating and freeing them).
+    work: Vec<f64>,
+    dim: usize,
     stiffness: StiffnessTest,
     /// The weighted sums of squares `(err5², err3²)` of the last trial step.
     err_sums: (f64, f64),
@@ -348,13 +370,16 @@ pub struct Dop853Stepper {
 
 impl Stepper for Dop853Stepper {
     fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
-        sys.rhs(t, y, &mut self.k[0])
+        split!(&mut self.work, self.dim => k1);
+        sys.rhs(t, y, k1)
     }
 
     fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
         let (t, h, y, y_new, norm) = trial.parts();
-        let [k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, ..] = &mut self.k;
-        let yt = &mut self.ytmp;
+        let n = self.dim;
+        let (y, y_new) = (&y[..n], &mut y_new[..n]);
+        split!(&mut self.work, n =>
+               k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, _, _, _, _, yt, ysti);
         combine(yt, y, h, &S2.a, [k1]);
         sys.rhs(t + S2.c * h, yt, k2)?;
         combine(yt, y, h, &S3.a, [k1, k2]);
@@ -375,24 +400,25 @@ impl Stepper for Dop853Stepper {
         sys.rhs(t + S10.c * h, yt, k10)?;
         combine(yt, y, h, &S11.a, [k1, k4, k5, k6, k7, k8, k9, k10]);
         sys.rhs(t + S11.c * h, yt, k11)?;
-        let ysti = &mut self.ysti;
         combine(ysti, y, h, &S12.a, [k1, k4, k5, k6, k7, k8, k9, k10, k11]);
         sys.rhs(t + h, ysti, k12)?;
         // The step and both error estimates in one pass, weighted and summed as they are formed
         // (Hairer's DOP853 does the same in its final loop); components beyond the norm's are
-        // outside error control.
-        let kb = [&**k1, k6, k7, k8, k9, k10, k11, k12];
+        // outside error control and only stepped.
+        let kb = [&*k1, k6, k7, k8, k9, k10, k11, k12];
+        let controlled = norm.len().min(n);
         let (mut err5, mut err3) = (0.0, 0.0);
-        for i in 0..y.len() {
+        for i in 0..controlled {
             let incr = weighted(&B, &kb, i);
             y_new[i] = y[i] + h * incr;
-            if i < norm.len() {
-                let sc = norm.scale(i, y[i], y_new[i]);
-                let e3 = (incr - BHH[0] * k1[i] - BHH[1] * k9[i] - BHH[2] * k12[i]) / sc;
-                let e5 = weighted(&ER, &kb, i) / sc;
-                err3 += e3 * e3;
-                err5 += e5 * e5;
-            }
+            let sc = norm.scale(i, y[i], y_new[i]);
+            let e3 = (incr - BHH[0] * k1[i] - BHH[1] * k9[i] - BHH[2] * k12[i]) / sc;
+            let e5 = weighted(&ER, &kb, i) / sc;
+            err3 += e3 * e3;
+            err5 += e5 * e5;
+        }
+        for i in controlled..n {
+            y_new[i] = y[i] + h * weighted(&B, &kb, i);
         }
         self.err_sums = (err5, err3);
         let err = err5;
@@ -405,11 +431,15 @@ impl Stepper for Dop853Stepper {
 
     fn commit<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
         let Step { t, h, y, y_new } = step;
-        let [k1, _, _, _, _, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16] = &mut self.k;
+        let n = self.dim;
+        let (y, y_new) = (&y[..n], &y_new[..n]);
+        split!(&mut self.work, n =>
+               k1, _, _, _, _, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16,
+               yt, ysti, r1, r2, r3, r4, r5, r6, r7, r8);
         sys.rhs(t + h, y_new, k13)?;
         // h·|λ| from stages 12 and 13, which share the node t + h.
         if self.stiffness.wants_test() {
-            self.stiffness.observe(h, k13, k12, y_new, &self.ysti);
+            self.stiffness.observe(h, k13, k12, y_new, ysti);
         }
         if !self.dense {
             // Nothing will interpolate: skip the three extra stages.
@@ -417,16 +447,14 @@ impl Stepper for Dop853Stepper {
             return Ok(());
         }
         // The three stages of the continuous extension.
-        let yt = &mut self.ytmp;
         combine(yt, y, h, &S14.a, [k1, k7, k8, k9, k10, k11, k12, k13]);
         sys.rhs(t + S14.c * h, yt, k14)?;
         combine(yt, y, h, &S15.a, [k1, k6, k7, k8, k11, k12, k13, k14]);
         sys.rhs(t + S15.c * h, yt, k15)?;
         combine(yt, y, h, &S16.a, [k1, k6, k7, k8, k9, k13, k14, k15]);
         sys.rhs(t + S16.c * h, yt, k16)?;
-        let kd = [&**k1, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16];
-        let [r1, r2, r3, r4, r5, r6, r7, r8] = &mut self.rcont;
-        for i in 0..y.len() {
+        let kd = [&*k1, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16];
+        for i in 0..n {
             let ydiff = y_new[i] - y[i];
             let bspl = h * k1[i] - ydiff;
             r1[i] = y[i];
@@ -444,9 +472,11 @@ impl Stepper for Dop853Stepper {
     }
 
     fn interpolate(&self, theta: f64, out: &mut [f64]) {
-        let [r1, r2, r3, r4, r5, r6, r7, r8] = &self.rcont;
+        let (n, dim) = (out.len(), self.dim);
+        let [r1, r2, r3, r4, r5, r6, r7, r8]: [&[f64]; 8] =
+            std::array::from_fn(|j| &self.work[(RCONT + j) * dim..(RCONT + j + 1) * dim][..n]);
         let th1 = 1.0 - theta;
-        for i in 0..out.len() {
+        for i in 0..n {
             let par = r5[i] + theta * (r6[i] + th1 * (r7[i] + theta * r8[i]));
             out[i] = r1[i] + theta * (r2[i] + th1 * (r3[i] + theta * (r4[i] + th1 * par)));
         }

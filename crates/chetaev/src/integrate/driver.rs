@@ -478,7 +478,11 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     let mut events = EventState {
         g: vec![0.0; n_events],
         zero_at_start: vec![false; n_events],
-        pts: Vec::with_capacity(options.event_samples + 2),
+        pts: Vec::with_capacity(if n_events > 0 {
+            options.event_samples + 2
+        } else {
+            0
+        }),
     };
     for i in 0..n_events {
         events.g[i] = hooks.event_value(i, t0, y)?;
@@ -853,8 +857,11 @@ fn initial_step<S: OdeSystem>(
 ) -> Result<f64, Error> {
     let dim = y0.len();
     let p = order as f64;
-    let mut f0 = vec![0.0; dim];
-    sys.rhs(t0, y0, &mut f0)?;
+    // f(t0, y0), the Euler step and f there, in one allocation.
+    let mut work = vec![0.0; 3 * dim];
+    let (f0, rest) = work.split_at_mut(dim);
+    let (y1, f1) = rest.split_at_mut(dim);
+    sys.rhs(t0, y0, f0)?;
     // Weighted RMS norms with the scale of y0 alone, as in HINIT.
     let rms = |v: &dyn Fn(usize) -> f64| {
         let s: f64 = (0..norm.len())
@@ -870,9 +877,10 @@ fn initial_step<S: OdeSystem>(
         0.01 * d0 / d1
     };
     h0 = h0.min((t_end - t0).abs());
-    let y1: Vec<f64> = (0..dim).map(|i| y0[i] + dir * h0 * f0[i]).collect();
-    let mut f1 = vec![0.0; dim];
-    sys.rhs(t0 + dir * h0, &y1, &mut f1)?;
+    for i in 0..dim {
+        y1[i] = y0[i] + dir * h0 * f0[i];
+    }
+    sys.rhs(t0 + dir * h0, y1, f1)?;
     let d2 = rms(&|i| f1[i] - f0[i]) / h0;
     let h1 = if d1.max(d2) <= 1e-15 {
         (h0 * 1e-3).max(1e-6)
