@@ -53,6 +53,9 @@ enum Command {
     Describe {
         /// The scene file (TOML).
         scene: PathBuf,
+        /// Print the derived equations as one LaTeX `align*` environment instead.
+        #[arg(long)]
+        latex: bool,
     },
     Check {
         /// The scene file (TOML).
@@ -257,13 +260,23 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Check { scene, out, force } => check(&scene, out, force),
-        Command::Describe { scene } => match Scene::load(&scene).and_then(|s| s.describe()) {
-            Ok(text) => {
-                Stdout::new().print(&format!("{}\n{text}\n", scene.display()));
-                ExitCode::SUCCESS
+        Command::Describe { scene, latex } => {
+            let described = Scene::load(&scene).and_then(|s| {
+                if latex {
+                    s.describe_latex()
+                } else {
+                    s.describe()
+                        .map(|text| format!("{}\n{text}", scene.display()))
+                }
+            });
+            match described {
+                Ok(text) => {
+                    Stdout::new().print(&format!("{text}\n"));
+                    ExitCode::SUCCESS
+                }
+                Err(e) => fail(&e),
             }
-            Err(e) => fail(&e),
-        },
+        }
         Command::Run {
             scene,
             out,

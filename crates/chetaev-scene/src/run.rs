@@ -81,6 +81,22 @@ impl Scene {
         Ok(format!("coordinates q = ({names})\n{d}"))
     }
 
+    /// The equations the library derived for the scene, as one LaTeX `align*` environment, with
+    /// the coordinates numbered in the scene's order (`q_1` is the first of
+    /// `coordinates`); an explanation where the scene's model cannot be recorded.
+    pub fn describe_latex(&self) -> Result<String, Error> {
+        let problem = self.problem()?;
+        let d = problem
+            .describe(self.t0, problem.q0(), problem.qd0())
+            .map_err(|e| self.setup_error(e))?;
+        let names = self.coordinates.join(", ");
+        let latex = d.latex();
+        if latex.is_empty() {
+            return Ok("% the model could not be recorded as expressions".to_string());
+        }
+        Ok(format!("% coordinates q = ({names})\n{latex}"))
+    }
+
     /// Integrates the scene, recording only what its tables and pictures need. A problem found
     /// before the integration starts is an `Err`; a failure during it is the outcome's status.
     pub fn solve(&self) -> Result<Outcome, Error> {

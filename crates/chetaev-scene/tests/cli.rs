@@ -493,3 +493,27 @@ fn check_counts_agree_with_their_nouns() {
         "{stdout}"
     );
 }
+
+#[test]
+fn describe_shows_the_proved_structure_and_the_derived_equations_in_text_and_latex() {
+    let scene = scene_path("uniform-projectile.toml");
+    let o = chetaev(&["describe", &scene]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("structure  (proved from the recorded expressions)"),
+        "{text}"
+    );
+    assert!(text.contains("J[1,1]     = q̇1 + q̇1"), "{text}");
+    let o = chetaev(&["describe", "--latex", &scene]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let latex = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        latex.contains("\\begin{align*}") && latex.contains("\\end{align*}"),
+        "{latex}"
+    );
+    assert!(
+        latex.contains("J_{1,1} &= \\dot q_{1} + \\dot q_{1}"),
+        "{latex}"
+    );
+}

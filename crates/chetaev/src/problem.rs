@@ -231,9 +231,12 @@ impl<M: Model> Problem<M> {
     }
 
     /// What the library derived for the model, at a state `(t, q, q̇)`: which blocks of the Chetaev
-    /// equations vanish or are constant and what each depends on (probed around the state; see
+    /// equations vanish or are constant and what each depends on (proved from the model's compiled
+    /// expressions, [`equations::compiled`](crate::equations::compiled); probed around the state
+    /// where the model cannot be recorded, see
     /// [`equations::structure`](crate::equations::structure)), the sparsity patterns of `W` and
-    /// `J`, the numerical blocks, and `q̈`, `μ`, `Φ` and the block system's conditioning there.
+    /// `J`, the derived blocks as expressions (plain text and LaTeX), the numerical blocks, and
+    /// `q̈`, `μ`, `Φ` and the block system's conditioning there.
     /// `println!("{}", problem.describe(t, q, qd)?)` prints it as plain text.
     ///
     /// ```
@@ -272,8 +275,17 @@ impl<M: Model> Problem<M> {
             self.model
                 .constraint_blocks(t, q, qd, true, &mut constraints);
         }
+        let compiled = self.compiled();
         Ok(crate::equations::structure::Description {
-            structure: crate::equations::structure::probe(&self.model, t, q, qd),
+            structure: match compiled {
+                Some(c) => c.structure().clone(),
+                None => crate::equations::structure::probe(&self.model, t, q, qd),
+            },
+            proved: compiled.is_some(),
+            equations: compiled
+                .map(|c| c.equations_text(false))
+                .unwrap_or_default(),
+            latex: compiled.map(|c| c.equations_text(true)).unwrap_or_default(),
             state: (t, q.to_vec(), qd.to_vec()),
             lagrangian,
             constraints,

@@ -1,7 +1,8 @@
 //! What the library derived for a model, shown: which blocks of the Chetaev equations vanish or are
 //! constant, what each depends on, and their numbers at a state ([`Problem::describe`]).
 //!
-//! The dependences are found by evaluating the blocks (each itself by automatic differentiation)
+//! Where the model is recorded as an expression graph ([`compiled`](super::compiled)) the structure
+//! is proved from the expressions. Otherwise the dependences are found by evaluating the blocks (each itself by automatic differentiation)
 //! at a few states around the one given, moving `t`, `q` and `q̇` one at a time by relative steps
 //! of a few per cent: a block whose values do not change (to 1e-12 relative) when `q` moves is
 //! reported as independent of `q`, and so on. This is a probe, not a proof: a block that varies only
@@ -203,8 +204,15 @@ pub(crate) fn probe<M: Model + ?Sized>(model: &M, t: f64, q: &[f64], qd: &[f64])
 /// report.
 #[derive(Clone, Debug)]
 pub struct Description {
-    /// The structure, as probed around the state.
+    /// The structure: proved from the compiled expressions, or probed around the state.
     pub structure: Structure,
+    /// Whether [`Description::structure`] is proved (from the expression graph) rather than probed.
+    pub proved: bool,
+    /// The derived blocks as plain-text expressions, `(name, expression)`, zero entries left out
+    /// (empty where the model cannot be recorded).
+    pub equations: Vec<(String, String)>,
+    /// The same in LaTeX.
+    pub latex: Vec<(String, String)>,
     /// The state `(t, q, q̇)`.
     pub state: (f64, Vec<f64>, Vec<f64>),
     /// `W` (row-major `n × n`), `∂L/∂q`, `g`, `∂L/∂t` at the state.
@@ -213,6 +221,31 @@ pub struct Description {
     pub constraints: ConstraintBlocks<f64>,
     /// `q̈`, `μ`, `Φ`, `E`, the pivot ratio, ... at the state.
     pub dynamics: super::Dynamics<f64>,
+}
+
+impl Description {
+    /// The derived blocks as one LaTeX `align*` environment (empty where the model cannot be
+    /// recorded).
+    pub fn latex(&self) -> String {
+        if self.latex.is_empty() {
+            return String::new();
+        }
+        let rows: Vec<String> = self
+            .latex
+            .iter()
+            .map(|(name, e)| {
+                let name = name
+                    .replace("∂L/∂q", "\\partial L/\\partial q")
+                    .replace('[', "_{")
+                    .replace(']', "}");
+                format!("  {name} &= {e}")
+            })
+            .collect();
+        format!(
+            "\\begin{{align*}}\n{}\n\\end{{align*}}",
+            rows.join(" \\\\\n")
+        )
+    }
 }
 
 fn vector(v: &[f64]) -> String {
@@ -262,7 +295,11 @@ impl fmt::Display for Description {
                 "  sizes      n = {n} coordinates, k = {k} velocity constraints"
             )?;
         }
-        writeln!(f, "  structure  (probed around the state below)")?;
+        if self.proved {
+            writeln!(f, "  structure  (proved from the recorded expressions)")?;
+        } else {
+            writeln!(f, "  structure  (probed around the state below)")?;
+        }
         writeln!(
             f,
             "    W = ∂²L/∂q̇²              {}   pattern {}",
@@ -282,6 +319,15 @@ impl fmt::Display for Description {
             writeln!(f, "    c = (∂f/∂q)q̇ + ∂f/∂t     {}", s.c)?;
         }
         writeln!(f, "    Q (forces not from L)    {}", s.forces)?;
+        if !self.equations.is_empty() {
+            writeln!(
+                f,
+                "  derived    (inputs t, q1…, q̇1…; zero entries left out)"
+            )?;
+            for (name, e) in &self.equations {
+                writeln!(f, "    {name:<10} = {e}")?;
+            }
+        }
         writeln!(f, "  at t = {t}, q = {}, q̇ = {}", vector(q), vector(qd))?;
         writeln!(f, "    W     = {}", matrix(&self.lagrangian.w, n))?;
         writeln!(f, "    ∂L/∂q = {}", vector(&self.lagrangian.dl_dq))?;
