@@ -1,7 +1,7 @@
 //! Times `solve` on the paper's scene (the README's model, to the impact event) with the static
 //! path of two revisions of chetaev, in one process, interleaved (A, B, A, B, ...), and prints the
 //! median time of each and their ratio, at equal tolerance and at equal error. Usage:
-//! `cargo run --release -- [--rounds N] [--event-samples N] [--i-controller]`.
+//! `cargo run --release -- [--rounds N] [--event-samples N] [--i-controller] [--route dual] [--reuse]`.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -82,8 +82,7 @@ mod head {
         }
     }
 
-    /// One solve to the impact; returns the impact time.
-    pub fn run(method: &str, tol: f64) -> f64 {
+    fn problem() -> Problem<chetaev::model::Fixed<Uniform, 2, 1>> {
         let model = Uniform {
             m: 1.0,
             g: 10.0,
@@ -96,6 +95,25 @@ mod head {
             SVector::from([10.0, 0.0]),
         )
         .expect("valid");
+        if crate::dual_route() {
+            problem.with_route(Route::Dual)
+        } else {
+            problem
+        }
+    }
+
+    /// One solve to the impact; returns the impact time. The problem (with its compiled
+    /// equations) is built in every run, or once with `--reuse`.
+    pub fn run(method: &str, tol: f64) -> f64 {
+        static REUSED: std::sync::OnceLock<Problem<chetaev::model::Fixed<Uniform, 2, 1>>> =
+            std::sync::OnceLock::new();
+        let fresh;
+        let problem = if crate::reuse() {
+            REUSED.get_or_init(problem)
+        } else {
+            fresh = problem();
+            &fresh
+        };
         let impact = Event::new("impact", |_t, q, _qd| q[1]).falling().terminal();
         let o = Options::until(10.0)
             .tolerances(tol, tol)
@@ -115,6 +133,17 @@ mod head {
         .expect("solved");
         sol.events[0].t
     }
+}
+
+/// `--route dual`: the head evaluates by dual numbers (no compiled equations).
+fn dual_route() -> bool {
+    std::env::args().any(|a| a == "dual")
+}
+
+/// `--reuse`: the head builds its problem once (the compiled equations made once) instead of in
+/// every run.
+fn reuse() -> bool {
+    std::env::args().any(|a| a == "--reuse")
 }
 
 /// Settings of the head's runs: `--event-samples N` (default 4, the library's default) and
@@ -177,6 +206,15 @@ fn main() {
             "I (0.2, 10) for every method"
         } else {
             "each method's own"
+        }
+    );
+    println!(
+        "head: route = {}, problem {}",
+        if dual_route() { "dual" } else { "graph (compiled equations)" },
+        if reuse() {
+            "built once and reused"
+        } else {
+            "built in every run (its compilation included)"
         }
     );
     let exact = 0.5f64.exp().acosh();

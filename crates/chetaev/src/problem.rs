@@ -1,6 +1,6 @@
 //! A model with its initial state, validated.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use nalgebra::SVector;
 
@@ -26,7 +26,9 @@ pub struct Problem<M> {
     t0: f64,
     q0: Vec<f64>,
     qd0: Vec<f64>,
-    compiled: Option<Arc<Compiled>>,
+    route: Route,
+    /// The compiled equations, made on first use (by the first solve).
+    compiled: OnceLock<Option<Arc<Compiled>>>,
 }
 
 /// How a problem's equations are evaluated ([`Problem::with_route`]).
@@ -118,34 +120,41 @@ impl<M: Model> Problem<M> {
     /// Builds a problem for any [`Model`]; see [`Problem::new`] and [`Problem::dynamic`].
     pub fn from_model(model: M, t0: f64, q0: Vec<f64>, qd0: Vec<f64>) -> Result<Self, Error> {
         check_state(&model, t0, &q0, &qd0)?;
-        let mut problem = Self {
+        let problem = Self {
             model,
             t0,
             q0,
             qd0,
-            compiled: None,
+            route: Route::Graph,
+            compiled: OnceLock::new(),
         };
         problem.check_initial_state()?;
-        problem.compiled = compile(&problem.model, t0, &problem.q0, &problem.qd0).map(Arc::new);
         Ok(problem)
     }
 
     /// The same problem with its equations evaluated by `route` ([`Route::Graph`], the default, or
     /// [`Route::Dual`]).
     pub fn with_route(mut self, route: Route) -> Self {
-        self.compiled = match route {
-            Route::Dual => None,
-            Route::Graph => self
-                .compiled
-                .or_else(|| compile(&self.model, self.t0, &self.q0, &self.qd0).map(Arc::new)),
-        };
+        self.route = route;
         self
     }
 
+    /// How the equations are evaluated.
+    pub fn route(&self) -> Route {
+        self.route
+    }
+
     /// The compiled equations and the structure found in them, when the model could be recorded
-    /// (see [`equations::compiled`](crate::equations::compiled)); `None` on [`Route::Dual`].
+    /// (see [`equations::compiled`](crate::equations::compiled)); `None` on [`Route::Dual`]. They
+    /// are made on the first call (the first solve), once per problem: recording and
+    /// differentiating a model costs about as much as one short solve of it.
     pub fn compiled(&self) -> Option<&Compiled> {
-        self.compiled.as_deref()
+        if self.route == Route::Dual {
+            return None;
+        }
+        self.compiled
+            .get_or_init(|| compile(&self.model, self.t0, &self.q0, &self.qd0).map(Arc::new))
+            .as_deref()
     }
 
     /// [`Problem::from_model`] with the initial velocity first projected onto the constraints.

@@ -318,3 +318,12 @@ fn the_derived_equations_print_as_text_and_latex() {
         .iter()
         .any(|(k, v)| k == "f[1]" && v.contains("\\dot q_{1}")));
 }
+
+#[test]
+fn problems_stay_send_and_sync_for_parallel_sweeps() {
+    fn shared<T: Send + Sync>(_: &T) {}
+    let uniform = Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok");
+    let _ = uniform.compiled();
+    shared(&uniform);
+    shared(&sphere());
+}

@@ -3,9 +3,7 @@
 //! everything else, and parts that do not depend on the differentiation variables are never
 //! visited.
 
-use std::collections::HashMap;
-
-use super::{Deps, Fun, Graph, Node};
+use super::{Deps, FastMap, Fun, Graph, Node};
 
 impl Graph {
     /// The partial derivatives of node `id` with respect to its operands, as nodes.
@@ -152,7 +150,7 @@ impl Graph {
             return vec![zero; wrt.len()];
         }
         let order = self.reachable(&[y]);
-        let mut adjoint: HashMap<u32, u32> = HashMap::new();
+        let mut adjoint: FastMap<u32, u32> = FastMap::default();
         adjoint.insert(y, self.constant_node(1.0));
         for &id in order.iter().rev() {
             let Some(&a) = adjoint.get(&id) else {
@@ -185,7 +183,7 @@ impl Graph {
     pub fn directional(&mut self, ys: &[u32], seeds: &[(u32, u32)], mask: Deps) -> Vec<u32> {
         let zero = self.constant_node(0.0);
         let order = self.reachable(ys);
-        let mut tangent: HashMap<u32, u32> = seeds.iter().copied().collect();
+        let mut tangent: FastMap<u32, u32> = seeds.iter().copied().collect();
         for &id in &order {
             if self.deps(id) & mask == 0 || matches!(self.nodes[id as usize], Node::Input(_)) {
                 continue;

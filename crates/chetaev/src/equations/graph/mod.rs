@@ -29,6 +29,7 @@ pub use tape::{GuardFlip, Tape};
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::model::Real;
 
@@ -177,6 +178,44 @@ impl Node {
     }
 }
 
+/// A fast hasher for the graph's small integer keys (the multiplicative hash of rustc's FxHasher):
+/// the standard SipHash costs more than everything else in recording a small model, and the keys
+/// here come from the library, not from an adversary.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Fx(u64);
+
+impl Hasher for Fx {
+    #[inline]
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    #[inline]
+    fn write_u8(&mut self, i: u8) {
+        self.write_u64(u64::from(i));
+    }
+    #[inline]
+    fn write_u32(&mut self, i: u32) {
+        self.write_u64(u64::from(i));
+    }
+    #[inline]
+    fn write_u64(&mut self, i: u64) {
+        self.0 = (self.0.rotate_left(5) ^ i).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    #[inline]
+    fn write_usize(&mut self, i: usize) {
+        self.write_u64(i as u64);
+    }
+    #[inline]
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// A hash map keyed by the graph's integers.
+pub(crate) type FastMap<K, V> = HashMap<K, V, BuildHasherDefault<Fx>>;
+
 /// The hash-consing key of a node (floating-point payloads by their bits).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct Key(u8, u32, u32, u64);
@@ -218,17 +257,34 @@ pub struct Guard {
 }
 
 /// A recorded expression graph.
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct Graph {
     nodes: Vec<Node>,
     deps: Vec<Deps>,
     /// Each node's value at the recorded point.
     values: Vec<f64>,
-    map: HashMap<Key, u32>,
+    map: FastMap<Key, u32>,
     guards: Vec<Guard>,
     escaped: bool,
     /// Input classes, by input number.
     inputs: Vec<Deps>,
+    /// Visit stamps of [`Graph::reachable`], and the last stamp used.
+    marks: std::sync::Mutex<(Vec<u64>, u64)>,
+}
+
+impl Clone for Graph {
+    fn clone(&self) -> Self {
+        Self {
+            nodes: self.nodes.clone(),
+            deps: self.deps.clone(),
+            values: self.values.clone(),
+            map: self.map.clone(),
+            guards: self.guards.clone(),
+            escaped: self.escaped,
+            inputs: self.inputs.clone(),
+            marks: std::sync::Mutex::default(),
+        }
+    }
 }
 
 /// A node index that is a free constant in a [`Sym`] (no node yet).
@@ -424,20 +480,31 @@ impl Graph {
         }
     }
 
-    /// The nodes reachable from `roots`, in ascending (topological) order.
+    /// The nodes reachable from `roots`, in ascending (topological) order. The work is in the
+    /// number of nodes reached, not in the size of the graph (visits are marked with a stamp per
+    /// call in a buffer kept with the graph).
     pub fn reachable(&self, roots: &[u32]) -> Vec<u32> {
-        let mut seen = vec![false; self.nodes.len()];
-        let mut stack: Vec<u32> = roots.to_vec();
+        let mut marks = self.marks.lock().unwrap_or_else(|e| e.into_inner());
+        let (stamps, epoch) = &mut *marks;
+        *epoch += 1;
+        if stamps.len() < self.nodes.len() {
+            stamps.resize(self.nodes.len(), 0);
+        }
+        let mut out = Vec::with_capacity(64);
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        stack.extend_from_slice(roots);
         while let Some(id) = stack.pop() {
-            if std::mem::replace(&mut seen[id as usize], true) {
+            let stamp = &mut stamps[id as usize];
+            if *stamp == *epoch {
                 continue;
             }
+            *stamp = *epoch;
+            out.push(id);
             let (ops, count) = self.nodes[id as usize].operands();
             stack.extend_from_slice(&ops[..count]);
         }
-        (0..self.nodes.len() as u32)
-            .filter(|&i| seen[i as usize])
-            .collect()
+        out.sort_unstable();
+        out
     }
 }
 
@@ -467,7 +534,12 @@ pub fn record<O>(f: impl FnOnce() -> O) -> (Graph, O) {
             RECORDING.with(|r| *r.borrow_mut() = None);
         }
     }
-    RECORDING.with(|r| *r.borrow_mut() = Some(Graph::default()));
+    let mut fresh = Graph::default();
+    fresh.nodes.reserve(256);
+    fresh.deps.reserve(256);
+    fresh.values.reserve(256);
+    fresh.map.reserve(256);
+    RECORDING.with(|r| *r.borrow_mut() = Some(fresh));
     let reset = Reset;
     let out = f();
     let graph = RECORDING
