@@ -30,6 +30,7 @@
 //! [`saddle`]: super::saddle
 
 use std::fmt;
+use std::sync::OnceLock;
 
 use super::graph::{record, Deps, Graph, GuardFlip, Sym, Tape, DEP_Q, DEP_QD, DEP_T};
 use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
@@ -79,9 +80,13 @@ pub struct Compiled {
     structure: Structure,
     /// The right-hand side: `L`, `f`, `r`, `J` (its nonzero entries), `c`, `W` (when varying), and
     /// the rates of the energy quadratures `∂L/∂t`, `q̇·Q`.
-    core: Tape,
+    core: OnceLock<Tape>,
     /// The same and the diagnostics at output points: `E`, `Q`.
-    full: Tape,
+    full: OnceLock<Tape>,
+    /// The outputs of the two tapes (node ids), from which they are made on first use: a static
+    /// model evaluates by its own dual passes and never needs them.
+    core_out: Vec<u32>,
+    full_out: Vec<u32>,
     j_entries: Vec<(usize, usize)>,
     w_entries: Vec<(usize, usize)>,
     metric: Metric,
@@ -99,7 +104,7 @@ impl fmt::Debug for Compiled {
         f.debug_struct("Compiled")
             .field("sizes", &(self.n, self.k))
             .field("structure", &self.structure)
-            .field("operations", &(self.core.len(), self.full.len()))
+            .field("operations", &self.operations())
             .field("guards", &self.graph.guards().len())
             .finish()
     }
@@ -145,8 +150,8 @@ impl<T: Real> CompiledWorkspace<T> {
         let (n, k) = (compiled.n, compiled.k);
         let varying = matches!(compiled.metric, Metric::Varying);
         Self {
-            core: compiled.core.slots(),
-            full: compiled.full.slots(),
+            core: compiled.core().slots(),
+            full: compiled.full().slots(),
             w: vec![T::zero(); if varying { n * n } else { 0 }],
             wf: vec![T::zero(); if varying { n * n } else { 0 }],
             j: vec![T::zero(); k * n],
@@ -301,8 +306,6 @@ impl Compiled {
         };
         let r_const = constants(&r);
         let dl_dq_const = constants(&dl_dq);
-        let core = Tape::new(&g, &core_out);
-        let full = Tape::new(&g, &full_out);
         Some(Self {
             n,
             k,
@@ -323,8 +326,10 @@ impl Compiled {
                 power_forces,
             },
             structure,
-            core,
-            full,
+            core: OnceLock::new(),
+            full: OnceLock::new(),
+            core_out,
+            full_out,
             j_entries,
             w_entries,
             metric,
@@ -354,6 +359,18 @@ impl Compiled {
         self.dl_dq_const.as_deref()
     }
 
+    /// The right-hand side's tape, made on first use.
+    fn core(&self) -> &Tape {
+        self.core
+            .get_or_init(|| Tape::new(&self.graph, &self.core_out))
+    }
+
+    /// The tape with the diagnostics, made on first use.
+    fn full(&self) -> &Tape {
+        self.full
+            .get_or_init(|| Tape::new(&self.graph, &self.full_out))
+    }
+
     /// The structure found: which blocks are zero, constant, or depend on `t`, `q`, `q̇`, and the
     /// sparsity of `W` and `J` (proved from the expressions).
     pub fn structure(&self) -> &Structure {
@@ -362,7 +379,7 @@ impl Compiled {
 
     /// Operations per evaluation: `(right-hand side, with the energy balance)`.
     pub fn operations(&self) -> (usize, usize) {
-        (self.core.len(), self.full.len())
+        (self.core().len(), self.full().len())
     }
 
     /// The number of comparisons in the model's code that the tape re-checks.
@@ -496,7 +513,7 @@ impl Compiled {
         full: bool,
     ) -> Result<T, CompiledFailure> {
         let (n, k) = (self.n, self.k);
-        let tape = if full { &self.full } else { &self.core };
+        let tape = if full { self.full() } else { self.core() };
         tape.eval(slots, |i| {
             if i == 0 {
                 t
