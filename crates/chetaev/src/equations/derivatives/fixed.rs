@@ -132,15 +132,21 @@ where
     M: Lagrangian<N> + ?Sized,
     T: Real,
 {
-    let n = Const::<N>;
-    type C<T, const N: usize> = DualVec<T, f64, Const<N>>;
-    let tc = C::<T, N>::from_re(t);
-    let mut qc: SVector<C<T, N>, N> = q.map(C::from_re);
-    for (i, x) in qc.iter_mut().enumerate() {
-        x.eps = Derivative::derivative_generic(n, U1, i);
+    let l = model.lagrangian(Grad::<T, N>::from_re(t), &seeded(q), &qd.map(Grad::from_re));
+    l.eps.unwrap_generic(Const::<N>, U1)
+}
+
+/// A first-order dual number over `N` directions (one gradient pass).
+type Grad<T, const N: usize> = DualVec<T, f64, Const<N>>;
+
+/// `x` as [`Grad`] numbers seeded with the unit directions: the variables of a gradient pass.
+#[inline(always)]
+fn seeded<T: Real, const N: usize>(x: &SVector<T, N>) -> SVector<Grad<T, N>, N> {
+    let mut v: SVector<Grad<T, N>, N> = x.map(Grad::from_re);
+    for (i, e) in v.iter_mut().enumerate() {
+        e.eps = Derivative::derivative_generic(Const::<N>, U1, i);
     }
-    let qdc: SVector<C<T, N>, N> = qd.map(C::from_re);
-    model.lagrangian(tc, &qc, &qdc).eps.unwrap_generic(n, U1)
+    v
 }
 
 /// `L` and `p = ∂L/∂q̇` (shape `N`) from one gradient pass over `q̇`.
@@ -155,14 +161,8 @@ where
     M: Lagrangian<N> + ?Sized,
     T: Real,
 {
-    let n = Const::<N>;
-    type D<T, const N: usize> = DualVec<T, f64, Const<N>>;
-    let mut qdv: SVector<D<T, N>, N> = qd.map(D::from_re);
-    for (i, x) in qdv.iter_mut().enumerate() {
-        x.eps = Derivative::derivative_generic(n, U1, i);
-    }
-    let l = model.lagrangian(D::<T, N>::from_re(t), &q.map(D::from_re), &qdv);
-    (l.re, l.eps.unwrap_generic(n, U1))
+    let l = model.lagrangian(Grad::<T, N>::from_re(t), &q.map(Grad::from_re), &seeded(qd));
+    (l.re, l.eps.unwrap_generic(Const::<N>, U1))
 }
 
 /// Above this many coordinates `W` is taken column by column (see [`velocity_hessian`]).
@@ -287,14 +287,7 @@ where
     T: Real,
 {
     let n = Const::<N>;
-    type D<T, const N: usize> = DualVec<T, f64, Const<N>>;
-    let td = D::<T, N>::from_re(t);
-    let qdual: SVector<D<T, N>, N> = q.map(D::from_re);
-    let mut qdv: SVector<D<T, N>, N> = qd.map(D::from_re);
-    for (i, x) in qdv.iter_mut().enumerate() {
-        x.eps = Derivative::derivative_generic(n, U1, i);
-    }
-    let fd = model.constraints(td, &qdual, &qdv);
+    let fd = model.constraints(Grad::<T, N>::from_re(t), &q.map(Grad::from_re), &seeded(qd));
     let f = fd.map(|fa| fa.re);
     let j = SMatrix::<T, K, N>::from_fn(|a, i| fd[a].eps.unwrap_generic(n, U1)[i]);
     (f, j)
@@ -410,17 +403,9 @@ where
     if no_dissipation {
         return q_direct;
     }
-    type D<T, const N: usize> = DualVec<T, f64, Const<N>>;
-    let n = Const::<N>;
-    let td = D::<T, N>::from_re(t);
-    let qdual: SVector<D<T, N>, N> = q.map(D::from_re);
-    let mut qdv: SVector<D<T, N>, N> = qd.map(D::from_re);
-    for (i, x) in qdv.iter_mut().enumerate() {
-        x.eps = Derivative::derivative_generic(n, U1, i);
-    }
     let q_dissipative = model
-        .dissipation(td, &qdual, &qdv)
-        .map(|d| -d.eps.unwrap_generic(n, U1));
+        .dissipation(Grad::<T, N>::from_re(t), &q.map(Grad::from_re), &seeded(qd))
+        .map(|d| -d.eps.unwrap_generic(Const::<N>, U1));
     match (q_direct, q_dissipative) {
         (None, None) => None,
         (Some(a), None) => Some(a),
