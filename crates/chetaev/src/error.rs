@@ -8,6 +8,7 @@
 ///
 /// Its `Debug` form is its message, so that `fn main() -> Result<(), chetaev::Error>` and `{:?}`
 /// print what was wrong and what to try, not a struct dump; the fields are public for code.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[derive(Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {

@@ -7,6 +7,7 @@ use crate::integrate::system::{ReducedOde, Stats};
 use crate::model::Model;
 
 /// Why the integration stopped.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Status {
     /// The end time was reached.
@@ -25,6 +26,7 @@ pub enum Status {
 ///
 /// It reads like a `Vec` of slices: `sol.q[i][0]`, `sol.q.last()`, `sol.mu.iter()`; and by
 /// component: `sol.q.component(1)` is the time series of the second coordinate.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Series {
     width: usize,
@@ -174,6 +176,7 @@ impl std::ops::Index<usize> for Series {
 /// The motion and everything recorded along it, for a model of `n` coordinates and `k`
 /// constraints of any flavour. Series of diagnostics are empty when the [`Record`] level did not
 /// ask for them.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[derive(Clone, Debug)]
 #[must_use = "a solution carries a status that says whether the integration succeeded"]
 pub struct Solution {

@@ -87,6 +87,7 @@ pub(crate) fn crosses(direction: Direction, g0: f64, g1: f64) -> bool {
 }
 
 /// A located event.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[derive(Clone, Debug, PartialEq)]
 pub struct EventHit {
     /// Index of the event in the options.

@@ -29,6 +29,7 @@ pub enum Output {
 
 /// How much is recorded at each output point. Each level includes the ones before it; a problem
 /// pays only for what it records.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Record {
     /// `t`, `q`, `q̇` only.

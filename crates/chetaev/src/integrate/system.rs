@@ -40,6 +40,7 @@ pub trait OdeSystem {
 }
 
 /// Counts of the work done, kept where user code is called so that no method can forget one.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Stats {
     /// Evaluations of the reduced right-hand side by the integrator.
