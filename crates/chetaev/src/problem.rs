@@ -326,8 +326,13 @@ impl<M: Model> Problem<M> {
                 }
             }
         }
+        // Large models are checked through their compiled equations: the dual-number path takes
+        // O(n³) there (n(n + 1)/2 passes for W), minutes at a few thousand coordinates.
+        let large = q0.len() > DUAL_CHECK_MAX_N;
+        let plan = if large { self.compiled() } else { None };
         let mut ws = Workspace::for_model(&self.model);
-        let d = evaluate(&self.model, &mut ws, t0, q0, qd0).map_err(|e| locate(e, t0, q0, qd0))?;
+        let (d, _) = evaluate_with(&self.model, plan, &mut ws, t0, q0, qd0, true)
+            .map_err(|e| locate(e, t0, q0, qd0))?;
         if d.f.iter().any(|f| !f.is_finite()) || !d.energy.is_finite() || !d.l.is_finite() {
             return Err(Error::NonFiniteEvaluation {
                 t: t0,
@@ -358,10 +363,30 @@ impl<M: Model> Problem<M> {
     }
 }
 
+/// Above this many coordinates the initial state is checked through the compiled equations, and
+/// the compiled equations are checked against the model's own values rather than against a full
+/// dual-number evaluation (which costs `O(n³)`).
+pub const DUAL_CHECK_MAX_N: usize = 64;
+
 /// The compiled equations of `model`, if it can be recorded and they agree with the dual-number
 /// path at the initial state (to 1e-9 relative in `q̈`, `μ` and `E`).
+///
+/// Above [`DUAL_CHECK_MAX_N`] coordinates, where one dual-number evaluation costs `O(n³)`, only `L`
+/// and the constraint values are compared with the model's own `f64` functions (the tests compare
+/// the two routes in full on smaller models).
 fn compile<M: Model>(model: &M, t0: f64, q0: &[f64], qd0: &[f64]) -> Option<Compiled> {
     let compiled = Compiled::new(model, t0, q0, qd0)?;
+    if q0.len() > DUAL_CHECK_MAX_N {
+        let (n, k) = model.sizes();
+        let kh = model.holonomic_count();
+        let mut own = crate::model::Functions::<f64>::new(n, k - kh, kh);
+        model.functions(t0, q0, qd0, &mut own);
+        let mut ws = Workspace::for_model(model);
+        let (fast, _) = evaluate_with(model, Some(&compiled), &mut ws, t0, q0, qd0, true).ok()?;
+        let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1.0);
+        let agree = same(own.l, fast.l) && own.f.iter().zip(&fast.f).all(|(&a, &b)| same(a, b));
+        return agree.then_some(compiled);
+    }
     let mut ws = Workspace::for_model(model);
     let reference = evaluate(model, &mut ws, t0, q0, qd0).ok()?.clone();
     let mut ws = Workspace::for_model(model);
