@@ -452,7 +452,9 @@ where
         qd: &[T],
         full: bool,
     ) -> Option<Result<(), SaddleFailure>> {
-        (self.0.holonomic_count() == 0).then(|| {
+        // The fixed-size passes skip what the recorded structure proves, but they do not re-check
+        // the recorded branches: a model with guards takes the compiled tape, which does.
+        (self.0.holonomic_count() == 0 && plan.guards() == 0).then(|| {
             crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, t, q, qd, full)
         })
     }

@@ -327,3 +327,42 @@ fn problems_stay_send_and_sync_for_parallel_sweeps() {
     shared(&uniform);
     shared(&sphere());
 }
+
+/// A static model whose mass depends on a branch: heavy for `x > 0`, light otherwise. The
+/// structure recorded at `x > 0` (a constant `W`) does not hold past the switch, so the guard must
+/// send those evaluations to dual numbers on the static route too.
+#[derive(Clone)]
+struct Switching;
+impl Lagrangian<2> for Switching {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        let m = if q[0] > 0.0 { 3.0 } else { 1.0 };
+        qd.dot(qd) * (0.5 * m) - q[1] * (m * 9.81)
+    }
+}
+impl Constraints<2, 1> for Switching {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        SVector::from([qd.dot(qd) - 4.0])
+    }
+}
+
+#[test]
+fn a_static_model_whose_branch_changes_its_structure_is_followed_past_the_switch() {
+    let problem = Problem::new(Switching, 0.0, [0.5, 1.0].into(), [-2.0, 0.0].into()).expect("ok");
+    assert_eq!(problem.compiled().expect("compiled").guards(), 1);
+    // Past x = 0 the mass is 1 instead of 3: q̈ differs only through W and ∂L/∂q scaled alike, so
+    // compare the equations themselves at a state on the other side.
+    let dual = problem.clone().with_route(Route::Dual);
+    let (a, b) = (
+        problem
+            .equations_at(0.0, &[-0.5, 1.0], &[-1.2, -1.6])
+            .expect("regular"),
+        dual.equations_at(0.0, &[-0.5, 1.0], &[-1.2, -1.6])
+            .expect("regular"),
+    );
+    for (x, y) in a.mu.iter().chain(&a.qdd).zip(b.mu.iter().chain(&b.qdd)) {
+        assert!((x - y).abs() < 1e-12 * y.abs().max(1.0), "{a:?} {b:?}");
+    }
+    compare_motion(&problem, Dop853::default(), 1.0);
+    let sol = solve(&problem, Dop853::default(), &Options::until(1.0)).expect("valid");
+    assert!(sol.stats.graph_fallbacks > 0, "{:?}", sol.stats);
+}

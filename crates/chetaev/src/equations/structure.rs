@@ -208,6 +208,9 @@ pub struct Description {
     pub structure: Structure,
     /// Whether [`Description::structure`] is proved (from the expression graph) rather than probed.
     pub proved: bool,
+    /// Comparisons in the model's code (branches) recorded as guards: the proof holds for the
+    /// branches taken at the recorded state, and each evaluation re-checks them.
+    pub guards: usize,
     /// The derived blocks as plain-text expressions, `(name, expression)`, zero entries left out
     /// (empty where the model cannot be recorded).
     pub equations: Vec<(String, String)>,
@@ -295,7 +298,13 @@ impl fmt::Display for Description {
                 "  sizes      n = {n} coordinates, k = {k} velocity constraints"
             )?;
         }
-        if self.proved {
+        if self.proved && self.guards > 0 {
+            writeln!(
+                f,
+                "  structure  (proved from the recorded expressions, for the branches taken at the initial state; {} comparison(s) re-checked at every evaluation)",
+                self.guards
+            )?;
+        } else if self.proved {
             writeln!(f, "  structure  (proved from the recorded expressions)")?;
         } else {
             writeln!(f, "  structure  (probed around the state below)")?;
