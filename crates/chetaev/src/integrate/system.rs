@@ -309,16 +309,10 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         self.stats.rhs_evaluations += 1;
         let n = self.n;
         let (q, qd) = (&y[..n], &y[n..2 * n]);
-        let (d, fell_back) = evaluate_with(
-            self.model,
-            self.compiled,
-            &mut self.ws,
-            t,
-            q,
-            qd,
-            self.energy,
-        )
-        .map_err(|e| locate(e, t, q, qd))?;
+        // The right-hand side needs q̈ and the rates of the quadratures (q̇·Φ, ∂L/∂t, q̇·Q), never E.
+        let (d, fell_back) =
+            evaluate_with(self.model, self.compiled, &mut self.ws, t, q, qd, false)
+                .map_err(|e| locate(e, t, q, qd))?;
         self.stats.graph_fallbacks += usize::from(fell_back);
         self.last_t = t;
         dy[..n].copy_from_slice(qd);
