@@ -23,7 +23,7 @@
 //! metric that is regular only on the null space of `J`), the pivoted elimination of [`saddle`]
 //! solves the whole block system instead, as the dual-number path does.
 //!
-//! A comparison in the model's code is a guard of the tape: when one flips, [`evaluate`] reports
+//! A comparison in the model's code is a guard of the tape: when one flips, [`Compiled::evaluate`] reports
 //! it and the caller falls back to the dual-number path ([`super::evaluate`]) for that evaluation.
 //!
 //! [`graph`]: super::graph
