@@ -1,7 +1,7 @@
 //! The compiled equations (the model's expression graph, its structure, the Schur solve) against
 //! the dual-number reference: the same numbers at any state, the same motions, the structure
 //! proved where it holds, the fallback where a branch of the model flips, and no compiled
-//! equations where a model takes a value out of the graph.
+//! equations where a model takes a value out of the graph; with the `serde` feature, a solution as JSON.
 
 use chetaev::equations::structure::Structure;
 use chetaev::prelude::*;
@@ -365,4 +365,29 @@ fn a_static_model_whose_branch_changes_its_structure_is_followed_past_the_switch
     compare_motion(&problem, Dop853::default(), 1.0);
     let sol = solve(&problem, Dop853::default(), &Options::until(1.0)).expect("valid");
     assert!(sol.stats.graph_fallbacks > 0, "{:?}", sol.stats);
+}
+
+/// A solution written as JSON with the `serde` feature: every series, the events, the statistics
+/// and the status, in the numbers recorded.
+#[cfg(feature = "serde")]
+#[test]
+fn a_solution_serialises_to_json_with_its_events_statistics_and_status() {
+    let problem = Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok");
+    let impact = Event::new("impact", |_t, q: &[f64], _qd: &[f64]| q[1])
+        .falling()
+        .terminal();
+    let o = Options::until(10.0).tolerances(1e-10, 1e-10).event(impact);
+    let sol = solve(&problem, Dop853::default(), &o).expect("valid");
+    let json: serde_json::Value = serde_json::to_value(&sol).expect("serialisable");
+    assert_eq!(json["method"], "Dop853");
+    assert_eq!(json["t"].as_array().map(Vec::len), Some(sol.len()));
+    assert_eq!(json["q"]["width"], 2);
+    assert_eq!(json["q"]["data"][1].as_f64(), Some(sol.q[0][1]));
+    assert_eq!(json["mu"]["data"].as_array().map(Vec::len), Some(sol.len()));
+    assert_eq!(json["events"][0]["t"].as_f64(), Some(sol.events[0].t));
+    assert_eq!(
+        json["stats"]["rhs_evaluations"].as_u64(),
+        Some(sol.stats.rhs_evaluations as u64)
+    );
+    assert_eq!(json["status"]["Terminated"]["event"], 0);
 }
