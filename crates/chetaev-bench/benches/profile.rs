@@ -4,6 +4,8 @@
 //! (a Rodas4 Jacobian takes `2·dim + 1 = 5` of them), and the hand-written right-hand sides and
 //! Jacobians for comparison.
 //!
+//! The one-time cost of a problem and of its compiled equations is timed too.
+//!
 //! `cargo bench -p chetaev-bench --bench profile`
 
 use std::hint::black_box;
@@ -46,6 +48,14 @@ fn profile(c: &mut Criterion) {
             )
             .map(|d| d.qdd[0])
         })
+    });
+    // The one-time cost of the compiled equations: a problem built, and built then compiled
+    // (recorded, differentiated, checked against the dual-number path).
+    g.bench_function("Problem::new", |b| {
+        b.iter(|| uniform_problem(black_box(&p)).map(|pr| pr.q0()[1]))
+    });
+    g.bench_function("Problem::new and its compiled equations", |b| {
+        b.iter(|| uniform_problem(black_box(&p)).map(|pr| pr.compiled().is_some()))
     });
     let compiled = problem.compiled();
     for (name, full) in [
