@@ -1,8 +1,8 @@
 //! The Chetaev equations of a model compiled from its expression graph: the structure found once
 //! per problem, and a right-hand side that evaluates only what the structure needs.
 //!
-//! At construction the model's `L`, `f`, `h`, `Q` and `D` are recorded once ([`graph`]) at the
-//! initial state, and every block the equations need is derived symbolically:
+//! At construction the model's `L`, `f`, `h`, `Q` and `D` are recorded once at the initial state
+//! (the crate's `equations/graph/`), and every block the equations need is derived symbolically:
 //!
 //! ```text
 //! p = ∂L/∂q̇,  W = ∂p/∂q̇,  r = ∂L/∂q − (∂p/∂q) q̇ − ∂p/∂t + Q − ∂D/∂q̇     (n, n × n, n)
@@ -11,7 +11,7 @@
 //!
 //! with `ḣ = (∂h/∂q) q̇ + ∂h/∂t`, so holonomic rows need nothing of their own. Each block is then
 //! known to be zero, constant, or dependent on `t`, `q`, `q̇` (a proof about the expressions, not a
-//! sample), and the right-hand side is a [`Tape`] of only the operations that vary. The block
+//! sample), and the right-hand side is a tape of only the operations that vary. The block
 //! system `W q̈ − Jᵀμ = r`, `J q̈ = −c` is solved by the Schur complement,
 //!
 //! ```text
@@ -26,7 +26,6 @@
 //! A comparison in the model's code is a guard of the tape: when one flips, [`Compiled::evaluate`] reports
 //! it and the caller falls back to the dual-number path ([`super::evaluate`]) for that evaluation.
 //!
-//! [`graph`]: super::graph
 //! [`saddle`]: super::saddle
 
 use std::fmt;

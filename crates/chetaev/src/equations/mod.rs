@@ -15,7 +15,7 @@
 
 pub mod compiled;
 pub mod derivatives;
-pub mod graph;
+pub(crate) mod graph;
 pub mod saddle;
 pub mod structure;
 

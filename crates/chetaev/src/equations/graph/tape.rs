@@ -100,11 +100,6 @@ impl Tape {
         self.ops.len()
     }
 
-    /// Whether the tape evaluates nothing (every output is an input or a constant).
-    pub fn is_empty(&self) -> bool {
-        self.ops.is_empty()
-    }
-
     /// Evaluates the tape with input `i` equal to `input(i)`, into `slots` (made by
     /// [`Tape::slots`]); then checks the guards.
     #[inline]
@@ -134,10 +129,5 @@ impl Tape {
     #[inline]
     pub fn output<T: Copy>(&self, slots: &[T], i: usize) -> T {
         slots[self.outputs[i] as usize]
-    }
-
-    /// The slot of output `i`.
-    pub fn output_slot(&self, i: usize) -> usize {
-        self.outputs[i] as usize
     }
 }
