@@ -5,8 +5,6 @@
 //! `Event`, `Solution` and `solve` as a model written in Rust with `N` and `K` fixed when
 //! compiling, for any `N ≥ 1` and `0 ≤ K ≤ N`.
 
-use std::sync::Arc;
-
 use chetaev::prelude::*;
 
 use crate::error::Error;
@@ -220,12 +218,12 @@ impl Scene {
         }
         for e in &self.events {
             let expr = e.expr.clone();
-            o = o.event(Event {
-                name: e.name.clone(),
-                g: Arc::new(move |t, q: &[f64], qd: &[f64]| expr.eval(&Env { t, q, qd })),
-                direction: e.direction,
-                terminal: e.terminal,
+            let mut event = Event::new(e.name.clone(), move |t, q: &[f64], qd: &[f64]| {
+                expr.eval(&Env { t, q, qd })
             });
+            event.direction = e.direction;
+            event.terminal = e.terminal;
+            o = o.event(event);
         }
         o
     }

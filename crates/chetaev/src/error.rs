@@ -253,6 +253,29 @@ pub enum Error {
         /// Its value.
         value: f64,
     },
+
+    /// Sensitivities were asked for but cannot be computed as asked.
+    #[error("sensitivities: {what}")]
+    Sensitivity {
+        /// What is wrong, and what to do.
+        what: String,
+    },
+
+    /// A seed of the sensitivities moves the initial state off the constraints to first order.
+    #[error(
+        "sensitivity seed {seed:?} moves the initial state off constraint {constraint}: its \
+         first-order residual is {residual:e}; move the initial velocity with the parameter (for \
+         f = |q̇|² − v0², seed v0 with the velocity's direction too: Seed::parameter(\"v0\")\
+         .with_velocity(i, dq̇_i/dv0))"
+    )]
+    InconsistentSeed {
+        /// The seed's name.
+        seed: String,
+        /// The constraint (numbered from 1; holonomic ones after the velocity constraints).
+        constraint: usize,
+        /// `δf_a = ∂f_a/∂q δq0 + ∂f_a/∂q̇ δq̇0 + ∂f_a/∂p δp`.
+        residual: f64,
+    },
 }
 
 impl std::fmt::Debug for Error {

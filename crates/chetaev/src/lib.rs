@@ -68,6 +68,7 @@ pub mod error;
 pub mod integrate;
 pub mod model;
 pub mod problem;
+pub mod sensitivity;
 pub mod solution;
 
 pub use error::Error;
@@ -77,17 +78,18 @@ pub use nalgebra;
 /// The dual numbers behind [`Real`](model::Real), re-exported so a user's version cannot clash.
 pub use num_dual;
 pub use problem::{Problem, Route};
+pub use sensitivity::{EventSensitivity, Seed, Sensitivities};
 pub use solution::{Solution, Status};
 
 /// Common imports.
 pub mod prelude {
-    pub use crate::integrate::events::{Direction, Event};
+    pub use crate::integrate::events::{Direction, Event, EventFunction};
     pub use crate::integrate::options::{Atol, Options, Output, Record};
     pub use crate::integrate::projection::Projection;
     pub use crate::integrate::{AnyMethod, Controller, Dop853, Dopri5, Method, Rk4, Rodas4, Tsit5};
     pub use crate::model::{Constraints, DynModel, Lagrangian, Model, Real, Unconstrained};
     pub use crate::solution::Series;
-    pub use crate::{solve, Error, Problem, Route, Solution, Status};
+    pub use crate::{solve, Error, Problem, Route, Seed, Solution, Status};
     pub use nalgebra::{SMatrix, SVector};
 }
 
@@ -108,6 +110,8 @@ pub mod guides {
     pub mod holonomic {}
     #[doc = include_str!("../../../docs/forces.md")]
     pub mod forces {}
+    #[doc = include_str!("../../../docs/sensitivities.md")]
+    pub mod sensitivities {}
     #[doc = include_str!("../../../docs/adding-a-method.md")]
     pub mod adding_a_method {}
     #[doc = include_str!("../../../docs/where-it-breaks.md")]

@@ -21,6 +21,7 @@ use num_dual::DualNum;
 
 use crate::equations::compiled::Compiled;
 use crate::equations::derivatives::{self, ConstraintBlocks, LagrangianBlocks};
+use crate::equations::graph::Sym;
 use crate::equations::saddle::SaddleFailure;
 use crate::equations::Workspace;
 
@@ -29,8 +30,36 @@ use crate::equations::Workspace;
 /// It offers the arithmetic operators (also with `f64` on the right: `x * 2.0`), comparisons with
 /// `f64`, and the elementary functions of [`num_dual::DualNum`] (`sqrt`, `sin`, `cosh`, `ln`,
 /// `powi`, `atan2`, ...), called as methods: `x.sqrt()`.
-pub trait Real: DualNum<f64> + Copy {}
-impl<T: DualNum<f64> + Copy> Real for T {}
+pub trait Real: DualNum<f64> + Copy + 'static {
+    /// A model parameter: the value `value`, named `name` so that derivatives of the motion with
+    /// respect to it can be asked for ([`Seed::parameter`](crate::Seed::parameter)).
+    ///
+    /// Write `R::parameter("g", self.g)` where the model would write `self.g`. In every
+    /// evaluation it is the constant `value` (at no cost); only where sensitivities are asked for
+    /// is it an input of the recorded equations, so that `∂F/∂p` is exact. A parameter read
+    /// as a plain number (`self.g`) is a constant for sensitivities.
+    ///
+    /// ```
+    /// use chetaev::prelude::*;
+    /// struct Fall { g: f64 }
+    /// impl Lagrangian<1> for Fall {
+    ///     fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+    ///         qd[0] * qd[0] * 0.5 - q[0] * R::parameter("g", self.g)
+    ///     }
+    /// }
+    /// ```
+    #[inline]
+    fn parameter(name: &str, value: f64) -> Self {
+        if std::any::TypeId::of::<Self>() == std::any::TypeId::of::<Sym>() {
+            let s = crate::equations::graph::parameter(name, value);
+            if let Some(&r) = (&s as &dyn std::any::Any).downcast_ref::<Self>() {
+                return r;
+            }
+        }
+        Self::from(value)
+    }
+}
+impl<T: DualNum<f64> + Copy + 'static> Real for T {}
 
 /// A Lagrangian `L(t, q, q̇)` on `N` generalised coordinates (sizes known when compiling).
 ///

@@ -5,6 +5,7 @@ use crate::integrate::events::EventHit;
 use crate::integrate::options::Record;
 use crate::integrate::system::{ReducedOde, Stats};
 use crate::model::Model;
+use crate::sensitivity::Sensitivities;
 
 /// Why the integration stopped.
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -213,6 +214,10 @@ pub struct Solution {
     pub work_forces: Vec<f64>,
     /// Located events, in the order they occurred.
     pub events: Vec<EventHit>,
+    /// Derivatives of the motion and of the events with respect to the seeds of
+    /// [`Options::sensitivity`](crate::integrate::options::Options::sensitivity) (`None` when none
+    /// was asked for).
+    pub sensitivities: Option<Sensitivities>,
     /// Work counters.
     pub stats: Stats,
     /// Why it stopped.
@@ -239,6 +244,7 @@ impl Solution {
             dl_dt_integral: Vec::new(),
             work_forces: Vec::new(),
             events: Vec::new(),
+            sensitivities: None,
             stats: Stats::default(),
             status: Status::Success,
         }
@@ -257,13 +263,15 @@ impl Solution {
         let n = self.n();
         let (q, qd) = (&y[..n], &y[n..2 * n]);
         let energy = self.record >= Record::Energy;
+        let e = ode.quadratures();
         finite(t, "q", q)?;
         finite(t, "q̇", qd)?;
+        finite(t, "∂(q, q̇)/∂θ", &y[2 * n..e])?;
         if energy {
-            finite(t, "W_Φ", &y[2 * n..2 * n + 1])?;
-            finite(t, "∫∂L/∂t dt", &y[2 * n + 1..2 * n + 2])?;
+            finite(t, "W_Φ", &y[e..e + 1])?;
+            finite(t, "∫∂L/∂t dt", &y[e + 1..e + 2])?;
             if ode.has_forces_quadrature() {
-                finite(t, "W_Q", &y[2 * n + 2..2 * n + 3])?;
+                finite(t, "W_Q", &y[e + 2..e + 3])?;
             }
         }
         if self.record >= Record::Dynamics {
@@ -297,11 +305,14 @@ impl Solution {
         self.t.push(t);
         self.q.push(q);
         self.qd.push(qd);
+        if let Some(s) = &mut self.sensitivities {
+            s.values.push(&y[2 * n..e]);
+        }
         if energy {
-            self.work.push(y[2 * n]);
-            self.dl_dt_integral.push(y[2 * n + 1]);
+            self.work.push(y[e]);
+            self.dl_dt_integral.push(y[e + 1]);
             self.work_forces.push(if ode.has_forces_quadrature() {
-                y[2 * n + 2]
+                y[e + 2]
             } else {
                 0.0
             });

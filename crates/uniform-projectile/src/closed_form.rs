@@ -363,6 +363,16 @@ pub mod uniform {
             length: p.v0 * t_impact,
         }
     }
+
+    /// The impact time `T = (v0/g) arccosh e^z` and range `R = (v0²/g) arccos e^(−z)`,
+    /// `z = g h0 / v0²` (Section 42.4), written for any scalar: with dual numbers they give the
+    /// closed forms' own derivatives, `∂T/∂v0`, `∂R/∂g`, ..., against which the library's
+    /// sensitivities are checked. (The plain formulas: accurate for `z` of order one, as in the
+    /// paper's data, not in the extreme regimes [`kinematics`] is written for.)
+    pub fn impact<D: chetaev::num_dual::DualNum<f64> + Copy>(v0: D, g: D, h0: D) -> (D, D) {
+        let z = g * h0 / (v0 * v0);
+        (v0 / g * z.exp().acosh(), v0 * v0 / g * (-z).exp().acos())
+    }
 }
 
 #[cfg(test)]

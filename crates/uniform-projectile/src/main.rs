@@ -2,7 +2,7 @@
 //! (Swaczyna and Volný).
 //!
 //! The first line of the output is the verdict (`VERIFIED: ...` or `NOT VERIFIED: ...`), then
-//! Table 42.1 rebuilt; the errors along both motions, the observed orders of convergence and error
+//! Table 42.1 rebuilt; the errors along both motions (with the impact's derivatives), the observed orders of convergence and error
 //! against run time follow on request (`--errors`, `--orders`, `--timing`, or all with `--full`).
 //! `--json` prints everything as one JSON object. The exit status is 0 when verified, 1 when not
 //! (or when the verification could not run), 2 on bad arguments.
@@ -46,7 +46,8 @@ struct Cli {
     /// Largest relative error accepted by the verdict [default: 100 × tol].
     #[arg(long, value_parser = positive)]
     limit: Option<f64>,
-    /// Also print the largest errors along both motions.
+    /// Also print the largest errors along both motions, and the impact's derivatives in v0, g,
+    /// h0 against the closed form's.
     #[arg(long)]
     errors: bool,
     /// Also print the observed orders of convergence.
@@ -100,13 +101,14 @@ fn main() -> ExitCode {
     if let Some(limit) = cli.limit {
         report.verdict = report.judge(limit);
     }
-    let status = if report.verdict.verified {
+    let verified = report.verdict.verified && report.sensitivity_verdict.verified;
+    let status = if verified {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
     };
     let written = if cli.json {
-        if !report.verdict.verified {
+        if !verified {
             eprintln!("{}", verdict_line(&report));
         }
         write_json(&report)
@@ -162,11 +164,23 @@ fn verdict_line(r: &Report) -> String {
     } else {
         short(v.limit)
     };
-    if v.verified {
+    let d = &r.sensitivity_verdict;
+    if v.verified && d.verified {
         format!(
             "VERIFIED: chetaev reproduces the paper's closed forms (Table 42.1, motion, μ, Φ, \
-             energy) to {} relative (limit {limit})",
-            sci(v.largest)
+             energy) to {} relative (limit {limit}), and the impact's derivatives in v0, g, h0 \
+             to {} (limit {})",
+            sci(v.largest),
+            sci(d.largest),
+            short(d.limit)
+        )
+    } else if v.verified {
+        format!(
+            "NOT VERIFIED: the largest relative error of the impact's derivatives, {} ({}), is \
+             above the limit {}",
+            sci(d.largest),
+            d.largest_of,
+            short(d.limit)
         )
     } else {
         format!(
@@ -202,6 +216,7 @@ fn write_text(out: &mut impl Write, r: &Report, s: Sections) -> io::Result<()> {
     motion(out, "uniform (42.29)-(42.38)", &r.table.uniform)?;
     if s.errors {
         errors_section(out, r)?;
+        sensitivity_section(out, r)?;
     }
     if s.orders {
         orders_section(out, r)?;
@@ -217,6 +232,26 @@ fn write_text(out: &mut impl Write, r: &Report, s: Sections) -> io::Result<()> {
         )?;
     }
     out.flush()
+}
+
+/// The impact's derivatives in `v0`, `g`, `h0` against the closed form's.
+fn sensitivity_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
+    writeln!(
+        out,
+        "\nHow the uniform impact moves with the data (sensitivities carried through the solve, \
+         against (42.38) differentiated):"
+    )?;
+    for d in &r.sensitivities {
+        writeln!(
+            out,
+            "  {:<8} {:>20.15} (closed form {:>20.15}, relative error {})",
+            d.name,
+            d.numerical,
+            d.closed_form,
+            sci(d.rel_error)
+        )?;
+    }
+    Ok(())
 }
 
 fn row(out: &mut impl Write, name: &str, r: &Row) -> io::Result<()> {

@@ -21,7 +21,9 @@ pub struct Projectile {
 
 impl Lagrangian<2> for Projectile {
     fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
-        qd.dot(qd) * (0.5 * self.m) - q[1] * (self.m * self.g)
+        // g is read as a parameter, so that sensitivities with respect to it can be asked for; in
+        // every other evaluation it is the constant m g, as before.
+        qd.dot(qd) * (0.5 * self.m) - q[1] * (R::parameter("g", self.g) * self.m)
     }
 }
 
@@ -42,7 +44,8 @@ impl Lagrangian<2> for UniformProjectile {
 
 impl Constraints<2, 1> for UniformProjectile {
     fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
-        SVector::from([qd.dot(qd) - self.v0 * self.v0])
+        let v0 = R::parameter("v0", self.v0);
+        SVector::from([qd.dot(qd) - v0 * v0])
     }
 }
 
@@ -72,9 +75,29 @@ pub fn classical_problem(p: &Params) -> Result<ClassicalProblem, chetaev::Error>
     Problem::unconstrained(Projectile { m: p.m, g: p.g }, 0.0, q0, qd0)
 }
 
-/// The impact `y = 0`, reached from above; stops the integration.
+/// The height `y`, whose zero is the impact.
+struct Height;
+
+impl EventFunction for Height {
+    fn value<R: Real>(&self, _t: R, q: &[R], _qd: &[R]) -> R {
+        q[1]
+    }
+}
+
+/// The impact `y = 0`, reached from above; stops the integration. Written for any scalar, so that
+/// the sensitivities of its time and place are exact.
 pub fn impact() -> Event {
-    Event::new("impact", |_t, q, _qd| q[1]).falling().terminal()
+    Event::smooth("impact", Height).falling().terminal()
+}
+
+/// The seeds of the paper's sensitivities: `v0` (a parameter of the constraint and the initial
+/// speed `ẋ(0) = v0`), `g`, and `h0` (the initial height).
+pub fn seeds() -> [Seed; 3] {
+    [
+        Seed::parameter("v0").with_velocity(0, 1.0),
+        Seed::parameter("g"),
+        Seed::new("h0").with_position(1, 1.0),
+    ]
 }
 
 /// Per-component absolute tolerances scaled to the motion: positions by `max(h0, R_classical)`,

@@ -11,7 +11,8 @@ use chetaev::prelude::*;
 use serde::Serialize;
 
 use crate::closed_form::{classical, table, uniform, Kinematics, Params};
-use crate::model::{classical_problem, impact, uniform_problem, UniformProblem};
+use crate::model::{classical_problem, impact, seeds, uniform_problem, UniformProblem};
+use chetaev::num_dual::Dual64;
 
 /// One quantity: numerical beside closed form.
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -208,6 +209,27 @@ pub struct Report {
     pub convergence: Vec<Convergence>,
     /// Error against run time.
     pub work_precision: Vec<WorkPoint>,
+    /// Derivatives of the impact's time `T` and place `R` with respect to `v0`, `g`, `h0`, from
+    /// the library's sensitivities, against the closed forms' own derivatives.
+    pub sensitivities: Vec<Derivative>,
+    /// The derivatives judged against [`SENSITIVITY_LIMIT`].
+    pub sensitivity_verdict: Verdict,
+}
+
+/// The largest relative error accepted for the impact's derivatives.
+pub const SENSITIVITY_LIMIT: f64 = 1e-8;
+
+/// One derivative of the impact, numerical and closed-form.
+#[derive(Clone, Debug, Serialize)]
+pub struct Derivative {
+    /// Which, e.g. `"∂T/∂v0"`.
+    pub name: String,
+    /// From the solve's sensitivities.
+    pub numerical: f64,
+    /// From the closed form (42.38) differentiated by dual numbers.
+    pub closed_form: f64,
+    /// Relative error.
+    pub rel_error: f64,
 }
 
 /// The parameters, for the report.
@@ -506,6 +528,56 @@ fn work_precision_adaptive<Me: Method + Copy>(
     Ok(())
 }
 
+/// `∂T/∂θ` and `∂R/∂θ` for `θ = v0, g, h0`: the sensitivities of the impact event (Dop853, the
+/// sensitivities under error control at `tol`) against the closed form (42.38) differentiated by
+/// dual numbers.
+fn impact_derivatives(
+    p: &Params,
+    up: &UniformProblem,
+    tol: f64,
+    t_max: f64,
+) -> Result<Vec<Derivative>, Error> {
+    let mut opts = Options::until(t_max)
+        .tolerances(tol, tol)
+        .output_final()
+        .record(Record::State)
+        .event(impact())
+        .sensitivity_control(true);
+    for seed in seeds() {
+        opts = opts.sensitivity(seed);
+    }
+    let sol = solve(up, Dop853::default(), &opts)?;
+    if let Some(e) = sol.error() {
+        return Err(e.clone());
+    }
+    let missing = || Error::InvalidOption {
+        name: "t_max",
+        value: t_max,
+        hint: "no impact before t_max",
+    };
+    let hit = sol
+        .sensitivities
+        .as_ref()
+        .and_then(|s| s.events.first().cloned().flatten())
+        .ok_or_else(missing)?;
+    let mut out = Vec::new();
+    for (j, theta) in ["v0", "g", "h0"].iter().enumerate() {
+        let seeded = |i: usize, x: f64| Dual64::new(x, if i == j { 1.0 } else { 0.0 });
+        let (t, r) = uniform::impact(seeded(0, p.v0), seeded(1, p.g), seeded(2, p.h0));
+        for (quantity, numerical, closed_form) in
+            [("T", hit.t[j], t.eps), ("R", hit.q[j][0], r.eps)]
+        {
+            out.push(Derivative {
+                name: format!("∂{quantity}/∂{theta}"),
+                numerical,
+                closed_form,
+                rel_error: rel(numerical, closed_form),
+            });
+        }
+    }
+    Ok(out)
+}
+
 /// Builds the whole report for `p`; `tol` is the tolerance of the table and error runs.
 pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
     let closed = table(p);
@@ -622,6 +694,7 @@ pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
         });
     }
 
+    let sensitivities = impact_derivatives(p, &up, tol, t_max)?;
     let mut report = Report {
         verdict: Verdict::judge(&[], 0.0),
         params: ParamsOut {
@@ -636,6 +709,14 @@ pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
         uniform_errors,
         convergence,
         work_precision,
+        sensitivity_verdict: Verdict::judge(
+            &sensitivities
+                .iter()
+                .map(|d| (format!("sensitivity {}", d.name), d.rel_error))
+                .collect::<Vec<_>>(),
+            SENSITIVITY_LIMIT,
+        ),
+        sensitivities,
     };
     report.verdict = report.judge(LIMIT_PER_TOLERANCE * tol);
     Ok(report)

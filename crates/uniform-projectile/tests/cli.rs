@@ -31,7 +31,8 @@ fn the_first_line_is_the_verdict_then_table_42_1() {
         lines[0]
     );
     assert!(
-        lines[0].ends_with("(limit 1e-10 = 100 × tol)"),
+        lines[0].contains("(limit 1e-10 = 100 × tol), and the impact's derivatives in v0, g, h0")
+            && lines[0].ends_with("(limit 1e-8)"),
         "{}",
         lines[0]
     );
@@ -55,6 +56,7 @@ fn every_section_on_request_with_readable_numbers() {
     let full = stdout(&run(&["--full"]));
     for (flag, section) in [
         ("--errors", "Largest error along the motion"),
+        ("--errors", "How the uniform impact moves with the data"),
         ("--orders", "Observed order of convergence"),
         ("--timing", "Error against run time"),
     ] {

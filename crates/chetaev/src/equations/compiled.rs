@@ -31,7 +31,9 @@
 use std::fmt;
 use std::sync::OnceLock;
 
-use super::graph::{record, Deps, Graph, GuardFlip, Sym, Tape, DEP_Q, DEP_QD, DEP_T};
+use super::graph::{
+    record, record_with_parameters, Deps, Graph, GuardFlip, Sym, Tape, DEP_Q, DEP_QD, DEP_T,
+};
 use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
 use super::structure::{Dependence, Structure};
 use super::Dynamics;
@@ -96,6 +98,9 @@ pub struct Compiled {
     /// `r` and `∂L/∂q`, where constant.
     r_const: Option<Vec<f64>>,
     dl_dq_const: Option<Vec<f64>>,
+    /// The model's parameters that are inputs (after `t`, `q`, `q̇`), with their values: only in
+    /// equations compiled for sensitivities ([`Compiled::with_parameters`]).
+    parameters: Vec<(String, f64)>,
 }
 
 impl fmt::Debug for Compiled {
@@ -140,6 +145,8 @@ pub struct CompiledWorkspace<T> {
     r: Vec<T>,
     c: Vec<T>,
     mu: Vec<T>,
+    /// The values of the parameters that are inputs (set by the caller to seed them).
+    pub(crate) params: Vec<T>,
     saddle: SaddleWorkspace<T>,
 }
 
@@ -160,6 +167,7 @@ impl<T: Real> CompiledWorkspace<T> {
             r: vec![T::zero(); n],
             c: vec![T::zero(); k],
             mu: vec![T::zero(); k],
+            params: compiled.parameters.iter().map(|p| T::from(p.1)).collect(),
             saddle: SaddleWorkspace::default(),
         }
     }
@@ -180,10 +188,38 @@ impl Compiled {
     /// offer its functions ([`Model::functions`]) or its recording cannot be trusted (a value
     /// taken out of the graph).
     pub fn new<M: Model + ?Sized>(model: &M, t: f64, q: &[f64], qd: &[f64]) -> Option<Self> {
+        Self::build(model, t, q, qd, false)
+    }
+
+    /// As [`Compiled::new`], with every parameter the model reads by
+    /// [`Real::parameter`] an input after `t`, `q`, `q̇` rather than a constant: the equations
+    /// whose derivatives with respect to parameters give sensitivities. Blocks that depend on a
+    /// parameter are not constant here.
+    pub fn with_parameters<M: Model + ?Sized>(
+        model: &M,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> Option<Self> {
+        Self::build(model, t, q, qd, true)
+    }
+
+    /// The parameters that are inputs, in input order, with their recorded values.
+    pub fn parameters(&self) -> &[(String, f64)] {
+        &self.parameters
+    }
+
+    fn build<M: Model + ?Sized>(
+        model: &M,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        parametric: bool,
+    ) -> Option<Self> {
         let (n, k) = model.sizes();
         let holonomic = model.holonomic_count();
         let kv = k - holonomic;
-        let (mut g, recorded) = record(|| {
+        let run = || {
             let ts = Sym::input(DEP_T, t);
             let qs: Vec<Sym> = q.iter().map(|&v| Sym::input(DEP_Q, v)).collect();
             let qds: Vec<Sym> = qd.iter().map(|&v| Sym::input(DEP_QD, v)).collect();
@@ -202,8 +238,23 @@ impl Compiled {
                     out.dissipation.map(|d| d.node()),
                 )
             })
-        });
+        };
+        let (mut g, recorded, parameters) = if parametric {
+            record_with_parameters(run)
+        } else {
+            let (g, recorded) = record(run);
+            (g, recorded, Vec::new())
+        };
         let (tn, qn, qdn, l, fv, h, forces, dissipation) = recorded?;
+        // Parameters are read after t, q, q̇ are made: their inputs follow, in the order read.
+        if parameters
+            .iter()
+            .enumerate()
+            .any(|(i, p)| p.2 as usize != 1 + 2 * n + i)
+        {
+            return None;
+        }
+        let parameters = parameters.into_iter().map(|(n, v, ..)| (n, v)).collect();
         if g.escaped() {
             return None;
         }
@@ -336,6 +387,7 @@ impl Compiled {
             w_scale,
             r_const,
             dl_dq_const,
+            parameters,
         })
     }
 
@@ -513,13 +565,16 @@ impl Compiled {
     ) -> Result<T, CompiledFailure> {
         let (n, k) = (self.n, self.k);
         let tape = if full { self.full() } else { self.core() };
+        let params = &ws.params;
         tape.eval(slots, |i| {
             if i == 0 {
                 t
             } else if i <= n {
                 q[i - 1]
-            } else {
+            } else if i <= 2 * n {
                 qd[i - 1 - n]
+            } else {
+                params[i - 1 - 2 * n]
             }
         })
         .map_err(CompiledFailure::Guard)?;

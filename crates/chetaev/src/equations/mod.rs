@@ -175,6 +175,24 @@ where
     }
 }
 
+/// The reduced equations by `compiled` alone (no fallback), with its parameters set to `params`:
+/// what sensitivities differentiate.
+pub(crate) fn evaluate_compiled<'w, T: Real>(
+    compiled: &Compiled,
+    ws: &'w mut Workspace<T>,
+    params: &[T],
+    t: T,
+    q: &[T],
+    qd: &[T],
+) -> Result<&'w Dynamics<T>, CompiledFailure> {
+    let cws = ws
+        .compiled
+        .get_or_insert_with(|| CompiledWorkspace::new(compiled));
+    cws.params.copy_from_slice(params);
+    compiled.evaluate(cws, &mut ws.dynamics, t, q, qd, false)?;
+    Ok(&ws.dynamics)
+}
+
 /// [`evaluate`] from the blocks of [`Model::lagrangian_blocks`] and [`Model::constraint_blocks`]
 /// on slices: the route of every model that has no faster one.
 #[inline]

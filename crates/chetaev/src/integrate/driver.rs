@@ -9,6 +9,7 @@ use super::{Controller, ErrorNorm, Method, MethodInfo, Stepper};
 use crate::error::Error;
 use crate::model::Model;
 use crate::problem::{check_finite, Problem};
+use crate::sensitivity::{Sensitivities, Variational};
 use crate::solution::{Solution, Status};
 
 /// Integrates `problem` with `method` as `options` ask.
@@ -49,14 +50,38 @@ where
 {
     let (n, k) = problem.sizes();
     let t0 = problem.t0();
-    let settings = LoopSettings::new(options, &method, t0, 2 * n)?;
     let mut sys = ReducedOde::for_problem(problem, options.record >= Record::Energy)
         .with_rank_tolerance(options.rank_tolerance);
+    if !options.sensitivities.is_empty() {
+        if options.projection.is_some() {
+            return Err(Error::Sensitivity {
+                what: "projection moves the state but not its derivatives; leave projection off \
+                       with sensitivities (the variational equations keep S on the linearised \
+                       constraints)"
+                    .to_string(),
+            });
+        }
+        let variational = Variational::new(
+            problem.model(),
+            t0,
+            problem.q0(),
+            problem.qd0(),
+            &options.sensitivities,
+            &options.events,
+            options.sensitivity_control,
+        )?;
+        sys = sys.with_sensitivities(variational);
+    }
+    let settings = LoopSettings::new(options, &method, t0, sys.controlled_dim(), 2 * n)?;
     let mut y = vec![0.0; sys.dim()];
     y[..n].copy_from_slice(problem.q0());
     y[n..2 * n].copy_from_slice(problem.qd0());
 
     let mut sol = Solution::empty(settings.info.name, options.record, n, k);
+    if let Some(v) = &sys.sens {
+        v.initial(&mut y[2 * n..sys.quadratures()]);
+        sol.sensitivities = Some(Sensitivities::new(v.names(), n));
+    }
     let mut hooks = ChetaevHooks {
         sol: &mut sol,
         options,
@@ -74,6 +99,7 @@ where
     }
     let event_evaluations = hooks.event_evaluations;
     sol.stats = run.counts.merged(sys.stats, event_evaluations);
+    sol.stats.graph_fallbacks += sys.sens.as_ref().map_or(0, |v| v.rerecords);
     Ok(sol)
 }
 
@@ -91,12 +117,14 @@ pub(crate) struct LoopSettings<'o> {
 
 impl<'o> LoopSettings<'o> {
     /// Validates the options for a system with `controlled` components under error control,
-    /// starting at `t0`, with `method`.
+    /// starting at `t0`, with `method`. A per-component `atol` has `block` entries (the state
+    /// `(q, q̇)`), repeated over the controlled sensitivities that follow it.
     fn new<Me: Method>(
         o: &'o Options,
         method: &Me,
         t0: f64,
         controlled: usize,
+        block: usize,
     ) -> Result<Self, Error> {
         method.validate()?;
         let info = method.info();
@@ -129,7 +157,7 @@ impl<'o> LoopSettings<'o> {
         let atol = match &o.atol {
             Atol::Scalar(a) => vec![*a; controlled],
             Atol::PerComponent(v) => {
-                if v.len() != controlled {
+                if v.len() != block {
                     return Err(Error::InvalidOption {
                         name: "atol (length)",
                         value: v.len() as f64,
@@ -137,7 +165,7 @@ impl<'o> LoopSettings<'o> {
                                positions then the n velocities, 2n in all",
                     });
                 }
-                v.clone()
+                v.iter().copied().cycle().take(controlled).collect()
             }
         };
         for &a in &atol {
@@ -219,7 +247,7 @@ pub(crate) trait Hooks<S: OdeSystem> {
     /// Whether event `i` stops the integration.
     fn is_terminal(&self, i: usize) -> bool;
     /// Event `i` happened at `(t, y)`.
-    fn event_hit(&mut self, i: usize, t: f64, y: &[f64]);
+    fn event_hit(&mut self, sys: &mut S, i: usize, t: f64, y: &[f64]) -> Result<(), Error>;
     /// The integration stopped at terminal event `i`.
     fn terminated(&mut self, i: usize);
     /// Projects `y` onto the constraints; returns whether it changed.
@@ -266,14 +294,31 @@ impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
         self.options.events[i].terminal
     }
 
-    fn event_hit(&mut self, i: usize, t: f64, y: &[f64]) {
+    fn event_hit(
+        &mut self,
+        sys: &mut ReducedOde<'_, M>,
+        i: usize,
+        t: f64,
+        y: &[f64],
+    ) -> Result<(), Error> {
         let n = self.n;
+        let (q, qd) = (&y[..n], &y[n..2 * n]);
         self.sol.events.push(EventHit {
             index: i,
             t,
-            q: y[..n].to_vec(),
-            qd: y[n..2 * n].to_vec(),
+            q: q.to_vec(),
+            qd: qd.to_vec(),
         });
+        if let Some(record) = &mut self.sol.sensitivities {
+            let e = sys.quadratures();
+            let qdd = sys.evaluate(t, q, qd)?.qdd.clone();
+            let moved = sys
+                .sens
+                .as_ref()
+                .and_then(|v| v.at_event(&self.options.events[i], t, (q, qd, &qdd), &y[2 * n..e]));
+            record.events.push(moved);
+        }
+        Ok(())
     }
 
     fn terminated(&mut self, i: usize) {
@@ -345,7 +390,9 @@ impl<S: OdeSystem> Hooks<S> for PlainHooks<'_> {
     fn is_terminal(&self, _i: usize) -> bool {
         false
     }
-    fn event_hit(&mut self, _i: usize, _t: f64, _y: &[f64]) {}
+    fn event_hit(&mut self, _sys: &mut S, _i: usize, _t: f64, _y: &[f64]) -> Result<(), Error> {
+        Ok(())
+    }
     fn terminated(&mut self, _i: usize) {}
     fn project(&mut self, _sys: &mut S, _t: f64, _y: &mut [f64]) -> Result<bool, Error> {
         Ok(false)
@@ -379,7 +426,8 @@ pub fn solve_ode<S: OdeSystem, Me: Method>(
                    onto: use solve with a model for these",
         });
     }
-    let settings = LoopSettings::new(options, &method, t0, sys.controlled_dim())?;
+    let controlled = sys.controlled_dim();
+    let settings = LoopSettings::new(options, &method, t0, controlled, controlled)?;
     let mut sol = OdeSolution {
         t: Vec::new(),
         y: Vec::new(),
@@ -591,6 +639,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         // Events on the dense output of [t, t_new].
         let terminal = if n_events > 0 {
             find_events::<S, H, _>(
+                sys,
                 hooks,
                 &mut stepper,
                 &mut events,
@@ -634,7 +683,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
             hooks.project(sys, ts, &mut y_new)?;
             y.copy_from_slice(&y_new);
             *t_last = ts;
-            hooks.event_hit(i, ts, y);
+            hooks.event_hit(sys, i, ts, y)?;
             hooks.record(sys, ts, y)?;
             hooks.terminated(i);
             return Ok(());
@@ -679,6 +728,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
 /// its crossings from the sign it takes when it leaves zero.
 #[allow(clippy::too_many_arguments)]
 fn find_events<S: OdeSystem, H: Hooks<S>, St: Stepper>(
+    sys: &mut S,
     hooks: &mut H,
     stepper: &mut St,
     events: &mut EventState,
@@ -768,7 +818,7 @@ fn find_events<S: OdeSystem, H: Hooks<S>, St: Stepper>(
             return Ok(Some((i, ts)));
         }
         stepper.interpolate((ts - t) / h, buf);
-        hooks.event_hit(i, ts, buf);
+        hooks.event_hit(sys, i, ts, buf)?;
     }
     Ok(None)
 }

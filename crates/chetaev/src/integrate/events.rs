@@ -3,6 +3,32 @@
 use std::sync::Arc;
 
 use super::options::EventFn;
+use crate::model::Real;
+use crate::sensitivity::{event_gradient, EventGradient};
+
+/// An event function written once for any scalar, like the model's functions, so that its
+/// gradient is exact: what sensitivities of event times and states need
+/// ([`Event::smooth`]). It may read parameters with [`Real::parameter`].
+///
+/// ```
+/// use chetaev::prelude::*;
+/// struct Ground;
+/// impl EventFunction for Ground {
+///     fn value<R: Real>(&self, _t: R, q: &[R], _qd: &[R]) -> R {
+///         q[1]
+///     }
+/// }
+/// let impact = Event::smooth("impact", Ground).falling().terminal();
+/// ```
+pub trait EventFunction: Send + Sync + 'static {
+    /// `g(t, q, q̇)`.
+    fn value<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> R;
+}
+
+/// The gradient of an event function at a point, with respect to `t`, `q`, `q̇` and the
+/// parameters it reads; `None` where it cannot be taken exactly.
+pub(crate) type EventGradientFn =
+    Arc<dyn Fn(f64, &[f64], &[f64]) -> Option<EventGradient> + Send + Sync>;
 
 /// Which sign changes of `g` count.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,6 +53,8 @@ pub struct Event {
     pub direction: Direction,
     /// Whether the integration stops at the first crossing.
     pub terminal: bool,
+    /// The exact gradient of `g`, for an event made by [`Event::smooth`].
+    pub(crate) gradient: Option<EventGradientFn>,
 }
 
 impl std::fmt::Debug for Event {
@@ -35,6 +63,7 @@ impl std::fmt::Debug for Event {
             .field("name", &self.name)
             .field("direction", &self.direction)
             .field("terminal", &self.terminal)
+            .field("smooth", &self.gradient.is_some())
             .finish_non_exhaustive()
     }
 }
@@ -50,6 +79,19 @@ impl Event {
             g: Arc::new(g),
             direction: Direction::Either,
             terminal: false,
+            gradient: None,
+        }
+    }
+
+    /// An event with a function written for any scalar ([`EventFunction`]): the same as
+    /// [`Event::new`] for locating it, and its exact gradient gives the sensitivities of the event's
+    /// time and state ([`Sensitivities::events`](crate::Sensitivities::events)).
+    pub fn smooth(name: impl Into<String>, g: impl EventFunction) -> Self {
+        let g = Arc::new(g);
+        let value = Arc::clone(&g);
+        Self {
+            gradient: Some(Arc::new(move |t, q, qd| event_gradient(&*g, t, q, qd))),
+            ..Self::new(name, move |t, q, qd| value.value(t, q, qd))
         }
     }
 

@@ -5,6 +5,7 @@ use std::sync::Arc;
 use super::events::Event;
 use super::projection::Projection;
 use super::Controller;
+use crate::sensitivity::Seed;
 
 /// Absolute tolerance: one number for every component, or one per component of `(q, q̇)`
 /// (length `2n`: the `n` positions, then the `n` velocities).
@@ -77,6 +78,13 @@ pub struct Options {
     ///
     /// [`MethodInfo::controller`]: super::MethodInfo::controller
     pub controller: Option<Controller>,
+    /// Directions in which the derivatives of the motion are carried along with it (none by
+    /// default); see [`Seed`] and [`Sensitivities`](crate::Sensitivities).
+    pub sensitivities: Vec<Seed>,
+    /// Whether the sensitivities are under error control, with the same tolerances as the
+    /// state (off by default: the step size is then the motion's, and the sensitivities are as
+    /// accurate as the method is along it).
+    pub sensitivity_control: bool,
 }
 
 impl Options {
@@ -97,6 +105,8 @@ impl Options {
             event_samples: 4,
             rank_tolerance: 1e-8,
             controller: None,
+            sensitivities: Vec::new(),
+            sensitivity_control: false,
         }
     }
 
@@ -193,6 +203,20 @@ impl Options {
     /// Sets the threshold of the singular-point check (`0` turns it off).
     pub fn rank_tolerance(mut self, tolerance: f64) -> Self {
         self.rank_tolerance = tolerance;
+        self
+    }
+
+    /// Carries the derivatives of the motion in the direction `seed` along with it (a parameter,
+    /// an initial value, or both together); repeat for several.
+    pub fn sensitivity(mut self, seed: Seed) -> Self {
+        self.sensitivities.push(seed);
+        self
+    }
+
+    /// Puts the sensitivities under error control (with the state's tolerances; a per-component
+    /// `atol` of length `2n` applies to each seed's `∂q`, `∂q̇` as to `q`, `q̇`).
+    pub fn sensitivity_control(mut self, on: bool) -> Self {
+        self.sensitivity_control = on;
         self
     }
 

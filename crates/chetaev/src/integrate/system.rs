@@ -11,6 +11,7 @@ use crate::equations::compiled::Compiled;
 use crate::equations::{evaluate_with, saddle::SaddleFailure, Dynamics, Workspace};
 use crate::error::Error;
 use crate::model::Model;
+use crate::sensitivity::Variational;
 
 /// A first-order system `y' = F(t, y)` on flat slices.
 pub trait OdeSystem {
@@ -123,6 +124,8 @@ pub struct ReducedOde<'a, M: ?Sized> {
     previous_t: f64,
     /// The time of the last evaluation by `rhs`.
     last_t: f64,
+    /// The variational equations, when sensitivities are asked for: `S` follows `(q, q̇)`.
+    pub(crate) sens: Option<Variational>,
     /// The work done so far.
     pub stats: Stats,
 }
@@ -235,6 +238,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             previous_j: Vec::new(),
             previous_t: f64::NAN,
             last_t: f64::NAN,
+            sens: None,
             stats: Stats::default(),
         }
     }
@@ -260,6 +264,22 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     /// `∫∂L/∂t dt`).
     pub fn has_forces_quadrature(&self) -> bool {
         self.energy && self.forces
+    }
+
+    /// Carries the sensitivities of `sens` after `(q, q̇)`.
+    pub(crate) fn with_sensitivities(mut self, sens: Variational) -> Self {
+        self.sens = Some(sens);
+        self
+    }
+
+    /// The length of the sensitivities `S` in the state (0 without).
+    pub fn sensitivity_len(&self) -> usize {
+        self.sens.as_ref().map_or(0, Variational::len)
+    }
+
+    /// Where the energy quadratures start in the state: after `(q, q̇)` and the sensitivities.
+    pub fn quadratures(&self) -> usize {
+        2 * self.n + self.sensitivity_len()
     }
 
     /// Whether the state carries the energy quadratures.
@@ -293,21 +313,25 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
     }
 
     fn dim(&self) -> usize {
-        match (self.energy, self.forces) {
-            (true, true) => 2 * self.n + 3,
-            (true, false) => 2 * self.n + 2,
-            (false, _) => 2 * self.n,
-        }
+        self.quadratures()
+            + match (self.energy, self.forces) {
+                (true, true) => 3,
+                (true, false) => 2,
+                (false, _) => 0,
+            }
     }
 
     fn controlled_dim(&self) -> usize {
-        2 * self.n
+        match &self.sens {
+            Some(s) if s.controlled => 2 * self.n + s.len(),
+            _ => 2 * self.n,
+        }
     }
 
     #[inline]
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
         self.stats.rhs_evaluations += 1;
-        let n = self.n;
+        let (n, e) = (self.n, self.quadratures());
         let (q, qd) = (&y[..n], &y[n..2 * n]);
         // The right-hand side needs q̈ and the rates of the quadratures (q̇·Φ, ∂L/∂t, q̇·Q), never E.
         let (d, fell_back) =
@@ -318,11 +342,14 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         dy[..n].copy_from_slice(qd);
         dy[n..2 * n].copy_from_slice(&d.qdd);
         if self.energy {
-            dy[2 * n] = d.power;
-            dy[2 * n + 1] = d.dl_dt;
+            dy[e] = d.power;
+            dy[e + 1] = d.dl_dt;
             if self.forces {
-                dy[2 * n + 2] = d.power_forces;
+                dy[e + 2] = d.power_forces;
             }
+        }
+        if let Some(sens) = &mut self.sens {
+            sens.rhs(self.model, t, q, qd, &y[2 * n..e], &mut dy[2 * n..e])?;
         }
         Ok(())
     }
@@ -339,7 +366,11 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         dfdt: &mut [f64],
     ) -> Result<(), Error> {
         self.stats.jacobian_evaluations += 1;
-        let (n, dim) = (self.n, self.dim());
+        let (n, dim, e) = (self.n, self.dim(), self.quadratures());
+        if self.sens.is_some() {
+            jac.fill(0.0);
+            dfdt.fill(0.0);
+        }
         let model = self.model;
         let ws = self
             .jac_ws
@@ -369,19 +400,22 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 put(n + i, a.eps);
             }
             if self.energy {
-                put(2 * n, d.power.eps);
-                put(2 * n + 1, d.dl_dt.eps);
+                put(e, d.power.eps);
+                put(e + 1, d.dl_dt.eps);
                 if self.forces {
-                    put(2 * n + 2, d.power_forces.eps);
+                    put(e + 2, d.power_forces.eps);
                 }
             }
         }
         if self.energy {
             for row in 0..dim {
-                for quadrature in 2 * n..dim {
+                for quadrature in e..dim {
                     jac[row * dim + quadrature] = 0.0;
                 }
             }
+        }
+        if let Some(sens) = &mut self.sens {
+            sens.jacobian(model, t, y, dim, jac, dfdt)?;
         }
         if jac.iter().chain(dfdt.iter()).any(|v| !v.is_finite()) {
             return Err(locate(SaddleFailure::NonFinite, t, &y[..n], &y[n..2 * n]));

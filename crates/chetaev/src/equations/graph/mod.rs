@@ -244,6 +244,8 @@ pub const DEP_T: Deps = 1;
 pub const DEP_Q: Deps = 2;
 /// Depends on a velocity.
 pub const DEP_QD: Deps = 4;
+/// Depends on a model parameter (read with [`Real::parameter`](crate::model::Real::parameter)).
+pub const DEP_P: Deps = 8;
 
 /// A comparison made while recording, with its outcome there.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -317,6 +319,11 @@ impl Graph {
             Node::Const(c) => Some(c),
             _ => None,
         }
+    }
+
+    /// The value of `id` at the recorded point.
+    pub fn value(&self, id: u32) -> f64 {
+        self.values[id as usize]
     }
 
     /// Whether `id` is the constant zero.
@@ -510,6 +517,62 @@ impl Graph {
 
 thread_local! {
     static RECORDING: RefCell<Option<Graph>> = const { RefCell::new(None) };
+    /// While recording with parameters as inputs: each parameter read so far, by name, with its
+    /// input scalar.
+    static PARAMETERS: RefCell<Option<Vec<(String, Sym)>>> = const { RefCell::new(None) };
+}
+
+/// The parameter `name` with value `value` in the graph being recorded: an input of class
+/// [`DEP_P`] (the same one each time the name is read) when the recording takes parameters as
+/// inputs ([`record_with_parameters`]), else the constant `value`.
+pub(crate) fn parameter(name: &str, value: f64) -> Sym {
+    PARAMETERS.with(|p| {
+        let mut p = p.borrow_mut();
+        let Some(known) = p.as_mut() else {
+            return Sym::constant(value);
+        };
+        if let Some((_, s)) = known.iter().find(|(n, _)| n == name) {
+            return *s;
+        }
+        let s = Sym::input(DEP_P, value);
+        known.push((name.to_string(), s));
+        s
+    })
+}
+
+/// [`record`] with every parameter that `f` reads ([`parameter`]) an input of the graph. Returns
+/// also the parameters read, in the order first read, each as `(name, value, input number,
+/// node)`.
+#[allow(clippy::type_complexity)]
+pub fn record_with_parameters<O>(
+    f: impl FnOnce() -> O,
+) -> (Graph, O, Vec<(String, f64, u32, u32)>) {
+    struct Reset;
+    impl Drop for Reset {
+        fn drop(&mut self) {
+            PARAMETERS.with(|p| *p.borrow_mut() = None);
+        }
+    }
+    let mut read = Vec::new();
+    let (graph, out) = record(|| {
+        PARAMETERS.with(|p| *p.borrow_mut() = Some(Vec::new()));
+        let reset = Reset;
+        let out = f();
+        let list = PARAMETERS
+            .with(|p| p.borrow_mut().take())
+            .unwrap_or_default();
+        read = with_graph(|g| {
+            list.into_iter()
+                .map(|(name, s)| match g.nodes[s.node_id() as usize] {
+                    Node::Input(i) => (name, s.value(), i, s.node_id()),
+                    _ => unreachable!("a parameter is made as an input"),
+                })
+                .collect()
+        });
+        drop(reset);
+        out
+    });
+    (graph, out, read)
 }
 
 /// Runs `f` on the graph being recorded on this thread. Outside [`record`] there is none, and a

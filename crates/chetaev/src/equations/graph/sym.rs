@@ -44,6 +44,11 @@ impl Sym {
         }
     }
 
+    /// The node id, without making one for a free constant (`FREE` then).
+    pub(crate) fn node_id(self) -> u32 {
+        self.id
+    }
+
     /// The value at the recorded point.
     pub fn value(self) -> f64 {
         self.v

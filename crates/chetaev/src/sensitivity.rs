@@ -1,0 +1,617 @@
+//! Sensitivities: derivatives of the motion, of event times and of event states with respect to
+//! model parameters and initial values, by forward-mode automatic differentiation through the
+//! solve.
+//!
+//! A [`Seed`] is one direction `θ` in which the problem is moved: parameters the model reads with
+//! [`Real::parameter`](crate::model::Real::parameter), initial positions and initial velocities,
+//! each with a rate. Along the motion `y = (q, q̇)` of `y' = F(t, y, p)` the sensitivity
+//! `S = ∂y/∂θ` obeys the variational equation
+//!
+//! ```text
+//! S' = ∂F/∂y · S + ∂F/∂p · δp,      S(t0) = (δq0, δq̇0)
+//! ```
+//!
+//! whose right-hand side is one directional derivative of `F`: the compiled equations
+//! ([`Compiled::with_parameters`]) evaluated with dual numbers whose derivative parts are `(S, δp)`.
+//! `S` is integrated with the motion by the same method and steps (Rodas4 gets the exact Jacobian
+//! of the whole system, by hyper-dual numbers), under error control when
+//! [`Options::sensitivity_control`](crate::integrate::options::Options::sensitivity_control) asks.
+//!
+//! An event `g(t, q, q̇) = 0` at time `T` moves with `θ` by
+//!
+//! ```text
+//! dT/dθ = −(∂g/∂q · S_q + ∂g/∂q̇ · S_q̇ + ∂g/∂p · δp) / ġ,   ġ = ∂g/∂t + ∂g/∂q · q̇ + ∂g/∂q̇ · q̈,
+//! dq(T)/dθ = S_q(T) + q̇(T) dT/dθ,   dq̇(T)/dθ = S_q̇(T) + q̈(T) dT/dθ,
+//! ```
+//!
+//! with the gradient of `g` exact for events made by [`Event::smooth`].
+
+use num_dual::{Dual64, HyperDual64};
+
+use crate::equations::compiled::{Compiled, CompiledFailure};
+use crate::equations::graph::{record_with_parameters, Sym, DEP_P, DEP_Q, DEP_QD, DEP_T};
+use crate::equations::{evaluate_compiled, Dynamics, Workspace};
+use crate::error::Error;
+use crate::integrate::events::{Event, EventFunction};
+use crate::integrate::system::locate;
+use crate::model::Model;
+use crate::solution::Series;
+
+/// One direction in which sensitivities are taken: rates of parameters, of initial positions and
+/// of initial velocities, moved together.
+///
+/// ```
+/// use chetaev::Seed;
+/// // ∂/∂g, g read by the model as R::parameter("g", ...).
+/// let g = Seed::parameter("g");
+/// // ∂/∂v0 where v0 is both a parameter of the constraint and the initial speed ẋ(0) = v0.
+/// let v0 = Seed::parameter("v0").with_velocity(0, 1.0);
+/// // ∂/∂h0, the initial height y(0) = h0.
+/// let h0 = Seed::new("h0").with_position(1, 1.0);
+/// # let _ = (g, v0, h0);
+/// ```
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[derive(Clone, Debug, PartialEq)]
+pub struct Seed {
+    /// A name for reports and lookups.
+    pub name: String,
+    /// Rates of parameters, by the names the model reads them with.
+    pub parameters: Vec<(String, f64)>,
+    /// Rates of initial positions `(index from 0, δq0_i)`.
+    pub positions: Vec<(usize, f64)>,
+    /// Rates of initial velocities `(index from 0, δq̇0_i)`.
+    pub velocities: Vec<(usize, f64)>,
+}
+
+impl Seed {
+    /// A direction named `name` that moves nothing yet; add rates with the `with_` methods.
+    pub fn new(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            parameters: Vec::new(),
+            positions: Vec::new(),
+            velocities: Vec::new(),
+        }
+    }
+
+    /// `∂/∂p` for the parameter `name` (rate 1), named after it.
+    pub fn parameter(name: &str) -> Self {
+        Self::new(name).with_parameter(name, 1.0)
+    }
+
+    /// `∂/∂q_i(t0)` (index from 0), named `q{i+1}(t0)`.
+    pub fn position(i: usize) -> Self {
+        Self::new(format!("q{}(t0)", i + 1)).with_position(i, 1.0)
+    }
+
+    /// `∂/∂q̇_i(t0)` (index from 0), named `q̇{i+1}(t0)`.
+    pub fn velocity(i: usize) -> Self {
+        Self::new(format!("q̇{}(t0)", i + 1)).with_velocity(i, 1.0)
+    }
+
+    /// Also moves the parameter `name` at rate `rate`.
+    pub fn with_parameter(mut self, name: &str, rate: f64) -> Self {
+        self.parameters.push((name.to_string(), rate));
+        self
+    }
+
+    /// Also moves the initial position `i` (from 0) at rate `rate`.
+    pub fn with_position(mut self, i: usize, rate: f64) -> Self {
+        self.positions.push((i, rate));
+        self
+    }
+
+    /// Also moves the initial velocity `i` (from 0) at rate `rate`.
+    pub fn with_velocity(mut self, i: usize, rate: f64) -> Self {
+        self.velocities.push((i, rate));
+        self
+    }
+
+    /// The rate of parameter `name` in this direction.
+    fn rate(&self, name: &str) -> f64 {
+        self.parameters
+            .iter()
+            .filter(|(p, _)| p == name)
+            .map(|(_, r)| r)
+            .sum()
+    }
+}
+
+/// How an event moves with each seed: `dT/dθ`, `dq(T)/dθ`, `dq̇(T)/dθ`.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[derive(Clone, Debug, PartialEq)]
+pub struct EventSensitivity {
+    /// `dT/dθ`, one per seed.
+    pub t: Vec<f64>,
+    /// `dq(T)/dθ`, one vector (length `n`) per seed.
+    pub q: Vec<Vec<f64>>,
+    /// `dq̇(T)/dθ`, one vector (length `n`) per seed.
+    pub qd: Vec<Vec<f64>>,
+}
+
+/// The sensitivities of a solution ([`Solution::sensitivities`](crate::Solution::sensitivities)):
+/// `∂q/∂θ` and `∂q̇/∂θ` at every recorded point for each seed `θ`, and how each event moved.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sensitivities {
+    /// The seeds' names, in the order given.
+    pub names: Vec<String>,
+    /// At each recorded point, for each seed in turn, `∂q/∂θ` (n) then `∂q̇/∂θ` (n).
+    pub values: Series,
+    /// For each hit of [`Solution::events`](crate::Solution::events), in the same order, how it
+    /// moved; `None` for an event made by [`Event::new`] (its function is a plain closure that
+    /// cannot be differentiated: make it with [`Event::smooth`]) or one crossed tangentially
+    /// (`ġ = 0`, where `T` is not differentiable).
+    pub events: Vec<Option<EventSensitivity>>,
+    n: usize,
+}
+
+impl Sensitivities {
+    pub(crate) fn new(names: Vec<String>, n: usize) -> Self {
+        Self {
+            values: Series::new(2 * n * names.len()),
+            names,
+            events: Vec::new(),
+            n,
+        }
+    }
+
+    /// The index of the seed named `name`.
+    pub fn seed(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|s| s == name)
+    }
+
+    /// `∂q/∂θ` at recorded point `point` for seed `seed`.
+    pub fn q(&self, point: usize, seed: usize) -> &[f64] {
+        let n = self.n;
+        &self.values[point][2 * n * seed..2 * n * seed + n]
+    }
+
+    /// `∂q̇/∂θ` at recorded point `point` for seed `seed`.
+    pub fn qd(&self, point: usize, seed: usize) -> &[f64] {
+        let n = self.n;
+        &self.values[point][2 * n * seed + n..2 * n * (seed + 1)]
+    }
+}
+
+/// The gradient of an event function at a point.
+pub(crate) struct EventGradient {
+    t: f64,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    /// With respect to the parameters it reads, by name.
+    params: Vec<(String, f64)>,
+}
+
+/// Records `f` at `(t, q, q̇)` with its parameters as inputs and differentiates it; `None` where a
+/// value leaves the recording (`re()`).
+pub(crate) fn event_gradient<F: EventFunction>(
+    f: &F,
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+) -> Option<EventGradient> {
+    let n = q.len();
+    let (mut g, (value, inputs), params) = record_with_parameters(|| {
+        let ts = Sym::input(DEP_T, t);
+        let qs: Vec<Sym> = q.iter().map(|&v| Sym::input(DEP_Q, v)).collect();
+        let qds: Vec<Sym> = qd.iter().map(|&v| Sym::input(DEP_QD, v)).collect();
+        let value = f.value(ts, &qs, &qds).node();
+        let inputs: Vec<u32> = std::iter::once(ts)
+            .chain(qs)
+            .chain(qds)
+            .map(Sym::node)
+            .collect();
+        (value, inputs)
+    });
+    if g.escaped() {
+        return None;
+    }
+    let wrt: Vec<u32> = inputs
+        .iter()
+        .copied()
+        .chain(params.iter().map(|p| p.3))
+        .collect();
+    let grad: Vec<f64> = g
+        .gradient(value, &wrt, DEP_T | DEP_Q | DEP_QD | DEP_P)
+        .into_iter()
+        .map(|id| g.value(id))
+        .collect();
+    Some(EventGradient {
+        t: grad[0],
+        q: grad[1..=n].to_vec(),
+        qd: grad[n + 1..=2 * n].to_vec(),
+        params: params
+            .into_iter()
+            .zip(&grad[2 * n + 1..])
+            .map(|(p, &d)| (p.0, d))
+            .collect(),
+    })
+}
+
+fn invalid(what: String) -> Error {
+    Error::Sensitivity { what }
+}
+
+/// The variational equations of a problem's motion for a set of seeds: what the reduced ODE
+/// carries after `(q, q̇)` when sensitivities are asked for.
+pub(crate) struct Variational {
+    n: usize,
+    compiled: Compiled,
+    seeds: Vec<Seed>,
+    /// Per seed, the rates of the compiled equations' parameters (in their input order).
+    dp: Vec<Vec<f64>>,
+    /// Whether `S` is under error control.
+    pub(crate) controlled: bool,
+    dual: Workspace<Dual64>,
+    hyper: Option<Workspace<HyperDual64>>,
+    /// Scratch: the dual inputs.
+    q: Vec<Dual64>,
+    qd: Vec<Dual64>,
+    p: Vec<Dual64>,
+    /// Recordings made again where a branch of the model's code flipped.
+    pub(crate) rerecords: usize,
+}
+
+impl Variational {
+    /// The variational equations of `model` at its initial state for `seeds`; checks that every
+    /// parameter named is read by the model or a smooth event, and that each seed keeps the
+    /// initial state on the constraints to first order.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new<M: Model + ?Sized>(
+        model: &M,
+        t0: f64,
+        q0: &[f64],
+        qd0: &[f64],
+        seeds: &[Seed],
+        events: &[Event],
+        controlled: bool,
+    ) -> Result<Self, Error> {
+        let n = q0.len();
+        for (j, seed) in seeds.iter().enumerate() {
+            if seeds[..j].iter().any(|s| s.name == seed.name) {
+                return Err(invalid(format!(
+                    "two seeds are named {:?}; give each a name of its own",
+                    seed.name
+                )));
+            }
+            if let Some(&(i, _)) = seed
+                .positions
+                .iter()
+                .chain(&seed.velocities)
+                .find(|(i, _)| *i >= n)
+            {
+                return Err(invalid(format!(
+                    "seed {:?} moves coordinate index {i}, but the model has {n} coordinates \
+                     (indices 0 to {})",
+                    seed.name,
+                    n.saturating_sub(1)
+                )));
+            }
+            let rates = seed
+                .parameters
+                .iter()
+                .map(|p| p.1)
+                .chain(seed.positions.iter().chain(&seed.velocities).map(|p| p.1));
+            if let Some(r) = rates.into_iter().find(|r| !r.is_finite()) {
+                return Err(invalid(format!(
+                    "seed {:?} has a rate {r}; rates must be finite",
+                    seed.name
+                )));
+            }
+        }
+        let compiled = Compiled::with_parameters(model, t0, q0, qd0).ok_or_else(|| {
+            invalid(
+                "the model's equations cannot be recorded (it takes a value out of its scalar \
+                 with re(), or does not offer its functions), and sensitivities are derivatives \
+                 of them; write the model without re()"
+                    .to_string(),
+            )
+        })?;
+        let mut known: Vec<String> = compiled.parameters().iter().map(|p| p.0.clone()).collect();
+        for e in events {
+            if let Some(grad) = e.gradient.as_ref().and_then(|g| g(t0, q0, qd0)) {
+                known.extend(grad.params.into_iter().map(|p| p.0));
+            }
+        }
+        // A model with branches may read a parameter only on a branch not taken at the start.
+        let branches = compiled.guards() > 0;
+        for seed in seeds.iter().filter(|_| !branches) {
+            if let Some((name, _)) = seed.parameters.iter().find(|(p, _)| !known.contains(p)) {
+                let list = if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                };
+                return Err(invalid(format!(
+                    "seed {:?} moves parameter {name:?}, which neither the model nor a smooth \
+                     event reads (they read: {list}); read it as R::parameter({name:?}, value)",
+                    seed.name
+                )));
+            }
+        }
+        let k = model.sizes().1;
+        let mut v = Self {
+            n,
+            dp: Vec::new(),
+            compiled,
+            seeds: seeds.to_vec(),
+            controlled,
+            dual: Workspace::new(n, k),
+            hyper: None,
+            q: vec![Dual64::from(0.0); n],
+            qd: vec![Dual64::from(0.0); n],
+            p: Vec::new(),
+            rerecords: 0,
+        };
+        v.rates();
+        let mut s0 = vec![0.0; v.len()];
+        v.initial(&mut s0);
+        for j in 0..seeds.len() {
+            let s = &s0[2 * n * j..2 * n * (j + 1)];
+            let scale = 1.0 + s.iter().chain(&v.dp[j]).map(|x| x.abs()).sum::<f64>();
+            let d = v.direction(model, t0, q0, qd0, s, j)?;
+            for (a, fa) in d.f.iter().enumerate() {
+                let row = &d.j[a * n..(a + 1) * n];
+                let size = row.iter().map(|x| x.abs()).sum::<f64>().max(fa.re.abs());
+                if fa.eps.abs() > 1e-8 * scale * size.max(1.0) {
+                    return Err(Error::InconsistentSeed {
+                        seed: seeds[j].name.clone(),
+                        constraint: a + 1,
+                        residual: fa.eps,
+                    });
+                }
+            }
+        }
+        Ok(v)
+    }
+
+    /// The seeds' parameter rates in the compiled equations' input order.
+    fn rates(&mut self) {
+        let params = self.compiled.parameters();
+        self.dp = self
+            .seeds
+            .iter()
+            .map(|s| params.iter().map(|(name, _)| s.rate(name)).collect())
+            .collect();
+        self.p = params.iter().map(|p| Dual64::from(p.1)).collect();
+    }
+
+    /// The seeds' names.
+    pub(crate) fn names(&self) -> Vec<String> {
+        self.seeds.iter().map(|s| s.name.clone()).collect()
+    }
+
+    /// Length of `S`: `2n` per seed.
+    pub(crate) fn len(&self) -> usize {
+        2 * self.n * self.seeds.len()
+    }
+
+    /// `S(t0)`.
+    pub(crate) fn initial(&self, s: &mut [f64]) {
+        s.fill(0.0);
+        let n = self.n;
+        for (j, seed) in self.seeds.iter().enumerate() {
+            for &(i, r) in &seed.positions {
+                s[2 * n * j + i] += r;
+            }
+            for &(i, r) in &seed.velocities {
+                s[2 * n * j + n + i] += r;
+            }
+        }
+    }
+
+    /// The equations at `(t, q, q̇)` with dual parts `(s, δp_j)`: `q̈.eps` is `(∂F/∂y · S + ∂F/∂p ·
+    /// δp)` in the velocity rows. Where a branch of the model's code goes the other way than when
+    /// recorded, the equations are recorded again there.
+    fn direction<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        s: &[f64],
+        j: usize,
+    ) -> Result<&Dynamics<Dual64>, Error> {
+        let n = self.n;
+        for i in 0..n {
+            self.q[i] = Dual64::new(q[i], s[i]);
+            self.qd[i] = Dual64::new(qd[i], s[n + i]);
+        }
+        for (p, &r) in self.p.iter_mut().zip(&self.dp[j]) {
+            p.eps = r;
+        }
+        let td = Dual64::from(t);
+        let mut again = false;
+        loop {
+            let result = evaluate_compiled(
+                &self.compiled,
+                &mut self.dual,
+                &self.p,
+                td,
+                &self.q,
+                &self.qd,
+            )
+            .map(|_| ());
+            match result {
+                Ok(()) => return Ok(self.dual.dynamics()),
+                Err(CompiledFailure::Saddle(e)) => return Err(locate(e, t, q, qd)),
+                Err(CompiledFailure::Guard(_)) if !again => {
+                    self.rerecord(model, t, q, qd)?;
+                    for (p, &r) in self.p.iter_mut().zip(&self.dp[j]) {
+                        p.eps = r;
+                    }
+                    again = true;
+                }
+                Err(CompiledFailure::Guard(_)) => {
+                    return Err(invalid(format!(
+                        "the model's branches at t = {t} are not those of its own recording there"
+                    )))
+                }
+            }
+        }
+    }
+
+    /// Records the equations again at `(t, q, q̇)`, where a branch of the model's code flipped.
+    fn rerecord<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> Result<(), Error> {
+        self.compiled = Compiled::with_parameters(model, t, q, qd).ok_or_else(|| {
+            invalid(format!(
+                "the model's equations could not be recorded again at t = {t}, where a branch of \
+                 its code changed"
+            ))
+        })?;
+        let k = model.sizes().1;
+        self.dual = Workspace::new(self.n, k);
+        self.hyper = None;
+        self.rates();
+        self.rerecords += 1;
+        Ok(())
+    }
+
+    /// `dS = (S_q̇, ∂F/∂y · S + ∂F/∂p · δp)` for every seed at `(t, q, q̇)`.
+    pub(crate) fn rhs<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        s: &[f64],
+        ds: &mut [f64],
+    ) -> Result<(), Error> {
+        let n = self.n;
+        for j in 0..self.seeds.len() {
+            let (sj, dsj) = (
+                &s[2 * n * j..2 * n * (j + 1)],
+                &mut ds[2 * n * j..2 * n * (j + 1)],
+            );
+            dsj[..n].copy_from_slice(&sj[n..]);
+            let d = self.direction(model, t, q, qd, sj, j)?;
+            for (out, a) in dsj[n..].iter_mut().zip(&d.qdd) {
+                *out = a.eps;
+            }
+        }
+        if ds.iter().any(|v| !v.is_finite()) {
+            return Err(locate(
+                crate::equations::saddle::SaddleFailure::NonFinite,
+                t,
+                q,
+                qd,
+            ));
+        }
+        Ok(())
+    }
+
+    /// The rows of `S` in the Jacobian of the whole system (row-major, `dim × dim`, with `S` at
+    /// offset `2n`) and in `∂F/∂t`: the base block `∂F/∂y` (already in rows and columns `0..2n`) on
+    /// the diagonal, and `∂/∂y (∂F/∂y · S + ∂F/∂p · δp)` by hyper-dual numbers.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn jacobian<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+        y: &[f64],
+        dim: usize,
+        jac: &mut [f64],
+        dfdt: &mut [f64],
+    ) -> Result<(), Error> {
+        let n = self.n;
+        let k = model.sizes().1;
+        let (q, qd) = (&y[..n], &y[n..2 * n]);
+        for j in 0..self.seeds.len() {
+            let off = 2 * n + 2 * n * j;
+            for r in 0..2 * n {
+                for c in 0..2 * n {
+                    jac[(off + r) * dim + off + c] = jac[r * dim + c];
+                }
+            }
+            let s = &y[off..off + 2 * n];
+            for dir in 0..=2 * n {
+                let seed = |i: usize| if i == dir { 1.0 } else { 0.0 };
+                let hq: Vec<HyperDual64> = (0..n)
+                    .map(|i| HyperDual64::new(q[i], seed(i), s[i], 0.0))
+                    .collect();
+                let hqd: Vec<HyperDual64> = (0..n)
+                    .map(|i| HyperDual64::new(qd[i], seed(n + i), s[n + i], 0.0))
+                    .collect();
+                let hp: Vec<HyperDual64> = self
+                    .compiled
+                    .parameters()
+                    .iter()
+                    .zip(&self.dp[j])
+                    .map(|(p, &r)| HyperDual64::new(p.1, 0.0, r, 0.0))
+                    .collect();
+                let ht = HyperDual64::new(t, seed(2 * n), 0.0, 0.0);
+                let ws = self.hyper.get_or_insert_with(|| Workspace::new(n, k));
+                let d =
+                    evaluate_compiled(&self.compiled, ws, &hp, ht, &hq, &hqd).map_err(
+                        |e| match e {
+                            CompiledFailure::Saddle(e) => locate(e, t, q, qd),
+                            CompiledFailure::Guard(_) => invalid(format!(
+                                "a branch of the model's code changed at t = {t} within a step of \
+                             the implicit method; sensitivities across it need an explicit \
+                             method"
+                            )),
+                        },
+                    )?;
+                for (i, a) in d.qdd.iter().enumerate() {
+                    if dir < 2 * n {
+                        jac[(off + n + i) * dim + dir] = a.eps1eps2;
+                    } else {
+                        dfdt[off + n + i] = a.eps1eps2;
+                    }
+                }
+            }
+            for i in 0..n {
+                dfdt[off + i] = 0.0;
+            }
+        }
+        Ok(())
+    }
+
+    /// How the event `event` at `(t, q, q̇)` with `q̈` moves with each seed, given `S` there.
+    pub(crate) fn at_event(
+        &self,
+        event: &Event,
+        t: f64,
+        (q, qd, qdd): (&[f64], &[f64], &[f64]),
+        s: &[f64],
+    ) -> Option<EventSensitivity> {
+        let n = self.n;
+        let grad = (event.gradient.as_ref()?)(t, q, qd)?;
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let rate = grad.t + dot(&grad.q, qd) + dot(&grad.qd, qdd);
+        if rate == 0.0 || !rate.is_finite() {
+            return None;
+        }
+        let mut out = EventSensitivity {
+            t: Vec::new(),
+            q: Vec::new(),
+            qd: Vec::new(),
+        };
+        for (j, seed) in self.seeds.iter().enumerate() {
+            let sj = &s[2 * n * j..2 * n * (j + 1)];
+            let dp: f64 = grad
+                .params
+                .iter()
+                .map(|(name, d)| d * seed.rate(name))
+                .sum();
+            let dt = -(dot(&grad.q, &sj[..n]) + dot(&grad.qd, &sj[n..]) + dp) / rate;
+            out.t.push(dt);
+            out.q.push((0..n).map(|i| sj[i] + qd[i] * dt).collect());
+            out.qd
+                .push((0..n).map(|i| sj[n + i] + qdd[i] * dt).collect());
+        }
+        out.t
+            .iter()
+            .chain(out.q.iter().flatten())
+            .chain(out.qd.iter().flatten())
+            .all(|v| v.is_finite())
+            .then_some(out)
+    }
+}

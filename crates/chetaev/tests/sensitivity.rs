@@ -1,0 +1,415 @@
+//! Sensitivities against the closed forms' own derivatives (taken by dual numbers of the closed
+//! forms), on the paper's uniform projectile and on models with holonomic constraints, forces and
+//! branches.
+
+use chetaev::num_dual::{Dual64, DualNum};
+use chetaev::prelude::*;
+
+/// The paper's model (42.2), (42.23), with `g` and `v0` read as parameters.
+struct Uniform {
+    m: f64,
+    g: f64,
+    v0: f64,
+}
+
+impl Lagrangian<2> for Uniform {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * (0.5 * self.m) - q[1] * (R::parameter("g", self.g) * self.m)
+    }
+}
+
+impl Constraints<2, 1> for Uniform {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        let v0 = R::parameter("v0", self.v0);
+        SVector::from([qd.dot(qd) - v0 * v0])
+    }
+}
+
+struct Ground;
+impl EventFunction for Ground {
+    fn value<R: Real>(&self, _t: R, q: &[R], _qd: &[R]) -> R {
+        q[1]
+    }
+}
+
+/// `T = (v0/g) arccosh e^z`, `R = (v0²/g) arccos e^(−z)`, `z = g h0 / v0²` (42.38), for any scalar.
+fn impact<D: DualNum<f64> + Copy>(v0: D, g: D, h0: D) -> (D, D) {
+    let z = g * h0 / (v0 * v0);
+    let t = v0 / g * z.exp().acosh();
+    let r = v0 * v0 / g * (-z).exp().acos();
+    (t, r)
+}
+
+/// `(∂T/∂θ, ∂R/∂θ)` for θ = v0, g, h0 by dual numbers of the closed form.
+fn closed_form_derivatives(v0: f64, g: f64, h0: f64) -> [(f64, f64); 3] {
+    let d = |i: usize| {
+        let s = |j: usize, x: f64| Dual64::new(x, if i == j { 1.0 } else { 0.0 });
+        let (t, r) = impact(s(0, v0), s(1, g), s(2, h0));
+        (t.eps, r.eps)
+    };
+    [d(0), d(1), d(2)]
+}
+
+fn paper_solution(method: impl Method, control: bool) -> Result<Solution, Error> {
+    let (v0, g, h0) = (10.0, 10.0, 5.0);
+    let problem = Problem::new(
+        Uniform { m: 1.0, g, v0 },
+        0.0,
+        SVector::from([0.0, h0]),
+        SVector::from([v0, 0.0]),
+    )?;
+    let options = Options::until(10.0)
+        .tolerances(1e-12, 1e-12)
+        .event(Event::smooth("impact", Ground).falling().terminal())
+        .sensitivity(Seed::parameter("v0").with_velocity(0, 1.0))
+        .sensitivity(Seed::parameter("g"))
+        .sensitivity(Seed::new("h0").with_position(1, 1.0))
+        .sensitivity_control(control);
+    solve(&problem, method, &options)
+}
+
+fn check_paper(sol: &Solution, tol: f64) {
+    assert!(sol.is_success(), "{:?}", sol.status);
+    let s = sol.sensitivities.as_ref().expect("sensitivities recorded");
+    let hit = s.events[0].as_ref().expect("the impact moves smoothly");
+    let expected = closed_form_derivatives(10.0, 10.0, 5.0);
+    for (j, name) in ["v0", "g", "h0"].iter().enumerate() {
+        let i = s.seed(name).expect("seed by name");
+        let (dt, dr) = expected[j];
+        let (et, er) = ((hit.t[i] - dt) / dt, (hit.q[i][0] - dr) / dr);
+        println!(
+            "∂T/∂{name} = {:.15e} ({et:.1e}), ∂R/∂{name} = {:.15e} ({er:.1e})",
+            hit.t[i], hit.q[i][0]
+        );
+        assert!(et.abs() < tol && er.abs() < tol, "{name}: {et:e} {er:e}");
+        // y(T) = 0 for every parameter: the event's state moves along the ground.
+        assert!(hit.q[i][1].abs() < tol * (1.0 + dr.abs()));
+    }
+}
+
+#[test]
+fn paper_impact_derivatives_match_the_closed_form() -> Result<(), Error> {
+    check_paper(&paper_solution(Dop853::default(), true)?, 1e-8);
+    check_paper(&paper_solution(Dopri5::default(), true)?, 1e-8);
+    check_paper(&paper_solution(Rodas4, true)?, 1e-7);
+    Ok(())
+}
+
+#[test]
+fn without_error_control_the_derivatives_follow_the_motions_steps() -> Result<(), Error> {
+    // Steps chosen for the motion alone still carry the derivatives to about the tolerance.
+    check_paper(&paper_solution(Dop853::default(), false)?, 1e-9);
+    Ok(())
+}
+
+/// The Cartesian pendulum `h = x² + y² − ℓ²` with `ℓ` and `g` as parameters.
+struct Pendulum {
+    g: f64,
+    l: f64,
+}
+
+impl Lagrangian<2> for Pendulum {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5 - q[1] * R::parameter("g", self.g)
+    }
+}
+
+impl Constraints<2, 0> for Pendulum {
+    fn constraints<R: Real>(
+        &self,
+        _t: R,
+        _q: &SVector<R, 2>,
+        _qd: &SVector<R, 2>,
+    ) -> SVector<R, 0> {
+        SVector::zeros()
+    }
+    fn holonomic_count(&self) -> usize {
+        1
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &SVector<R, 2>, h: &mut [R]) {
+        let l = R::parameter("l", self.l);
+        h[0] = q.dot(q) - l * l;
+    }
+}
+
+/// A pendulum with holonomic constraint only: `K = 0` velocity constraints.
+struct Rod {
+    g: f64,
+    l: f64,
+}
+
+impl DynModel for Rod {
+    fn sizes(&self) -> (usize, usize) {
+        (2, 0)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5 - q[1] * R::parameter("g", self.g)
+    }
+    fn holonomic_count(&self) -> usize {
+        1
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &[R], h: &mut [R]) {
+        let l = R::parameter("l", self.l);
+        h[0] = q[0] * q[0] + q[1] * q[1] - l * l;
+    }
+}
+
+struct Vertical;
+impl EventFunction for Vertical {
+    fn value<R: Real>(&self, _t: R, q: &[R], _qd: &[R]) -> R {
+        q[0]
+    }
+}
+
+#[test]
+fn a_holonomic_pendulums_quarter_period_moves_as_the_square_root_of_l_over_g() -> Result<(), Error>
+{
+    // Released at rest at θ0 from the vertical: it reaches x = 0 after T/4, T = 4 √(ℓ/g) K(sin θ0/2),
+    // so d(T/4)/dℓ = T/(8ℓ) and d(T/4)/dg = −T/(8g) whatever K is. The initial position moves
+    // with ℓ: (x0, y0) = ℓ (sin θ0, −cos θ0).
+    let (g, l, th0) = (9.81, 1.5, 1.2);
+    let q0 = [l * th0.sin(), -l * th0.cos()];
+    let options = Options::until(10.0)
+        .tolerances(1e-12, 1e-12)
+        .event(Event::smooth("vertical", Vertical).falling().terminal())
+        .sensitivity(
+            Seed::parameter("l")
+                .with_position(0, th0.sin())
+                .with_position(1, -th0.cos()),
+        )
+        .sensitivity(Seed::parameter("g"))
+        .sensitivity_control(true);
+    let check = |sol: &Solution| {
+        assert!(sol.is_success(), "{:?}", sol.status);
+        let quarter = sol.events[0].t;
+        let s = sol.sensitivities.as_ref().expect("recorded");
+        let hit = s.events[0].as_ref().expect("smooth event");
+        let (dl, dg) = (quarter / (2.0 * l), -quarter / (2.0 * g));
+        assert!(
+            (hit.t[0] - dl).abs() < 1e-8 * dl.abs(),
+            "{} vs {dl}",
+            hit.t[0]
+        );
+        assert!(
+            (hit.t[1] - dg).abs() < 1e-8 * dg.abs(),
+            "{} vs {dg}",
+            hit.t[1]
+        );
+        // At the bottom, y = −ℓ: dy/dℓ = −1, dy/dg = 0; the velocity scales as √(gℓ).
+        assert!((hit.q[0][1] + 1.0).abs() < 1e-8);
+        assert!(hit.q[1][1].abs() < 1e-8);
+        let v = sol.events[0].qd[0];
+        assert!((hit.qd[0][0] - v / (2.0 * l)).abs() < 1e-8 * v.abs());
+        assert!((hit.qd[1][0] - v / (2.0 * g)).abs() < 1e-8 * v.abs());
+    };
+    let fixed = Problem::new(
+        Pendulum { g, l },
+        0.0,
+        SVector::from(q0),
+        SVector::from([0.0, 0.0]),
+    )?;
+    check(&solve(&fixed, Dop853::default(), &options)?);
+    let dynamic = Problem::dynamic(Rod { g, l }, 0.0, q0.to_vec(), vec![0.0, 0.0])?;
+    check(&solve(&dynamic, Dop853::default(), &options)?);
+    check(&solve(&dynamic, Rodas4, &options)?);
+    Ok(())
+}
+
+/// `L = ½ ẋ² − ½ k x²` with `k = k1` for `x > 0` and `k2` below: a branch in the model's code.
+struct Kinked {
+    k1: f64,
+    k2: f64,
+    c: f64,
+}
+
+impl DynModel for Kinked {
+    fn sizes(&self) -> (usize, usize) {
+        (1, 0)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        let k = if q[0] > 0.0 {
+            R::parameter("k1", self.k1)
+        } else {
+            R::parameter("k2", self.k2)
+        };
+        (qd[0] * qd[0] - k * q[0] * q[0]) * 0.5
+    }
+    fn dissipation<R: Real>(&self, _t: R, _q: &[R], qd: &[R]) -> Option<R> {
+        (self.c != 0.0).then(|| qd[0] * qd[0] * R::parameter("c", self.c) * 0.5)
+    }
+}
+
+#[test]
+fn sensitivities_follow_a_branch_of_the_models_code_and_a_rayleigh_function() -> Result<(), Error> {
+    // From x0 > 0 at rest: x = x0 cos(w1 t) until t1 = π/(2 w1), then x = −x0 (w1/w2) sin(w2 (t − t1)).
+    let (k1, k2, x0) = (4.0, 9.0, 0.7);
+    fn x<D: DualNum<f64> + Copy>(k1: D, k2: D, x0: D, t: f64) -> D {
+        let (w1, w2) = (k1.sqrt(), k2.sqrt());
+        let t1 = w1.recip() * std::f64::consts::FRAC_PI_2;
+        -x0 * (w1 / w2) * (w2 * (t1 * -1.0 + t)).sin()
+    }
+    let t = 1.0; // past t1 = π/4, before the next switch at t1 + π/3
+    let problem = Problem::dynamic(Kinked { k1, k2, c: 0.0 }, 0.0, vec![x0], vec![0.0])?;
+    let options = Options::until(t)
+        .tolerances(1e-12, 1e-12)
+        .sensitivity(Seed::parameter("k1"))
+        .sensitivity(Seed::parameter("k2"))
+        .sensitivity(Seed::position(0))
+        .sensitivity_control(true);
+    let sol = solve(&problem, Dop853::default(), &options)?;
+    assert!(sol.is_success(), "{:?}", sol.status);
+    let s = sol.sensitivities.as_ref().expect("recorded");
+    let last = sol.len() - 1;
+    let d = |i: usize| {
+        x(
+            Dual64::new(k1, f64::from(u8::from(i == 0))),
+            Dual64::new(k2, f64::from(u8::from(i == 1))),
+            Dual64::new(x0, f64::from(u8::from(i == 2))),
+            t,
+        )
+    };
+    assert!((sol.q[last][0] - d(0).re).abs() < 1e-10);
+    for i in 0..3 {
+        let expected = d(i).eps;
+        let got = s.q(last, i)[0];
+        assert!(
+            (got - expected).abs() < 1e-8 * (1.0 + expected.abs()),
+            "{i}: {got} vs {expected}"
+        );
+    }
+    assert!(
+        sol.stats.graph_fallbacks > 0,
+        "the branch flipped and was recorded again"
+    );
+
+    // A damped oscillator, D = ½ c ẋ² (x > 0 throughout the short run): x = x0 e^(−ct/2)(cos ωt +
+    // c/(2ω) sin ωt), ω = √(k1 − c²/4).
+    let c = 0.3;
+    fn damped<D: DualNum<f64> + Copy>(k: D, c: D, x0: D, t: f64) -> D {
+        let w = (k - c * c * 0.25).sqrt();
+        x0 * (c * (-0.5 * t)).exp() * ((w * t).cos() + c / (w * 2.0) * (w * t).sin())
+    }
+    let t = 0.5;
+    let problem = Problem::dynamic(Kinked { k1, k2, c }, 0.0, vec![x0], vec![0.0])?;
+    let options = Options::until(t)
+        .tolerances(1e-12, 1e-12)
+        .sensitivity(Seed::parameter("c"))
+        .sensitivity(Seed::parameter("k1"))
+        .sensitivity_control(true);
+    let sol = solve(&problem, Dop853::default(), &options)?;
+    let s = sol.sensitivities.as_ref().expect("recorded");
+    let last = sol.len() - 1;
+    let dc = damped(Dual64::from(k1), Dual64::new(c, 1.0), Dual64::from(x0), t).eps;
+    let dk = damped(Dual64::new(k1, 1.0), Dual64::from(c), Dual64::from(x0), t).eps;
+    assert!(
+        (s.q(last, 0)[0] - dc).abs() < 1e-9,
+        "{} vs {dc}",
+        s.q(last, 0)[0]
+    );
+    assert!(
+        (s.q(last, 1)[0] - dk).abs() < 1e-9,
+        "{} vs {dk}",
+        s.q(last, 1)[0]
+    );
+    Ok(())
+}
+
+#[test]
+fn bad_seeds_are_typed_errors() -> Result<(), Error> {
+    let problem = Problem::new(
+        Uniform {
+            m: 1.0,
+            g: 10.0,
+            v0: 10.0,
+        },
+        0.0,
+        SVector::from([0.0, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )?;
+    let base = Options::until(1.0);
+    // A parameter nobody reads (a typo).
+    let e = solve(
+        &problem,
+        Dop853::default(),
+        &base.clone().sensitivity(Seed::parameter("v_0")),
+    )
+    .expect_err("unknown parameter");
+    assert!(matches!(e, Error::Sensitivity { .. }), "{e}");
+    assert!(e.to_string().contains("g, v0"), "{e}");
+    // v0 moved without the initial speed: off the constraint to first order.
+    let e = solve(
+        &problem,
+        Dop853::default(),
+        &base.clone().sensitivity(Seed::parameter("v0")),
+    )
+    .expect_err("inconsistent seed");
+    assert!(
+        matches!(e, Error::InconsistentSeed { constraint: 1, .. }),
+        "{e}"
+    );
+    // Out-of-range coordinate, duplicate names, projection.
+    let e = solve(
+        &problem,
+        Dop853::default(),
+        &base.clone().sensitivity(Seed::position(2)),
+    )
+    .expect_err("index");
+    assert!(e.to_string().contains("2 coordinates"), "{e}");
+    let twice = base
+        .clone()
+        .sensitivity(Seed::parameter("g"))
+        .sensitivity(Seed::parameter("g"));
+    assert!(matches!(
+        solve(&problem, Dop853::default(), &twice),
+        Err(Error::Sensitivity { .. })
+    ));
+    let projected = base
+        .clone()
+        .sensitivity(Seed::parameter("g"))
+        .project(Projection::default());
+    assert!(matches!(
+        solve(&problem, Dop853::default(), &projected),
+        Err(Error::Sensitivity { .. })
+    ));
+    // An event written as a closure is located, but its motion cannot be differentiated.
+    let closure = Options::until(10.0)
+        .sensitivity(Seed::parameter("g"))
+        .event(Event::new("ground", |_t, q, _qd| q[1]).falling().terminal());
+    let sol = solve(&problem, Dop853::default(), &closure)?;
+    let s = sol.sensitivities.as_ref().expect("recorded");
+    assert_eq!(sol.events.len(), 1);
+    assert_eq!(s.events, vec![None]);
+    Ok(())
+}
+
+#[test]
+fn sensitivities_leave_the_motion_as_it_is() -> Result<(), Error> {
+    // Without error control the steps are the motion's: the same numbers bit for bit.
+    let problem = Problem::new(
+        Uniform {
+            m: 1.0,
+            g: 10.0,
+            v0: 10.0,
+        },
+        0.0,
+        SVector::from([0.0, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )?;
+    let options = Options::until(1.0).tolerances(1e-10, 1e-10);
+    let plain = solve(&problem, Dop853::default(), &options)?;
+    let with = solve(
+        &problem,
+        Dop853::default(),
+        &options.clone().sensitivity(Seed::parameter("g")),
+    )?;
+    assert_eq!(plain.t, with.t);
+    assert_eq!(plain.q, with.q);
+    assert_eq!(plain.mu, with.mu);
+    assert_eq!(plain.work, with.work);
+    assert!(plain.sensitivities.is_none());
+    assert_eq!(
+        with.sensitivities.as_ref().map(|s| s.values.len()),
+        Some(with.len())
+    );
+    Ok(())
+}
