@@ -26,7 +26,8 @@
 //!
 //! with the gradient of `g` exact for events made by [`Event::smooth`].
 
-use num_dual::{Dual64, HyperDual64};
+use nalgebra::{Const, SVector, U1};
+use num_dual::{Derivative, Dual64, DualVec, HyperDual64};
 
 use crate::equations::compiled::{Compiled, CompiledFailure};
 use crate::equations::graph::{record_with_parameters, Sym, DEP_P, DEP_Q, DEP_QD, DEP_T};
@@ -229,6 +230,15 @@ pub(crate) fn event_gradient<F: EventFunction>(
     })
 }
 
+/// Seeds evaluated together in one pass of the equations.
+const LANES: usize = 4;
+/// A value with the derivatives of up to [`LANES`] seeds.
+type Lanes = DualVec<f64, f64, Const<LANES>>;
+
+fn lanes(re: f64, rate: impl Fn(usize) -> f64) -> Lanes {
+    Lanes::new(re, Derivative::some(SVector::from_fn(|l, _| rate(l))))
+}
+
 fn invalid(what: String) -> Error {
     Error::Sensitivity { what }
 }
@@ -244,11 +254,16 @@ pub(crate) struct Variational {
     /// Whether `S` is under error control.
     pub(crate) controlled: bool,
     dual: Workspace<Dual64>,
+    /// The right-hand side's workspace: [`LANES`] seeds per pass.
+    lanes: Workspace<Lanes>,
     hyper: Option<Workspace<HyperDual64>>,
     /// Scratch: the dual inputs.
     q: Vec<Dual64>,
     qd: Vec<Dual64>,
     p: Vec<Dual64>,
+    lq: Vec<Lanes>,
+    lqd: Vec<Lanes>,
+    lp: Vec<Lanes>,
     /// Recordings made again where a branch of the model's code flipped.
     pub(crate) rerecords: usize,
 }
@@ -338,10 +353,14 @@ impl Variational {
             seeds: seeds.to_vec(),
             controlled,
             dual: Workspace::new(n, k),
+            lanes: Workspace::new(n, k),
             hyper: None,
             q: vec![Dual64::from(0.0); n],
             qd: vec![Dual64::from(0.0); n],
             p: Vec::new(),
+            lq: vec![Lanes::from_re(0.0); n],
+            lqd: vec![Lanes::from_re(0.0); n],
+            lp: Vec::new(),
             rerecords: 0,
         };
         v.rates();
@@ -468,13 +487,77 @@ impl Variational {
         })?;
         let k = model.sizes().1;
         self.dual = Workspace::new(self.n, k);
+        self.lanes = Workspace::new(self.n, k);
         self.hyper = None;
         self.rates();
         self.rerecords += 1;
         Ok(())
     }
 
-    /// `dS = (S_q̇, ∂F/∂y · S + ∂F/∂p · δp)` for every seed at `(t, q, q̇)`.
+    /// The equations at `(t, q, q̇)` with the derivative parts of seeds `first..first + LANES`
+    /// (those that exist): `(S, δp)` of each in its lane. Where a branch of the model's code goes
+    /// the other way than when recorded, the equations are recorded again there.
+    #[allow(clippy::too_many_arguments)]
+    fn lanes<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        s: &[f64],
+        first: usize,
+    ) -> Result<&Dynamics<Lanes>, Error> {
+        let n = self.n;
+        let count = (self.seeds.len() - first).min(LANES);
+        let rate = |l: usize, i: usize| {
+            if l < count {
+                s[2 * n * (first + l) + i]
+            } else {
+                0.0
+            }
+        };
+        for i in 0..n {
+            self.lq[i] = lanes(q[i], |l| rate(l, i));
+            self.lqd[i] = lanes(qd[i], |l| rate(l, n + i));
+        }
+        let mut again = false;
+        loop {
+            let dp = &self.dp;
+            self.lp.clear();
+            self.lp.extend(
+                self.compiled
+                    .parameters()
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| lanes(p.1, |l| if l < count { dp[first + l][k] } else { 0.0 })),
+            );
+            let result = evaluate_compiled(
+                &self.compiled,
+                &mut self.lanes,
+                &self.lp,
+                Lanes::from_re(t),
+                &self.lq,
+                &self.lqd,
+            )
+            .map(|_| ());
+            match result {
+                Ok(()) => return Ok(self.lanes.dynamics()),
+                Err(CompiledFailure::Saddle(e)) => return Err(locate(e, t, q, qd)),
+                Err(CompiledFailure::Guard(_)) if !again => {
+                    self.rerecord(model, t, q, qd)?;
+                    again = true;
+                }
+                Err(CompiledFailure::Guard(_)) => {
+                    return Err(invalid(format!(
+                        "the model's branches at t = {t} are not those of its own recording there"
+                    )))
+                }
+            }
+        }
+    }
+
+    /// `dS = (S_q̇, ∂F/∂y · S + ∂F/∂p · δp)` for every seed at `(t, q, q̇)`, [`LANES`] seeds per
+    /// evaluation of the equations.
     pub(crate) fn rhs<M: Model + ?Sized>(
         &mut self,
         model: &M,
@@ -484,17 +567,20 @@ impl Variational {
         s: &[f64],
         ds: &mut [f64],
     ) -> Result<(), Error> {
-        let n = self.n;
-        for j in 0..self.seeds.len() {
-            let (sj, dsj) = (
-                &s[2 * n * j..2 * n * (j + 1)],
-                &mut ds[2 * n * j..2 * n * (j + 1)],
-            );
-            dsj[..n].copy_from_slice(&sj[n..]);
-            let d = self.direction(model, t, q, qd, sj, j)?;
-            for (out, a) in dsj[n..].iter_mut().zip(&d.qdd) {
-                *out = a.eps;
+        let (n, m) = (self.n, self.seeds.len());
+        for first in (0..m).step_by(LANES) {
+            let d = self.lanes(model, t, q, qd, s, first)?;
+            for (i, a) in d.qdd.iter().enumerate() {
+                let rates = a.eps.unwrap_generic(Const::<LANES>, U1);
+                for (l, j) in (first..m.min(first + LANES)).enumerate() {
+                    ds[2 * n * j + n + i] = rates[l];
+                }
             }
+        }
+        for j in 0..m {
+            // d(∂q/∂θ)/dt = ∂q̇/∂θ.
+            let at = 2 * n * j;
+            ds[at..at + n].copy_from_slice(&s[at + n..at + 2 * n]);
         }
         if ds.iter().any(|v| !v.is_finite()) {
             return Err(locate(

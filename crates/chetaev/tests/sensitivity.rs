@@ -413,3 +413,37 @@ fn sensitivities_leave_the_motion_as_it_is() -> Result<(), Error> {
     );
     Ok(())
 }
+
+#[test]
+fn more_seeds_than_one_pass_carries_give_the_same_derivatives() -> Result<(), Error> {
+    // Five seeds take two passes of the equations: the first three must not change, x0 moves the
+    // impact's place by 1 and not its time, and a doubled seed gives doubled derivatives.
+    let problem = Problem::new(
+        Uniform {
+            m: 1.0,
+            g: 10.0,
+            v0: 10.0,
+        },
+        0.0,
+        SVector::from([0.0, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )?;
+    let options = Options::until(10.0)
+        .tolerances(1e-12, 1e-12)
+        .event(Event::smooth("impact", Ground).falling().terminal())
+        .sensitivity(Seed::parameter("v0").with_velocity(0, 1.0))
+        .sensitivity(Seed::parameter("g"))
+        .sensitivity(Seed::new("h0").with_position(1, 1.0))
+        .sensitivity(Seed::position(0))
+        .sensitivity(Seed::new("2 h0").with_position(1, 2.0))
+        .sensitivity_control(true);
+    let sol = solve(&problem, Dop853::default(), &options)?;
+    check_paper(&sol, 1e-8);
+    let s = sol.sensitivities.as_ref().expect("recorded");
+    let hit = s.events[0].as_ref().expect("smooth");
+    assert!(hit.t[3].abs() < 1e-12 && (hit.q[3][0] - 1.0).abs() < 1e-12);
+    assert!((hit.t[4] - 2.0 * hit.t[2]).abs() < 1e-10 * hit.t[2].abs());
+    assert!((hit.q[4][0] - 2.0 * hit.q[2][0]).abs() < 1e-10 * hit.q[2][0].abs());
+    assert_eq!(s.names[3], "q1(t0)");
+    Ok(())
+}
