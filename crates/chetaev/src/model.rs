@@ -20,7 +20,7 @@ use nalgebra::SVector;
 use num_dual::DualNum;
 
 use crate::equations::compiled::Compiled;
-use crate::equations::derivatives::{self, ConstraintBlocks, LagrangianBlocks};
+use crate::equations::derivatives::{self, ConstraintBlocks, Holonomic, LagrangianBlocks};
 use crate::equations::graph::Sym;
 use crate::equations::saddle::SaddleFailure;
 use crate::equations::Workspace;
@@ -413,14 +413,7 @@ where
     }
 
     fn holonomic_blocks(&self, t: f64, q: &[f64], h: &mut [f64], hq: Option<&mut [f64]>) {
-        derivatives::holonomic_blocks(
-            t,
-            q,
-            h,
-            hq,
-            |t, q, h| self.0.holonomic(t, &SVector::from_column_slice(q), h),
-            |t, q, h| self.0.holonomic(t, &SVector::from_column_slice(q), h),
-        );
+        derivatives::holonomic_blocks(self, t, q, h, hq);
     }
 
     #[inline]
@@ -442,18 +435,7 @@ where
         out: &mut ConstraintBlocks<T>,
     ) {
         derivatives::fixed::constraint_blocks::<M, T, N, K>(&self.0, t, q, qd, with_c, out);
-        if self.0.holonomic_count() > 0 {
-            derivatives::holonomic_rows(
-                K,
-                t,
-                q,
-                qd,
-                with_c,
-                out,
-                |t, q, h| self.0.holonomic(t, &SVector::from_column_slice(q), h),
-                |t, q, h| self.0.holonomic(t, &SVector::from_column_slice(q), h),
-            );
-        }
+        derivatives::holonomic_rows(self, K, t, q, qd, with_c, out);
     }
 
     #[inline(never)]
@@ -508,11 +490,16 @@ where
             &SVector::from_column_slice(qd),
         );
         f[..K].copy_from_slice(v.as_slice());
-        if self.0.holonomic_count() > 0 {
-            derivatives::holonomic_velocities(K, t, q, qd, f, |t, q, h| {
-                self.0.holonomic(t, &SVector::from_column_slice(q), h)
-            });
-        }
+        derivatives::holonomic_velocities(self, K, t, q, qd, f);
+    }
+}
+
+impl<M, const N: usize, const K: usize> Holonomic for Fixed<M, N, K>
+where
+    M: Constraints<N, K>,
+{
+    fn h<R: Real>(&self, t: R, q: &[R], h: &mut [R]) {
+        self.0.holonomic(t, &SVector::from_column_slice(q), h);
     }
 }
 
@@ -536,14 +523,7 @@ impl<M: DynModel> Model for M {
     }
 
     fn holonomic_blocks(&self, t: f64, q: &[f64], h: &mut [f64], hq: Option<&mut [f64]>) {
-        derivatives::holonomic_blocks(
-            t,
-            q,
-            h,
-            hq,
-            |t, q, h| DynModel::holonomic(self, t, q, h),
-            |t, q, h| DynModel::holonomic(self, t, q, h),
-        );
+        derivatives::holonomic_blocks(self, t, q, h, hq);
     }
 
     fn lagrangian_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut LagrangianBlocks<T>) {
@@ -563,31 +543,22 @@ impl<M: DynModel> Model for M {
         out: &mut ConstraintBlocks<T>,
     ) {
         derivatives::scalar::constraint_blocks(self, t, q, qd, with_c, out);
-        if DynModel::holonomic_count(self) > 0 {
-            derivatives::holonomic_rows(
-                DynModel::sizes(self).1,
-                t,
-                q,
-                qd,
-                with_c,
-                out,
-                |t, q, h| DynModel::holonomic(self, t, q, h),
-                |t, q, h| DynModel::holonomic(self, t, q, h),
-            );
-        }
+        derivatives::holonomic_rows(self, DynModel::sizes(self).1, t, q, qd, with_c, out);
     }
 
     fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]) {
         let k = DynModel::sizes(self).1;
         DynModel::constraints(self, t, q, qd, &mut f[..k]);
-        if DynModel::holonomic_count(self) > 0 {
-            derivatives::holonomic_velocities(k, t, q, qd, f, |t, q, h| {
-                DynModel::holonomic(self, t, q, h)
-            });
-        }
+        derivatives::holonomic_velocities(self, k, t, q, qd, f);
     }
 
     fn force_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut [T]) -> bool {
         derivatives::scalar::forces(self, t, q, qd, out)
+    }
+}
+
+impl<M: DynModel> Holonomic for M {
+    fn h<R: Real>(&self, t: R, q: &[R], h: &mut [R]) {
+        DynModel::holonomic(self, t, q, h);
     }
 }

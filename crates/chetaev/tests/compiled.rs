@@ -4,6 +4,7 @@
 //! equations where a model takes a value out of the graph; with the `serde` feature, a solution as JSON.
 
 use chetaev::equations::structure::Structure;
+use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 /// The paper's particle: `W` constant and diagonal, `∂L/∂q` constant, `g = 0`, `c = 0`.
@@ -18,6 +19,10 @@ impl Constraints<2, 1> for Uniform {
     fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
         SVector::from([qd.dot(qd) - 100.0])
     }
+}
+
+fn uniform() -> Problem<Fixed<Uniform, 2, 1>> {
+    Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok")
 }
 
 /// A double pendulum (angles) whose joint speeds keep `θ̇1² + θ̇2² = v²`: `W` depends on `q`.
@@ -39,6 +44,16 @@ impl Constraints<2, 1> for Pendulum {
     fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
         SVector::from([qd.dot(qd) - self.v * self.v])
     }
+}
+
+fn pendulum() -> Problem<Fixed<Pendulum, 2, 1>> {
+    Problem::new(
+        Pendulum { v: 1.0 },
+        0.0,
+        [0.3, -0.2].into(),
+        [1.0, 0.0].into(),
+    )
+    .expect("ok")
 }
 
 /// The same pendulum with run-time sizes, and a driven pivot (`L` depends on `t`): evaluated by
@@ -146,16 +161,8 @@ fn compare_at_states<M: Model + Clone>(problem: &Problem<M>) {
 
 #[test]
 fn compiled_equations_equal_the_dual_number_equations_at_any_state() {
-    let uniform = Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok");
-    compare_at_states(&uniform);
-    let pendulum = Problem::new(
-        Pendulum { v: 1.0 },
-        0.0,
-        [0.3, -0.2].into(),
-        [1.0, 0.0].into(),
-    )
-    .expect("ok");
-    compare_at_states(&pendulum);
+    compare_at_states(&uniform());
+    compare_at_states(&pendulum());
     compare_at_states(&sphere());
     compare_at_states(&dyn_pendulum());
 }
@@ -175,38 +182,26 @@ fn compare_motion<M: Model + Clone>(problem: &Problem<M>, method: impl Method + 
     );
     assert_eq!(a.len(), b.len());
     for i in 0..a.len() {
-        for (x, y) in a.q[i]
-            .iter()
-            .chain(&a.qd[i])
-            .zip(b.q[i].iter().chain(&b.qd[i]))
-        {
-            assert!(
-                (x - y).abs() < 1e-8 * y.abs().max(1.0),
-                "at {}: {x} {y}",
-                a.t[i]
-            );
-        }
-        for (x, y) in a.mu[i].iter().zip(&b.mu[i]) {
-            assert!(
-                (x - y).abs() < 1e-8 * y.abs().max(1.0),
-                "μ at {}: {x} {y}",
-                a.t[i]
-            );
-        }
+        let state = |s: &Solution| [&s.q[i], &s.qd[i]].concat();
+        close_at(a.t[i], "(q, q̇)", &state(&a), &state(&b));
+        close_at(a.t[i], "μ", &a.mu[i], &b.mu[i]);
+    }
+}
+
+/// Asserts that `x` and `y` agree to `1e-8` relative to each entry of `y` (absolute below 1).
+fn close_at(t: f64, what: &str, x: &[f64], y: &[f64]) {
+    for (u, v) in x.iter().zip(y) {
+        assert!(
+            (u - v).abs() < 1e-8 * v.abs().max(1.0),
+            "{what} at {t}: {u} {v}"
+        );
     }
 }
 
 #[test]
 fn compiled_motions_equal_the_dual_number_motions_for_explicit_and_implicit_methods() {
-    let pendulum = Problem::new(
-        Pendulum { v: 1.0 },
-        0.0,
-        [0.3, -0.2].into(),
-        [1.0, 0.0].into(),
-    )
-    .expect("ok");
-    compare_motion(&pendulum, Dop853::default(), 3.0);
-    compare_motion(&pendulum, Rodas4, 3.0);
+    compare_motion(&pendulum(), Dop853::default(), 3.0);
+    compare_motion(&pendulum(), Rodas4, 3.0);
     compare_motion(&dyn_pendulum(), Dop853::default(), 3.0);
     compare_motion(&dyn_pendulum(), Rodas4, 3.0);
     compare_motion(&sphere(), Dopri5::default(), 2.0);
@@ -219,7 +214,7 @@ fn structure<M: Model>(p: &Problem<M>) -> &Structure {
 
 #[test]
 fn the_structure_is_found_from_l_and_f_alone() {
-    let uniform = Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok");
+    let uniform = uniform();
     let s = structure(&uniform);
     assert!(s.w.is_constant() && !s.w.zero);
     assert_eq!(s.w_pattern, vec![true, false, false, true]);
@@ -227,13 +222,7 @@ fn the_structure_is_found_from_l_and_f_alone() {
     assert!(s.j.qd && !s.j.q && !s.j.t);
     assert!(uniform.compiled().expect("compiled").constant_metric());
 
-    let pendulum = Problem::new(
-        Pendulum { v: 1.0 },
-        0.0,
-        [0.3, -0.2].into(),
-        [1.0, 0.0].into(),
-    )
-    .expect("ok");
+    let pendulum = pendulum();
     let s = structure(&pendulum);
     assert!(s.w.q && !s.w.qd && !s.w.t);
     assert!(s.g.q && s.g.qd && !s.g.zero && s.c.zero);
@@ -306,7 +295,7 @@ fn a_model_that_takes_values_out_of_the_graph_is_evaluated_by_dual_numbers() {
 
 #[test]
 fn the_derived_equations_print_as_text_and_latex() {
-    let uniform = Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok");
+    let uniform = uniform();
     let c = uniform.compiled().expect("compiled");
     let text = c.equations_text(false);
     let find = |name: &str| text.iter().find(|(k, _)| k == name).map(|(_, v)| v.clone());
@@ -322,7 +311,7 @@ fn the_derived_equations_print_as_text_and_latex() {
 #[test]
 fn problems_stay_send_and_sync_for_parallel_sweeps() {
     fn shared<T: Send + Sync>(_: &T) {}
-    let uniform = Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok");
+    let uniform = uniform();
     let _ = uniform.compiled();
     shared(&uniform);
     shared(&sphere());
@@ -372,7 +361,7 @@ fn a_static_model_whose_branch_changes_its_structure_is_followed_past_the_switch
 #[cfg(feature = "serde")]
 #[test]
 fn a_solution_serialises_to_json_with_its_events_statistics_and_status() {
-    let problem = Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok");
+    let problem = uniform();
     let impact = Event::new("impact", |_t, q: &[f64], _qd: &[f64]| q[1])
         .falling()
         .terminal();

@@ -512,8 +512,24 @@ impl Compiled {
         full: bool,
     ) -> Result<(), CompiledFailure> {
         let n = self.n;
+        let tape = if full { self.full() } else { self.core() };
         let mut slots = std::mem::take(if full { &mut ws.full } else { &mut ws.core });
-        let read = self.read(&mut slots, ws, d, t, q, qd, full);
+        let params = &ws.params;
+        let input = |i: usize| {
+            if i == 0 {
+                t
+            } else if i <= n {
+                q[i - 1]
+            } else if i <= 2 * n {
+                qd[i - 1 - n]
+            } else {
+                params[i - 1 - 2 * n]
+            }
+        };
+        let read = tape
+            .eval(&mut slots, input)
+            .map_err(CompiledFailure::Guard)
+            .and_then(|()| self.read(tape, &slots, ws, d, full));
         if full {
             ws.full = slots;
         } else {
@@ -546,38 +562,21 @@ impl Compiled {
         Ok(())
     }
 
-    /// Evaluates the tape (`full` or `core`) into `slots` and reads its outputs into `ws` (`r`,
-    /// `J`, `c`, `W`) and `d` (`f`, and with `full` the energy balance); returns `L`.
+    /// Reads the outputs of `tape` (`full` or `core`), evaluated into `slots`, into `ws` (`r`, `J`,
+    /// `c`, `W`) and `d` (`f`, and with `full` the energy balance); returns `L`.
     ///
     /// Output layout: `L`, `f` (k), `r` (n), `J` entries, `c` (k), `W` entries, `∂L/∂t`, `q̇·Q`,
     /// then with `full` `E`, `Q` (n).
     #[inline]
-    #[allow(clippy::too_many_arguments)]
     fn read<T: Real>(
         &self,
-        slots: &mut [T],
+        tape: &Tape,
+        slots: &[T],
         ws: &mut CompiledWorkspace<T>,
         d: &mut Dynamics<T>,
-        t: T,
-        q: &[T],
-        qd: &[T],
         full: bool,
     ) -> Result<T, CompiledFailure> {
         let (n, k) = (self.n, self.k);
-        let tape = if full { self.full() } else { self.core() };
-        let params = &ws.params;
-        tape.eval(slots, |i| {
-            if i == 0 {
-                t
-            } else if i <= n {
-                q[i - 1]
-            } else if i <= 2 * n {
-                qd[i - 1 - n]
-            } else {
-                params[i - 1 - 2 * n]
-            }
-        })
-        .map_err(CompiledFailure::Guard)?;
         let out = |i: usize| tape.output(slots, i);
         let l = out(0);
         for (a, fa) in d.f.iter_mut().enumerate() {

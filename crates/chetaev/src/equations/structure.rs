@@ -275,6 +275,11 @@ fn pattern(p: &[bool], cols: usize) -> String {
     rows.join(" / ")
 }
 
+/// A block's dependence and its pattern of nonzero entries (`cols` columns).
+fn with_pattern(dependence: &Dependence, p: &[bool], cols: usize) -> String {
+    format!("{dependence}   pattern {}", pattern(p, cols))
+}
+
 impl fmt::Display for Description {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let s = &self.structure;
@@ -309,22 +314,14 @@ impl fmt::Display for Description {
         } else {
             writeln!(f, "  structure  (probed around the state below)")?;
         }
-        writeln!(
-            f,
-            "    W = ∂²L/∂q̇²              {}   pattern {}",
-            s.w,
-            pattern(&s.w_pattern, n)
-        )?;
+        let w = with_pattern(&s.w, &s.w_pattern, n);
+        writeln!(f, "    W = ∂²L/∂q̇²              {w}")?;
         writeln!(f, "    ∂L/∂q                    {}", s.dl_dq)?;
         writeln!(f, "    g = (∂²L/∂q̇∂q)q̇ + ∂²L/∂q̇∂t  {}", s.g)?;
         writeln!(f, "    ∂L/∂t                    {}", s.dl_dt)?;
         if k > 0 {
-            writeln!(
-                f,
-                "    J = ∂f/∂q̇                {}   pattern {}",
-                s.j,
-                pattern(&s.j_pattern, n)
-            )?;
+            let j = with_pattern(&s.j, &s.j_pattern, n);
+            writeln!(f, "    J = ∂f/∂q̇                {j}")?;
             writeln!(f, "    c = (∂f/∂q)q̇ + ∂f/∂t     {}", s.c)?;
         }
         writeln!(f, "    Q (forces not from L)    {}", s.forces)?;

@@ -89,33 +89,18 @@ where
     M: Lagrangian<N> + ?Sized,
     T: Real,
 {
-    let n = Const::<N>;
-    type B<T, const N: usize> = HyperDualVec<T, f64, Const<N>, U1>;
-    let tb = B::<T, N>::new(
-        t,
-        Derivative::none(),
-        Derivative::some(SMatrix::<T, 1, 1>::new(T::one())),
-        Derivative::none(),
-    );
-    let qb: SVector<B<T, N>, N> = SVector::from_fn(|i, _| {
-        B::new(
-            q[i],
+    let along = |x: T, dx: T| {
+        Hyper::<T, N>::new(
+            x,
             Derivative::none(),
-            Derivative::some(SMatrix::<T, 1, 1>::new(qd[i])),
+            Derivative::some(SMatrix::<T, 1, 1>::new(dx)),
             Derivative::none(),
         )
-    });
-    let qdb: SVector<B<T, N>, N> = SVector::from_fn(|i, _| {
-        B::new(
-            qd[i],
-            Derivative::derivative_generic(n, U1, i),
-            Derivative::none(),
-            Derivative::none(),
-        )
-    });
-    let lb = model.lagrangian(tb, &qb, &qdb);
+    };
+    let qb: SVector<Hyper<T, N>, N> = SVector::from_fn(|i, _| along(q[i], qd[i]));
+    let lb = model.lagrangian(along(t, T::one()), &qb, &seeded_hyper(qd));
     (
-        lb.eps1eps2.unwrap_generic(n, U1),
+        lb.eps1eps2.unwrap_generic(Const::<N>, U1),
         lb.eps2.unwrap_generic(U1, U1)[0],
     )
 }
@@ -138,6 +123,22 @@ where
 
 /// A first-order dual number over `N` directions (one gradient pass).
 type Grad<T, const N: usize> = DualVec<T, f64, Const<N>>;
+
+/// A hyper-dual number over `N` directions and one more: second derivatives across the two.
+type Hyper<T, const N: usize> = HyperDualVec<T, f64, Const<N>, U1>;
+
+/// `x` as [`Hyper`] numbers seeded with the unit directions in their first part.
+#[inline(always)]
+fn seeded_hyper<T: Real, const N: usize>(x: &SVector<T, N>) -> SVector<Hyper<T, N>, N> {
+    SVector::from_fn(|i, _| {
+        Hyper::new(
+            x[i],
+            Derivative::derivative_generic(Const::<N>, U1, i),
+            Derivative::none(),
+            Derivative::none(),
+        )
+    })
+}
 
 /// `x` as [`Grad`] numbers seeded with the unit directions: the variables of a gradient pass.
 #[inline(always)]
@@ -231,17 +232,9 @@ where
     T: Real,
 {
     let n = Const::<N>;
-    type B<T, const N: usize> = HyperDualVec<T, f64, Const<N>, U1>;
-    let tb = B::<T, N>::from_re(t);
-    let qb: SVector<B<T, N>, N> = q.map(B::from_re);
-    let mut qdb: SVector<B<T, N>, N> = SVector::from_fn(|i, _| {
-        B::new(
-            qd[i],
-            Derivative::derivative_generic(n, U1, i),
-            Derivative::none(),
-            Derivative::none(),
-        )
-    });
+    let tb = Hyper::<T, N>::from_re(t);
+    let qb: SVector<Hyper<T, N>, N> = q.map(Hyper::from_re);
+    let mut qdb = seeded_hyper(qd);
     let mut w = SMatrix::<T, N, N>::zeros();
     let (mut l, mut p) = (T::zero(), SVector::<T, N>::zeros());
     for j in 0..N {

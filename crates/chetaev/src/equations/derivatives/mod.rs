@@ -76,30 +76,39 @@ impl<T: Real> ConstraintBlocks<T> {
     }
 }
 
+/// A model's holonomic constraints `h(t, q)` on slices, over any scalar: what their rows in the
+/// constraint blocks are derived from. A trait, not a closure, because it is evaluated over two
+/// kinds of dual number (see [`holonomic_rows`]).
+pub(crate) trait Holonomic {
+    /// Writes `h(t, q)` to `h` (length: the number of holonomic constraints).
+    fn h<R: Real>(&self, t: R, q: &[R], h: &mut [R]);
+}
+
 /// The rows of holonomic constraints `h(t, q) = 0` in the constraint blocks, after the `kv`
 /// velocity constraints: each enters as its time derivative `ḣ = H q̇ + ∂h/∂t = 0`, so its row of
 /// `J` is `H = ∂h/∂q` and its `c` is the second derivative of `h` along `(δq, δt) = (q̇, 1)`,
 /// `d²/ds² h(t + s, q + s q̇)` at `s = 0`.
 ///
-/// `along` evaluates `h` over second-order duals (one pass: `ḣ` and `c`), `grad` over first-order
-/// duals (one pass per coordinate: the columns of `H`).
-#[allow(clippy::too_many_arguments)]
+/// `h` is evaluated over second-order duals once (`ḣ` and `c`), and over first-order duals once per
+/// coordinate (the columns of `H`). Nothing is done when there are no holonomic rows.
 pub(crate) fn holonomic_rows<T: Real>(
+    model: &impl Holonomic,
     kv: usize,
     t: T,
     q: &[T],
     qd: &[T],
     with_c: bool,
     out: &mut ConstraintBlocks<T>,
-    mut along: impl FnMut(Dual2<T, f64>, &[Dual2<T, f64>], &mut [Dual2<T, f64>]),
-    mut grad: impl FnMut(Dual<T, f64>, &[Dual<T, f64>], &mut [Dual<T, f64>]),
 ) {
     let n = q.len();
     let count = out.f.len() - kv;
+    if count == 0 {
+        return;
+    }
     let t2 = Dual2::new(t, T::one(), T::zero());
     let q2: Vec<Dual2<T, f64>> = (0..n).map(|i| Dual2::new(q[i], qd[i], T::zero())).collect();
     let mut h2 = vec![Dual2::from_re(T::zero()); count];
-    along(t2, &q2, &mut h2);
+    model.h(t2, &q2, &mut h2);
     for (b, hb) in h2.iter().enumerate() {
         out.f[kv + b] = hb.v1;
         if with_c {
@@ -111,7 +120,7 @@ pub(crate) fn holonomic_rows<T: Real>(
     let mut h1 = vec![Dual::from_re(T::zero()); count];
     for i in 0..n {
         q1[i].eps = T::one();
-        grad(t1, &q1, &mut h1);
+        model.h(t1, &q1, &mut h1);
         q1[i].eps = T::zero();
         for (b, hb) in h1.iter().enumerate() {
             out.j[(kv + b) * n + i] = hb.eps;
@@ -120,19 +129,22 @@ pub(crate) fn holonomic_rows<T: Real>(
 }
 
 /// `ḣ = d/ds h(t + s, q + s q̇)` at `s = 0` into `f[kv..]`: the velocity residual of the holonomic
-/// constraints.
+/// constraints (nothing when there are none).
 pub(crate) fn holonomic_velocities(
+    model: &impl Holonomic,
     kv: usize,
     t: f64,
     q: &[f64],
     qd: &[f64],
     f: &mut [f64],
-    mut eval: impl FnMut(Dual<f64, f64>, &[Dual<f64, f64>], &mut [Dual<f64, f64>]),
 ) {
+    if f.len() == kv {
+        return;
+    }
     let te = Dual::new(t, 1.0);
     let qe: Vec<Dual<f64, f64>> = (0..q.len()).map(|i| Dual::new(q[i], qd[i])).collect();
     let mut h = vec![Dual::from_re(0.0); f.len() - kv];
-    eval(te, &qe, &mut h);
+    model.h(te, &qe, &mut h);
     for (dst, hb) in f[kv..].iter_mut().zip(&h) {
         *dst = hb.eps;
     }
@@ -140,21 +152,20 @@ pub(crate) fn holonomic_velocities(
 
 /// `h(t, q)` into `h`, and `H = ∂h/∂q` (row-major `h.len() × n`) into `hq` when given.
 pub(crate) fn holonomic_blocks(
+    model: &impl Holonomic,
     t: f64,
     q: &[f64],
     h: &mut [f64],
     hq: Option<&mut [f64]>,
-    mut value: impl FnMut(f64, &[f64], &mut [f64]),
-    mut grad: impl FnMut(Dual<f64, f64>, &[Dual<f64, f64>], &mut [Dual<f64, f64>]),
 ) {
-    value(t, q, h);
+    model.h(t, q, h);
     if let Some(hq) = hq {
         let n = q.len();
         let mut qd: Vec<Dual<f64, f64>> = q.iter().map(|&x| Dual::from_re(x)).collect();
         let mut hd = vec![Dual::from_re(0.0); h.len()];
         for i in 0..n {
             qd[i].eps = 1.0;
-            grad(Dual::from_re(t), &qd, &mut hd);
+            model.h(Dual::from_re(t), &qd, &mut hd);
             qd[i].eps = 0.0;
             for (b, hb) in hd.iter().enumerate() {
                 hq[b * n + i] = hb.eps;

@@ -372,11 +372,41 @@ impl Mappable<Sym> for Sym {
     }
 }
 
+/// The methods that record one elementary function of the value: `$mth` as `Fun::$fun`.
+macro_rules! elementary_functions {
+    ($($mth:ident $fun:ident;)*) => {$(
+        fn $mth(&self) -> Self {
+            self.fun(Fun::$fun)
+        }
+    )*};
+}
+
 impl DualNum<f64> for Sym {
     const NDERIV: usize = 0;
 
-    fn recip(&self) -> Self {
-        self.fun(Fun::Recip)
+    elementary_functions! {
+        recip Recip;
+        sqrt Sqrt;
+        cbrt Cbrt;
+        exp Exp;
+        exp2 Exp2;
+        exp_m1 ExpM1;
+        ln Ln;
+        log2 Log2;
+        log10 Log10;
+        ln_1p Ln1p;
+        sin Sin;
+        cos Cos;
+        tan Tan;
+        asin Asin;
+        acos Acos;
+        atan Atan;
+        sinh Sinh;
+        cosh Cosh;
+        tanh Tanh;
+        asinh Asinh;
+        acosh Acosh;
+        atanh Atanh;
     }
     fn powi(&self, n: i32) -> Self {
         self.unary(|a| Node::Powi(a, n))
@@ -384,77 +414,14 @@ impl DualNum<f64> for Sym {
     fn powf(&self, n: f64) -> Self {
         self.unary(|a| Node::Powf(a, n))
     }
-    fn sqrt(&self) -> Self {
-        self.fun(Fun::Sqrt)
-    }
-    fn cbrt(&self) -> Self {
-        self.fun(Fun::Cbrt)
-    }
-    fn exp(&self) -> Self {
-        self.fun(Fun::Exp)
-    }
-    fn exp2(&self) -> Self {
-        self.fun(Fun::Exp2)
-    }
-    fn exp_m1(&self) -> Self {
-        self.fun(Fun::ExpM1)
-    }
-    fn ln(&self) -> Self {
-        self.fun(Fun::Ln)
-    }
     fn log(&self, base: f64) -> Self {
         self.fun(Fun::Ln) / base.ln()
-    }
-    fn log2(&self) -> Self {
-        self.fun(Fun::Log2)
-    }
-    fn log10(&self) -> Self {
-        self.fun(Fun::Log10)
-    }
-    fn ln_1p(&self) -> Self {
-        self.fun(Fun::Ln1p)
-    }
-    fn sin(&self) -> Self {
-        self.fun(Fun::Sin)
-    }
-    fn cos(&self) -> Self {
-        self.fun(Fun::Cos)
-    }
-    fn tan(&self) -> Self {
-        self.fun(Fun::Tan)
     }
     fn sin_cos(&self) -> (Self, Self) {
         (self.sin(), self.cos())
     }
-    fn asin(&self) -> Self {
-        self.fun(Fun::Asin)
-    }
-    fn acos(&self) -> Self {
-        self.fun(Fun::Acos)
-    }
-    fn atan(&self) -> Self {
-        self.fun(Fun::Atan)
-    }
     fn atan2(&self, other: Self) -> Self {
         self.binary(other, Node::Atan2)
-    }
-    fn sinh(&self) -> Self {
-        self.fun(Fun::Sinh)
-    }
-    fn cosh(&self) -> Self {
-        self.fun(Fun::Cosh)
-    }
-    fn tanh(&self) -> Self {
-        self.fun(Fun::Tanh)
-    }
-    fn asinh(&self) -> Self {
-        self.fun(Fun::Asinh)
-    }
-    fn acosh(&self) -> Self {
-        self.fun(Fun::Acosh)
-    }
-    fn atanh(&self) -> Self {
-        self.fun(Fun::Atanh)
     }
     // The spherical Bessel functions are rare in mechanics: their series branch near zero is not
     // recorded, so a recording that uses them is not used.
