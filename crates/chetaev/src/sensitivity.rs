@@ -27,7 +27,7 @@
 //! with the gradient of `g` exact for events made by [`Event::smooth`].
 
 use nalgebra::{Const, SVector, U1};
-use num_dual::{Derivative, Dual64, DualVec, HyperDual64};
+use num_dual::{Derivative, DualVec, HyperDual64};
 
 use crate::equations::compiled::{Compiled, CompiledFailure};
 use crate::equations::graph::{record_with_parameters, Sym, DEP_P, DEP_Q, DEP_QD, DEP_T};
@@ -253,14 +253,10 @@ pub(crate) struct Variational {
     dp: Vec<Vec<f64>>,
     /// Whether `S` is under error control.
     pub(crate) controlled: bool,
-    dual: Workspace<Dual64>,
     /// The right-hand side's workspace: [`LANES`] seeds per pass.
     lanes: Workspace<Lanes>,
     hyper: Option<Workspace<HyperDual64>>,
     /// Scratch: the dual inputs.
-    q: Vec<Dual64>,
-    qd: Vec<Dual64>,
-    p: Vec<Dual64>,
     lq: Vec<Lanes>,
     lqd: Vec<Lanes>,
     lp: Vec<Lanes>,
@@ -352,12 +348,8 @@ impl Variational {
             compiled,
             seeds: seeds.to_vec(),
             controlled,
-            dual: Workspace::new(n, k),
             lanes: Workspace::new(n, k),
             hyper: None,
-            q: vec![Dual64::from(0.0); n],
-            qd: vec![Dual64::from(0.0); n],
-            p: Vec::new(),
             lq: vec![Lanes::from_re(0.0); n],
             lqd: vec![Lanes::from_re(0.0); n],
             lp: Vec::new(),
@@ -366,19 +358,26 @@ impl Variational {
         v.rates();
         let mut s0 = vec![0.0; v.len()];
         v.initial(&mut s0);
-        for j in 0..seeds.len() {
-            let s = &s0[2 * n * j..2 * n * (j + 1)];
-            let scale = 1.0 + s.iter().chain(&v.dp[j]).map(|x| x.abs()).sum::<f64>();
-            let d = v.direction(model, t0, q0, qd0, s, j)?;
+        let scales: Vec<f64> = (0..seeds.len())
+            .map(|j| {
+                let s = &s0[2 * n * j..2 * n * (j + 1)];
+                1.0 + s.iter().chain(&v.dp[j]).map(|x| x.abs()).sum::<f64>()
+            })
+            .collect();
+        for first in (0..seeds.len()).step_by(LANES) {
+            let d = v.lanes(model, t0, q0, qd0, &s0, first)?;
             for (a, fa) in d.f.iter().enumerate() {
                 let row = &d.j[a * n..(a + 1) * n];
                 let size = row.iter().map(|x| x.abs()).sum::<f64>().max(fa.re.abs());
-                if fa.eps.abs() > 1e-8 * scale * size.max(1.0) {
-                    return Err(Error::InconsistentSeed {
-                        seed: seeds[j].name.clone(),
-                        constraint: a + 1,
-                        residual: fa.eps,
-                    });
+                let rates = fa.eps.unwrap_generic(Const::<LANES>, U1);
+                for (l, j) in (first..seeds.len().min(first + LANES)).enumerate() {
+                    if rates[l].abs() > 1e-8 * scales[j] * size.max(1.0) {
+                        return Err(Error::InconsistentSeed {
+                            seed: seeds[j].name.clone(),
+                            constraint: a + 1,
+                            residual: rates[l],
+                        });
+                    }
                 }
             }
         }
@@ -393,7 +392,6 @@ impl Variational {
             .iter()
             .map(|s| params.iter().map(|(name, _)| s.rate(name)).collect())
             .collect();
-        self.p = params.iter().map(|p| Dual64::from(p.1)).collect();
     }
 
     /// The seeds' names.
@@ -420,57 +418,6 @@ impl Variational {
         }
     }
 
-    /// The equations at `(t, q, q̇)` with dual parts `(s, δp_j)`: `q̈.eps` is `(∂F/∂y · S + ∂F/∂p ·
-    /// δp)` in the velocity rows. Where a branch of the model's code goes the other way than when
-    /// recorded, the equations are recorded again there.
-    fn direction<M: Model + ?Sized>(
-        &mut self,
-        model: &M,
-        t: f64,
-        q: &[f64],
-        qd: &[f64],
-        s: &[f64],
-        j: usize,
-    ) -> Result<&Dynamics<Dual64>, Error> {
-        let n = self.n;
-        for i in 0..n {
-            self.q[i] = Dual64::new(q[i], s[i]);
-            self.qd[i] = Dual64::new(qd[i], s[n + i]);
-        }
-        for (p, &r) in self.p.iter_mut().zip(&self.dp[j]) {
-            p.eps = r;
-        }
-        let td = Dual64::from(t);
-        let mut again = false;
-        loop {
-            let result = evaluate_compiled(
-                &self.compiled,
-                &mut self.dual,
-                &self.p,
-                td,
-                &self.q,
-                &self.qd,
-            )
-            .map(|_| ());
-            match result {
-                Ok(()) => return Ok(self.dual.dynamics()),
-                Err(CompiledFailure::Saddle(e)) => return Err(locate(e, t, q, qd)),
-                Err(CompiledFailure::Guard(_)) if !again => {
-                    self.rerecord(model, t, q, qd)?;
-                    for (p, &r) in self.p.iter_mut().zip(&self.dp[j]) {
-                        p.eps = r;
-                    }
-                    again = true;
-                }
-                Err(CompiledFailure::Guard(_)) => {
-                    return Err(invalid(format!(
-                        "the model's branches at t = {t} are not those of its own recording there"
-                    )))
-                }
-            }
-        }
-    }
-
     /// Records the equations again at `(t, q, q̇)`, where a branch of the model's code flipped.
     fn rerecord<M: Model + ?Sized>(
         &mut self,
@@ -486,7 +433,6 @@ impl Variational {
             ))
         })?;
         let k = model.sizes().1;
-        self.dual = Workspace::new(self.n, k);
         self.lanes = Workspace::new(self.n, k);
         self.hyper = None;
         self.rates();

@@ -50,22 +50,33 @@ fn closed_form_derivatives(v0: f64, g: f64, h0: f64) -> [(f64, f64); 3] {
     [d(0), d(1), d(2)]
 }
 
-fn paper_solution(method: impl Method, control: bool) -> Result<Solution, Error> {
-    let (v0, g, h0) = (10.0, 10.0, 5.0);
-    let problem = Problem::new(
-        Uniform { m: 1.0, g, v0 },
+/// The paper's problem: `v0 = g = 10`, `h0 = 5`.
+fn paper_problem() -> Result<Problem<chetaev::model::Fixed<Uniform, 2, 1>>, Error> {
+    Problem::new(
+        Uniform {
+            m: 1.0,
+            g: 10.0,
+            v0: 10.0,
+        },
         0.0,
-        SVector::from([0.0, h0]),
-        SVector::from([v0, 0.0]),
-    )?;
-    let options = Options::until(10.0)
+        SVector::from([0.0, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )
+}
+
+/// To the impact at 1e-12, with the seeds `v0` (and the initial speed), `g`, `h0`.
+fn paper_options(control: bool) -> Options {
+    Options::until(10.0)
         .tolerances(1e-12, 1e-12)
         .event(Event::smooth("impact", Ground).falling().terminal())
         .sensitivity(Seed::parameter("v0").with_velocity(0, 1.0))
         .sensitivity(Seed::parameter("g"))
         .sensitivity(Seed::new("h0").with_position(1, 1.0))
-        .sensitivity_control(control);
-    solve(&problem, method, &options)
+        .sensitivity_control(control)
+}
+
+fn paper_solution(method: impl Method, control: bool) -> Result<Solution, Error> {
+    solve(&paper_problem()?, method, &paper_options(control))
 }
 
 fn check_paper(sol: &Solution, tol: f64) {
@@ -316,16 +327,7 @@ fn sensitivities_follow_a_branch_of_the_models_code_and_a_rayleigh_function() ->
 
 #[test]
 fn bad_seeds_are_typed_errors() -> Result<(), Error> {
-    let problem = Problem::new(
-        Uniform {
-            m: 1.0,
-            g: 10.0,
-            v0: 10.0,
-        },
-        0.0,
-        SVector::from([0.0, 5.0]),
-        SVector::from([10.0, 0.0]),
-    )?;
+    let problem = paper_problem()?;
     let base = Options::until(1.0);
     // A parameter nobody reads (a typo).
     let e = solve(
@@ -385,16 +387,7 @@ fn bad_seeds_are_typed_errors() -> Result<(), Error> {
 #[test]
 fn sensitivities_leave_the_motion_as_it_is() -> Result<(), Error> {
     // Without error control the steps are the motion's: the same numbers bit for bit.
-    let problem = Problem::new(
-        Uniform {
-            m: 1.0,
-            g: 10.0,
-            v0: 10.0,
-        },
-        0.0,
-        SVector::from([0.0, 5.0]),
-        SVector::from([10.0, 0.0]),
-    )?;
+    let problem = paper_problem()?;
     let options = Options::until(1.0).tolerances(1e-10, 1e-10);
     let plain = solve(&problem, Dop853::default(), &options)?;
     let with = solve(
@@ -418,25 +411,10 @@ fn sensitivities_leave_the_motion_as_it_is() -> Result<(), Error> {
 fn more_seeds_than_one_pass_carries_give_the_same_derivatives() -> Result<(), Error> {
     // Five seeds take two passes of the equations: the first three must not change, x0 moves the
     // impact's place by 1 and not its time, and a doubled seed gives doubled derivatives.
-    let problem = Problem::new(
-        Uniform {
-            m: 1.0,
-            g: 10.0,
-            v0: 10.0,
-        },
-        0.0,
-        SVector::from([0.0, 5.0]),
-        SVector::from([10.0, 0.0]),
-    )?;
-    let options = Options::until(10.0)
-        .tolerances(1e-12, 1e-12)
-        .event(Event::smooth("impact", Ground).falling().terminal())
-        .sensitivity(Seed::parameter("v0").with_velocity(0, 1.0))
-        .sensitivity(Seed::parameter("g"))
-        .sensitivity(Seed::new("h0").with_position(1, 1.0))
+    let problem = paper_problem()?;
+    let options = paper_options(true)
         .sensitivity(Seed::position(0))
-        .sensitivity(Seed::new("2 h0").with_position(1, 2.0))
-        .sensitivity_control(true);
+        .sensitivity(Seed::new("2 h0").with_position(1, 2.0));
     let sol = solve(&problem, Dop853::default(), &options)?;
     check_paper(&sol, 1e-8);
     let s = sol.sensitivities.as_ref().expect("recorded");
