@@ -425,3 +425,84 @@ fn more_seeds_than_one_pass_carries_give_the_same_derivatives() -> Result<(), Er
     assert_eq!(s.names[3], "q1(t0)");
     Ok(())
 }
+
+/// `L = ½ ẋ² − ½ k x²`.
+struct Spring {
+    k: f64,
+}
+
+impl DynModel for Spring {
+    fn sizes(&self) -> (usize, usize) {
+        (1, 0)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] - R::parameter("k", self.k) * q[0] * q[0]) * 0.5
+    }
+}
+
+struct Rest;
+impl EventFunction for Rest {
+    fn value<R: Real>(&self, _t: R, q: &[R], _qd: &[R]) -> R {
+        q[0]
+    }
+}
+
+#[test]
+fn backward_at_output_times_and_at_every_crossing_of_a_non_terminal_event() -> Result<(), Error> {
+    // x = x0 cos ωt + (v0/ω) sin ωt, ω = √k, integrated backward from 0 to −4: the series at the
+    // output times and every zero of x (a non-terminal event) against the closed form's duals.
+    let (k, x0, v0) = (2.5, 0.8, -0.3);
+    fn x<D: DualNum<f64> + Copy>(k: D, x0: D, v0: D, t: f64) -> D {
+        let w = k.sqrt();
+        x0 * (w * t).cos() + v0 / w * (w * t).sin()
+    }
+    let times: Vec<f64> = (0..=8).map(|i| -0.5 * f64::from(i)).collect();
+    let problem = Problem::dynamic(Spring { k }, 0.0, vec![x0], vec![v0])?;
+    let options = Options::until(-4.0)
+        .tolerances(1e-12, 1e-12)
+        .output_times(times.clone())
+        .event(Event::smooth("rest", Rest))
+        .sensitivity(Seed::parameter("k"))
+        .sensitivity(Seed::position(0))
+        .sensitivity(Seed::velocity(0))
+        .sensitivity_control(true);
+    for method in [
+        AnyMethod::Dop853(Dop853::default()),
+        AnyMethod::Rodas4(Rodas4),
+    ] {
+        let sol = solve(&problem, method, &options)?;
+        assert!(sol.is_success(), "{:?}", sol.status);
+        let s = sol.sensitivities.as_ref().expect("recorded");
+        let seeded = |j: usize, t: f64| {
+            let d = |i: usize, v: f64| Dual64::new(v, f64::from(u8::from(i == j)));
+            x(d(0, k), d(1, x0), d(2, v0), t).eps
+        };
+        assert_eq!(sol.len(), times.len());
+        for (p, &t) in sol.t.iter().enumerate() {
+            for j in 0..3 {
+                let (got, want) = (s.q(p, j)[0], seeded(j, t));
+                assert!(
+                    (got - want).abs() < 1e-8 * (1.0 + want.abs()),
+                    "t = {t}, seed {j}: {got} vs {want}"
+                );
+            }
+        }
+        // Zeros of x: T(θ) with x(T(θ), θ) = 0, so dT/dθ = −(∂x/∂θ)/ẋ at T.
+        assert!(sol.events.len() >= 2, "{} crossings", sol.events.len());
+        for (hit, moved) in sol.events.iter().zip(&s.events) {
+            let moved = moved.as_ref().expect("transversal crossings");
+            let xd = hit.qd[0];
+            for j in 0..3 {
+                let want = -seeded(j, hit.t) / xd;
+                assert!(
+                    (moved.t[j] - want).abs() < 1e-8 * (1.0 + want.abs()),
+                    "{} vs {want}",
+                    moved.t[j]
+                );
+                // The event's place stays at x = 0.
+                assert!(moved.q[j][0].abs() < 1e-8);
+            }
+        }
+    }
+    Ok(())
+}
