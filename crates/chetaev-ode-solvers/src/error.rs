@@ -32,6 +32,16 @@ pub enum BackendError {
     )]
     Projection,
 
+    /// `Options::sensitivities` is not empty.
+    #[error(
+        "{count} sensitivity seed(s) given, but this backend integrates the motion only, not its \
+         variational equations; remove them, or use chetaev::solve, which carries them"
+    )]
+    Sensitivities {
+        /// How many seeds were given.
+        count: usize,
+    },
+
     /// `Options::atol` is [`Atol::PerComponent`](chetaev::prelude::Atol::PerComponent).
     #[error(
         "ode_solvers applies one scalar absolute tolerance to every component, so per-component tolerances \

@@ -58,6 +58,7 @@
 //! | `controller` | honoured where `ode_solvers` runs the same formula: any for Dopri5, `β = 0` for Dop853 ([`BackendError::Controller`]) |
 //! | `events` | refused ([`BackendError::Events`]) |
 //! | `projection` | refused ([`BackendError::Projection`]) |
+//! | `sensitivities` | refused ([`BackendError::Sensitivities`]) |
 //! | `event_samples` | not read (there are no events) |
 //!
 //! Without a controller each method runs `ode_solvers`' own ([`OdeSolversMethod::controller`]).
@@ -310,6 +311,11 @@ impl Settings {
         }
         if o.projection.is_some() {
             return Err(BackendError::Projection);
+        }
+        if !o.sensitivities.is_empty() {
+            return Err(BackendError::Sensitivities {
+                count: o.sensitivities.len(),
+            });
         }
         let atol = match o.atol {
             Atol::Scalar(a) => a,

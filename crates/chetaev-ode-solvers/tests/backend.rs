@@ -573,6 +573,17 @@ fn projection_is_refused() {
 }
 
 #[test]
+fn sensitivities_are_refused() {
+    let problem = uniform_problem(&Params::PAPER).expect("consistent");
+    let options = Options::until(1.0).sensitivity(Seed::new("h0").with_position(1, 1.0));
+    for method in METHODS {
+        assert_refused(solve_with_ode_solvers(&problem, method, &options), |e| {
+            matches!(e, BackendError::Sensitivities { count: 1 })
+        });
+    }
+}
+
+#[test]
 fn per_component_tolerances_are_refused() {
     let problem = forced_problem(0.0);
     let options = Options::until(1.0).atol_per_component(&[1e-9], &[1e-9]);

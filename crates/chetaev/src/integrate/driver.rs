@@ -426,6 +426,13 @@ pub fn solve_ode<S: OdeSystem, Me: Method>(
                    onto: use solve with a model for these",
         });
     }
+    if !options.sensitivities.is_empty() {
+        return Err(Error::Sensitivity {
+            what: "a plain first-order system has no parameters or equations to differentiate; \
+                   use solve with a model, or add the variational equations to the system"
+                .to_string(),
+        });
+    }
     let controlled = sys.controlled_dim();
     let settings = LoopSettings::new(options, &method, t0, controlled, controlled)?;
     let mut sol = OdeSolution {
@@ -948,7 +955,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn solve_ode_refuses_events_and_projection() {
+    fn solve_ode_refuses_events_projection_and_sensitivities() {
         let mut sys = Sys::explicit(1, |_t: f64, y: &[f64], dy: &mut [f64]| dy[0] = -y[0]);
         let with_event = Options::until(1.0).event(Event::new("zero", |_t, q, _qd| q[0]));
         let run = solve_ode(&mut sys, Dopri5::default(), 0.0, &[1.0], &with_event);
@@ -956,5 +963,8 @@ mod tests {
         let projected = Options::until(1.0).project(Default::default());
         let run = solve_ode(&mut sys, Dopri5::default(), 0.0, &[1.0], &projected);
         assert!(matches!(run, Err(Error::InvalidOption { .. })));
+        let seeded = Options::until(1.0).sensitivity(crate::Seed::position(0));
+        let run = solve_ode(&mut sys, Dopri5::default(), 0.0, &[1.0], &seeded);
+        assert!(matches!(run, Err(Error::Sensitivity { .. })));
     }
 }
