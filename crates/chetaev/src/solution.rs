@@ -322,7 +322,8 @@ impl Solution {
 
     /// Writes the recorded motion as CSV: a header, then one row per recorded point with `t`, the
     /// coordinates `q_1..q_n`, the velocities `qd_1..qd_n`, and, where recorded, `qdd_i`, `mu_a`,
-    /// `phi_i`, `f_a`, `E`, `W_Phi`, `W_Q`, `int_dLdt`, and `balance` (the energy balance). Numbers are
+    /// `phi_i`, `f_a`, `E`, `W_Phi`, `W_Q`, `int_dLdt`, and `balance` (the energy balance), then with
+    /// sensitivities `d(q_i)/d(θ)` and `d(qd_i)/d(θ)` for each seed `θ` by its name. Numbers are
     /// written with full precision (Rust's shortest round-trip form).
     pub fn write_csv<W: std::io::Write>(&self, mut w: W) -> std::io::Result<()> {
         let (n, k) = (self.n(), self.k());
@@ -343,6 +344,20 @@ impl Solution {
         }
         if energy {
             header.extend(["W_Phi", "W_Q", "int_dLdt", "balance"].map(String::from));
+        }
+        if let Some(s) = &self.sensitivities {
+            for seed in &s.names {
+                // A name with a comma or a quote is quoted, as CSV wants.
+                let quoted = |x: String| {
+                    if x.contains([',', '"']) {
+                        format!("\"{}\"", x.replace('"', "\"\""))
+                    } else {
+                        x
+                    }
+                };
+                header.extend((1..=n).map(|i| quoted(format!("d(q_{i})/d({seed})"))));
+                header.extend((1..=n).map(|i| quoted(format!("d(qd_{i})/d({seed})"))));
+            }
         }
         writeln!(w, "{}", header.join(","))?;
         let balance = self.energy_balance();
@@ -366,6 +381,9 @@ impl Solution {
                     self.dl_dt_integral[i],
                     *b,
                 ]);
+            }
+            if let Some(s) = &self.sensitivities {
+                row.extend_from_slice(&s.values[i]);
             }
             let text: Vec<String> = row.iter().map(|v| v.to_string()).collect();
             writeln!(w, "{}", text.join(","))?;

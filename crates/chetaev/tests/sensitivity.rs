@@ -506,3 +506,31 @@ fn backward_at_output_times_and_at_every_crossing_of_a_non_terminal_event() -> R
     }
     Ok(())
 }
+
+#[test]
+fn the_csv_carries_the_sensitivities_by_seed_name() -> Result<(), Error> {
+    let sol = solve(
+        &paper_problem()?,
+        Dop853::default(),
+        &paper_options(false)
+            .output_grid(0.0, 5)
+            .record(Record::State),
+    )?;
+    let mut out = Vec::new();
+    sol.write_csv(&mut out).expect("written");
+    let text = String::from_utf8(out).expect("utf-8");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    assert_eq!(header.len(), 1 + 4 + 3 * 4, "{header:?}");
+    assert_eq!(header[5], "d(q_1)/d(v0)");
+    assert_eq!(header[16], "d(qd_2)/d(h0)");
+    let s = sol.sensitivities.as_ref().expect("recorded");
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().expect("a number")).collect())
+        .collect();
+    assert_eq!(rows.len(), sol.len());
+    for (p, row) in rows.iter().enumerate() {
+        assert_eq!(&row[5..], &s.values[p]);
+    }
+    Ok(())
+}
