@@ -51,6 +51,7 @@ mod base {
             .output_final();
         let sol = match method {
             "dop853" => solve(&problem, Dop853::default(), &o),
+            "rodas4" => solve(&problem, Rodas4, &o),
             _ => solve(&problem, Dopri5::default(), &o),
         }
         .expect("solved");
@@ -128,6 +129,7 @@ mod head {
         };
         let sol = match method {
             "dop853" => solve(&problem, Dop853::default(), &o),
+            "rodas4" => solve(&problem, Rodas4, &o),
             _ => solve(&problem, Dopri5::default(), &o),
         }
         .expect("solved");
@@ -223,7 +225,16 @@ fn main() {
         "{:8} {:>6} {:>10} {:>10} {:>9} {:>9} {:>8} {:>12}",
         "method", "tol", "base [µs]", "head [µs]", "err base", "err head", "at tol", "at equal err"
     );
-    for method in ["dopri5", "dop853"] {
+    // `--methods a,b`: which of dopri5, dop853, rodas4 (default dopri5,dop853).
+    let methods: Vec<String> = args
+        .iter()
+        .position(|a| a == "--methods")
+        .and_then(|i| args.get(i + 1))
+        .map_or_else(|| "dopri5,dop853".to_string(), Clone::clone)
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    for method in methods.iter().map(String::as_str) {
         let mut rows = Vec::new();
         for e in 6..=13 {
             let tol = 10f64.powi(-e);

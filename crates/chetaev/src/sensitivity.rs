@@ -26,12 +26,11 @@
 //!
 //! with the gradient of `g` exact for events made by [`Event::smooth`].
 
-use nalgebra::{Const, SVector, U1};
-use num_dual::{Derivative, DualVec, HyperDual64};
+use num_dual::HyperDual64;
 
 use crate::equations::compiled::{Compiled, CompiledFailure};
 use crate::equations::graph::{record_with_parameters, Sym, DEP_P, DEP_Q, DEP_QD, DEP_T};
-use crate::equations::{evaluate_compiled, Dynamics, Workspace};
+use crate::equations::{evaluate_compiled, lane, lanes, Dynamics, Lanes, Workspace, LANES};
 use crate::error::Error;
 use crate::integrate::events::{Event, EventFunction};
 use crate::integrate::system::locate;
@@ -230,15 +229,6 @@ pub(crate) fn event_gradient<F: EventFunction>(
     })
 }
 
-/// Seeds evaluated together in one pass of the equations.
-const LANES: usize = 4;
-/// A value with the derivatives of up to [`LANES`] seeds.
-type Lanes = DualVec<f64, f64, Const<LANES>>;
-
-fn lanes(re: f64, rate: impl Fn(usize) -> f64) -> Lanes {
-    Lanes::new(re, Derivative::some(SVector::from_fn(|l, _| rate(l))))
-}
-
 fn invalid(what: String) -> Error {
     Error::Sensitivity { what }
 }
@@ -369,13 +359,13 @@ impl Variational {
             for (a, fa) in d.f.iter().enumerate() {
                 let row = &d.j[a * n..(a + 1) * n];
                 let size = row.iter().map(|x| x.abs()).sum::<f64>().max(fa.re.abs());
-                let rates = fa.eps.unwrap_generic(Const::<LANES>, U1);
                 for (l, j) in (first..seeds.len().min(first + LANES)).enumerate() {
-                    if rates[l].abs() > 1e-8 * scales[j] * size.max(1.0) {
+                    let rate = lane(fa, l);
+                    if rate.abs() > 1e-8 * scales[j] * size.max(1.0) {
                         return Err(Error::InconsistentSeed {
                             seed: seeds[j].name.clone(),
                             constraint: a + 1,
-                            residual: rates[l],
+                            residual: rate,
                         });
                     }
                 }
@@ -517,9 +507,8 @@ impl Variational {
         for first in (0..m).step_by(LANES) {
             let d = self.lanes(model, t, q, qd, s, first)?;
             for (i, a) in d.qdd.iter().enumerate() {
-                let rates = a.eps.unwrap_generic(Const::<LANES>, U1);
                 for (l, j) in (first..m.min(first + LANES)).enumerate() {
-                    ds[2 * n * j + n + i] = rates[l];
+                    ds[2 * n * j + n + i] = lane(a, l);
                 }
             }
         }

@@ -24,6 +24,28 @@ use compiled::{Compiled, CompiledFailure, CompiledWorkspace};
 use derivatives::{ConstraintBlocks, LagrangianBlocks};
 use saddle::{SaddleFailure, SaddleWorkspace};
 
+/// Directions of differentiation carried together by one evaluation (the Jacobian's columns, the
+/// sensitivities' seeds).
+pub(crate) const LANES: usize = 4;
+
+/// A value with its derivatives in [`LANES`] directions.
+pub(crate) type Lanes = num_dual::DualVec<f64, f64, nalgebra::Const<LANES>>;
+
+/// `re` with the derivative `rate(l)` in lane `l`.
+#[inline]
+pub(crate) fn lanes(re: f64, rate: impl Fn(usize) -> f64) -> Lanes {
+    Lanes::new(
+        re,
+        num_dual::Derivative::some(nalgebra::SVector::from_fn(|l, _| rate(l))),
+    )
+}
+
+/// The derivative of `x` in lane `l`.
+#[inline]
+pub(crate) fn lane(x: &Lanes, l: usize) -> f64 {
+    x.eps.unwrap_generic(nalgebra::Const::<LANES>, nalgebra::U1)[l]
+}
+
 /// Everything known at one point `(t, q, q̇)` after the multipliers are eliminated.
 #[derive(Clone, Debug)]
 pub struct Dynamics<T> {
