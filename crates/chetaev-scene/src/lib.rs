@@ -8,9 +8,10 @@
 //! | step | where | what |
 //! |---|---|---|
 //! | parse | [`Scene::load`], [`scene`] | TOML with spans; every mistake located at a line and column |
-//! | expressions | [`expr`] | our parser; parameters folded; evaluated generically over `R: Real` |
+//! | expressions | [`expr`] | our parser; parameters folded (except those sensitivities are asked for); evaluated generically over `R: Real` |
 //! | model | `model.rs` | `L` and `f` as expressions implement [`chetaev::model::DynModel`]: any `N ≥ 1`, `0 ≤ K ≤ N` |
 //! | solve | [`Scene::solve`], [`run`] | [`chetaev::solve`] on [`chetaev::Problem::dynamic`]; records only what the tables and pictures need |
+//! | sensitivities | `[sensitivities]`, [`scene::SensitivitySpec`] | derivatives of the motion and the events with respect to parameters, by `chetaev`'s seeds |
 //! | output | [`output`] | CSV tables, SVG pictures (`chetaev-plot`), the summary |
 //!
 //! Because the expressions are evaluated generically over `chetaev`'s scalar type, `chetaev`

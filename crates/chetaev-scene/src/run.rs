@@ -8,7 +8,7 @@
 use chetaev::prelude::*;
 
 use crate::error::Error;
-use crate::expr::Env;
+use crate::expr::{Env, Expr};
 use crate::model::ExprModel;
 use crate::scene::{GridEnd, Scene, Times};
 
@@ -138,6 +138,36 @@ impl Scene {
                     .unwrap_or(s.initial.clone());
                 self.error_at(span, format!("at the initial state, {e}"))
             }
+            E::InconsistentSeed {
+                seed,
+                constraint,
+                residual,
+            } => {
+                let v = self.constraints.len();
+                // A velocity constraint ties q_dot to the parameter, a holonomic one q.
+                let (source, span) = if constraint <= v {
+                    (
+                        self.constraints.get(constraint.wrapping_sub(1)),
+                        s.q_dot.clone(),
+                    )
+                } else {
+                    (self.holonomic.get(constraint - v - 1), s.initial.clone())
+                };
+                self.error_at(
+                    span,
+                    format!(
+                        "moving '{seed}' moves the initial state off constraint {constraint} ({}) to \
+                         first order (residual {residual:e}): the initial values that the constraint \
+                         ties to '{seed}' must move with it; write them under [initial] as \
+                         expressions of '{seed}' (for x_dot^2 + y_dot^2 - v0^2, q_dot = [\"v0\", 0.0])",
+                        source.map_or("?", Expr::source)
+                    ),
+                )
+            }
+            E::Sensitivity { what } => self.error_at(
+                s.sensitivities.clone(),
+                format!("the sensitivities asked for cannot be taken: {what}"),
+            ),
             E::Singular { .. } => {
                 let span = s.constraints.first().cloned().unwrap_or(s.lagrangian.clone());
                 self.error_at(span, format!("at the initial state, {e}"))
@@ -217,13 +247,16 @@ impl Scene {
             o = o.project(Projection::default());
         }
         for e in &self.events {
-            let expr = e.expr.clone();
-            let mut event = Event::new(e.name.clone(), move |t, q: &[f64], qd: &[f64]| {
-                expr.eval(&Env { t, q, qd })
-            });
+            let mut event = Event::smooth(e.name.clone(), EventExpr(e.expr.clone()));
             event.direction = e.direction;
             event.terminal = e.terminal;
             o = o.event(event);
+        }
+        if let Some(sens) = &self.sensitivities {
+            for seed in &sens.seeds {
+                o = o.sensitivity(seed.clone());
+            }
+            o = o.sensitivity_control(sens.control);
         }
         o
     }
@@ -243,14 +276,17 @@ impl Scene {
                     let to = match to {
                         GridEnd::Time(x) => *x,
                         GridEnd::End if self.events.iter().any(|e| e.terminal) => {
-                            // Where does the motion stop? One cheap integration finds out.
+                            // Where does the motion stop? One cheap integration finds out. It
+                            // carries the sensitivities only where they are under error control,
+                            // which changes the steps (and so, in the last digits, where the
+                            // motion stops); else the steps are those of the motion alone.
                             passes = 2;
-                            let first = solve(
-                                problem,
-                                method,
-                                &base.clone().output_final().record(Record::State),
-                            )
-                            .map_err(|e| self.setup_error(e))?;
+                            let mut first = base.clone().output_final().record(Record::State);
+                            if !first.sensitivity_control {
+                                first.sensitivities.clear();
+                            }
+                            let first =
+                                solve(problem, method, &first).map_err(|e| self.setup_error(e))?;
                             // If it fails, the recording pass fails at the same place and records
                             // the grid up to there.
                             match first.status {
@@ -277,6 +313,18 @@ impl Scene {
             event_names: self.events.iter().map(|e| e.name.clone()).collect(),
             passes,
         }
+    }
+}
+
+/// An event function given as an expression: written for any scalar, so the event's time and
+/// state have exact derivatives with respect to the parameters ([`Event::smooth`]). Located
+/// with `f64`, it is the expression's value as before.
+struct EventExpr(Expr);
+
+impl EventFunction for EventExpr {
+    #[inline]
+    fn value<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> R {
+        self.0.eval(&Env { t, q, qd })
     }
 }
 

@@ -6,6 +6,11 @@
 //! is evaluated by [`Expr::eval`] for any `R: Real`: `f64` for values, num-dual's dual numbers for
 //! the derivatives `chetaev` takes. Nothing is differentiated symbolically.
 //!
+//! A parameter that sensitivities are asked for (or one computed from such a parameter) is the one
+//! exception: it is kept as a parameter node ([`Symbols::varying`]), read as
+//! `R::parameter(name, value)`, so that `chetaev` differentiates the motion with respect to it.
+//! Scenes without sensitivities have no such nodes and are folded as before.
+//!
 //! ```text
 //! numbers     2   0.5   .5   1e-3   6.674E-11
 //! names       parameters, coordinates (x), velocities (x_dot), time t, constants pi and e
@@ -40,6 +45,7 @@ mod lex;
 pub(crate) mod parse;
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use chetaev::model::Real;
 
@@ -74,8 +80,12 @@ impl ExprError {
 /// The names an expression may use.
 #[derive(Clone, Debug, Default)]
 pub struct Symbols {
-    /// Parameters and their values; folded into constants.
+    /// Parameters and their values; folded into constants, except those in `varying`.
     pub parameters: BTreeMap<String, f64>,
+    /// Parameters kept as parameter nodes (`R::parameter(name, value)`), by name, with their index
+    /// in the scene's list of parameters: those sensitivities are asked for and those computed
+    /// from them. Empty for a scene without sensitivities.
+    pub varying: BTreeMap<String, usize>,
     /// Coordinate names `q_i`; each also gives the velocity `<name>_dot`.
     pub coordinates: Vec<String>,
     /// Whether `t`, the coordinates and the velocities may be used (the model, events and output
@@ -92,6 +102,7 @@ impl Symbols {
                 .map(|(n, v)| (n.to_string(), *v))
                 .collect(),
             coordinates: coordinates.iter().map(|c| c.to_string()).collect(),
+            varying: BTreeMap::new(),
             motion: true,
         }
     }
@@ -101,6 +112,7 @@ impl Symbols {
         Self {
             parameters: parameters.clone(),
             coordinates: Vec::new(),
+            varying: BTreeMap::new(),
             motion: false,
         }
     }
@@ -161,6 +173,27 @@ impl Expr {
         self.node.uses_time()
     }
 
+    /// The indices of the parameters it reads as parameter nodes ([`Symbols::varying`]), each
+    /// once, in increasing order; empty for an expression resolved without varying parameters.
+    pub fn varying_parameters(&self) -> Vec<usize> {
+        let mut found = Vec::new();
+        self.node.visit_parameters(&mut |i| found.push(i));
+        found.sort_unstable();
+        found.dedup();
+        found
+    }
+
+    /// The value with the parameter nodes taken from `parameters` (indexed as the scene's
+    /// parameters) instead of `R::parameter`: with dual numbers there, the derivative of the
+    /// expression with respect to the parameters.
+    ///
+    /// # Panics
+    ///
+    /// As [`Expr::eval`], and if `parameters` is shorter than an index the expression reads.
+    pub(crate) fn eval_with_parameters<R: Real>(&self, env: &Env<'_, R>, parameters: &[R]) -> R {
+        self.node.eval(env, &Slots(parameters))
+    }
+
     /// The value at `env`, for `f64` or any dual number.
     ///
     /// # Panics
@@ -177,7 +210,33 @@ impl Expr {
                 env.q.len().min(env.qd.len())
             );
         }
-        self.node.eval(env)
+        self.node.eval(env, &Named)
+    }
+}
+
+/// Where a parameter node takes its value.
+trait ParameterValues<R> {
+    fn value(&self, name: &str, index: usize, value: f64) -> R;
+}
+
+/// `R::parameter(name, value)`: the constant, except where `chetaev` records the equations with
+/// the parameters as inputs.
+struct Named;
+
+impl<R: Real> ParameterValues<R> for Named {
+    #[inline]
+    fn value(&self, name: &str, _index: usize, value: f64) -> R {
+        R::parameter(name, value)
+    }
+}
+
+/// Values given by the parameter's index.
+struct Slots<'a, R>(&'a [R]);
+
+impl<R: Copy> ParameterValues<R> for Slots<'_, R> {
+    #[inline]
+    fn value(&self, _name: &str, index: usize, _value: f64) -> R {
+        self.0[index]
     }
 }
 
@@ -277,6 +336,9 @@ impl Func {
 #[derive(Clone, Debug, PartialEq)]
 enum Node {
     Const(f64),
+    /// A parameter kept for sensitivities: its name, its index among the scene's parameters, and
+    /// its value.
+    Param(Arc<str>, usize, f64),
     Time,
     Coord(usize),
     Vel(usize),
@@ -308,48 +370,51 @@ enum Node {
 }
 
 impl Node {
-    fn eval<R: Real>(&self, env: &Env<'_, R>) -> R {
+    fn eval<R: Real, V: ParameterValues<R>>(&self, env: &Env<'_, R>, v: &V) -> R {
         match self {
             Node::Const(c) => R::from(*c),
+            Node::Param(name, index, value) => v.value(name, *index, *value),
             Node::Time => env.t,
             Node::Coord(i) => env.q[*i],
             Node::Vel(i) => env.qd[*i],
-            Node::Neg(a) => -a.eval(env),
-            Node::Sum(first, rest) => {
+            Node::Neg(a) => -a.eval(env, v),
+            Node::Sum(first, rest) => rest.iter().fold(first.eval(env, v), |acc, (minus, term)| {
+                match (minus, term) {
+                    (false, Node::Const(c)) => acc + *c,
+                    (true, Node::Const(c)) => acc - *c,
+                    (false, term) => acc + term.eval(env, v),
+                    (true, term) => acc - term.eval(env, v),
+                }
+            }),
+            Node::Product(first, rest) => {
                 rest.iter()
-                    .fold(first.eval(env), |acc, (minus, term)| match (minus, term) {
-                        (false, Node::Const(c)) => acc + *c,
-                        (true, Node::Const(c)) => acc - *c,
-                        (false, term) => acc + term.eval(env),
-                        (true, term) => acc - term.eval(env),
+                    .fold(first.eval(env, v), |acc, (divide, factor)| {
+                        match (divide, factor) {
+                            (false, Node::Const(c)) => acc * *c,
+                            (true, Node::Const(c)) => acc / *c,
+                            (false, factor) => acc * factor.eval(env, v),
+                            (true, factor) => acc / factor.eval(env, v),
+                        }
                     })
             }
-            Node::Product(first, rest) => {
-                rest.iter().fold(first.eval(env), |acc, (divide, factor)| {
-                    match (divide, factor) {
-                        (false, Node::Const(c)) => acc * *c,
-                        (true, Node::Const(c)) => acc / *c,
-                        (false, factor) => acc * factor.eval(env),
-                        (true, factor) => acc / factor.eval(env),
-                    }
-                })
-            }
-            Node::AddC(a, c) => a.eval(env) + *c,
-            Node::CSub(c, a) => -a.eval(env) + *c,
-            Node::MulC(a, c) => a.eval(env) * *c,
-            Node::DivC(a, c) => a.eval(env) / *c,
-            Node::CDiv(c, a) => R::from(*c) / a.eval(env),
-            Node::PowI(a, n) => a.eval(env).powi(*n),
-            Node::PowF(a, p) => a.eval(env).powf(*p),
-            Node::Pow(a, b) => a.eval(env).powd(b.eval(env)),
-            Node::F1(f, a) => f.apply(a.eval(env)),
-            Node::Atan2(a, b) => a.eval(env).atan2(b.eval(env)),
+            Node::AddC(a, c) => a.eval(env, v) + *c,
+            Node::CSub(c, a) => -a.eval(env, v) + *c,
+            Node::MulC(a, c) => a.eval(env, v) * *c,
+            Node::DivC(a, c) => a.eval(env, v) / *c,
+            Node::CDiv(c, a) => R::from(*c) / a.eval(env, v),
+            Node::PowI(a, n) => a.eval(env, v).powi(*n),
+            Node::PowF(a, p) => a.eval(env, v).powf(*p),
+            Node::Pow(a, b) => a.eval(env, v).powd(b.eval(env, v)),
+            Node::F1(f, a) => f.apply(a.eval(env, v)),
+            Node::Atan2(a, b) => a.eval(env, v).atan2(b.eval(env, v)),
         }
     }
 
     fn children(&self) -> Vec<&Node> {
         match self {
-            Node::Const(_) | Node::Time | Node::Coord(_) | Node::Vel(_) => Vec::new(),
+            Node::Const(_) | Node::Param(..) | Node::Time | Node::Coord(_) | Node::Vel(_) => {
+                Vec::new()
+            }
             Node::Sum(first, rest) | Node::Product(first, rest) => std::iter::once(&**first)
                 .chain(rest.iter().map(|(_, n)| n))
                 .collect(),
@@ -370,6 +435,16 @@ impl Node {
         match self {
             Node::Coord(i) | Node::Vel(i) => f(*i),
             _ => self.children().into_iter().for_each(|c| c.visit_indices(f)),
+        }
+    }
+
+    fn visit_parameters(&self, f: &mut impl FnMut(usize)) {
+        match self {
+            Node::Param(_, i, _) => f(*i),
+            _ => self
+                .children()
+                .into_iter()
+                .for_each(|c| c.visit_parameters(f)),
         }
     }
 
@@ -489,6 +564,9 @@ fn power(x: f64, y: f64) -> f64 {
 }
 
 fn resolve_name(name: &str, span: Span, sym: &Symbols) -> Result<Node, ExprError> {
+    if let (Some(&i), Some(v)) = (sym.varying.get(name), sym.parameters.get(name)) {
+        return Ok(Node::Param(Arc::from(name), i, *v));
+    }
     if let Some(v) = sym.parameters.get(name) {
         return Ok(Node::Const(*v));
     }
@@ -610,7 +688,7 @@ const SUGGEST_MAX_CANDIDATES: usize = 10_000;
 /// Bounded whatever the scene: names longer than [`SUGGEST_MAX_LEN`] get no suggestion, only names
 /// whose length is within the distance allowed are compared, at most [`SUGGEST_MAX_CANDIDATES`]
 /// of them, and each comparison stops once the distance allowed is exceeded.
-fn closest<'a>(name: &str, known: &'a [String]) -> Option<&'a str> {
+pub(crate) fn closest<'a>(name: &str, known: &'a [String]) -> Option<&'a str> {
     let len = name.chars().count();
     if len > SUGGEST_MAX_LEN {
         return None;

@@ -242,6 +242,26 @@ pub fn non_finite(scene: &Scene, out: &Outcome) -> Vec<NonFinite> {
         .filter(|e| !e.t.is_finite() || e.q.iter().chain(&e.qd).any(|v| !v.is_finite()))
         .count();
     check("the located events".into(), events, out.events.len());
+    if let Some(sens) = &out.sensitivities {
+        let bad = rows(&sens.values);
+        check("the sensitivities".into(), bad, sens.values.len());
+        let moved = sens
+            .events
+            .iter()
+            .flatten()
+            .filter(|e| {
+                e.t.iter()
+                    .chain(e.q.iter().flatten())
+                    .chain(e.qd.iter().flatten())
+                    .any(|v| !v.is_finite())
+            })
+            .count();
+        check(
+            "the sensitivities of the events".into(),
+            moved,
+            out.events.len(),
+        );
+    }
     if writes_quantities(scene) {
         for (name, e) in &scene.output.quantities {
             let bad = quantity_values(e, out).filter(|v| !v.is_finite()).count();
@@ -327,6 +347,12 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
             );
         }
     }
+    if let Some(lines) = sensitivity_text(scene, out) {
+        for (i, l) in lines.iter().enumerate() {
+            let label = if i == 0 { "d/dp" } else { "" };
+            let _ = writeln!(s, "  {label:<8} {l}");
+        }
+    }
     let st = &out.stats;
     let mut work = format!(
         "{} and {}, {}",
@@ -401,6 +427,53 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         );
     }
     s
+}
+
+/// The summary's lines on the sensitivities: for each located event, how its time moves with each
+/// parameter (`impact  dT/dv0 = 0.108, dT/dg = -0.054`); without events, the parameters and the
+/// number of output points. `None` without `[sensitivities]`.
+fn sensitivity_text(scene: &Scene, out: &Outcome) -> Option<Vec<String>> {
+    let spec = scene.sensitivities.as_ref()?;
+    let sens = out.sensitivities.as_ref()?;
+    if out.events.is_empty() {
+        return Some(vec![format!(
+            "with respect to {} at {}{}",
+            spec.parameters.join(", "),
+            count(sens.values.len(), "output point", "output points"),
+            if spec.control {
+                ", under error control"
+            } else {
+                ""
+            }
+        )]);
+    }
+    let width = out
+        .events
+        .iter()
+        .map(|e| out.event_name(e.index).chars().count())
+        .max()
+        .unwrap_or(0);
+    let lines =
+        out.events
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let name = out.event_name(e.index);
+                let text = match sens.events.get(i).and_then(Option::as_ref) {
+                    Some(d) => spec
+                        .parameters
+                        .iter()
+                        .zip(&d.t)
+                        .map(|(p, dt)| format!("dT/d{p} = {}", num(*dt)))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    None => "T is not differentiable here (the event is crossed tangentially)"
+                        .to_string(),
+                };
+                format!("{name:<width$}  {text}")
+            })
+            .collect();
+    Some(lines)
 }
 
 /// "q_dot projected onto f = 0: x_dot 10 → 9.95, y_dot 1 → 0.995", or that it did not change.

@@ -55,6 +55,7 @@ pub(super) fn write_table<W: Write>(
 ) -> io::Result<()> {
     let c = &scene.coordinates;
     let (n, k) = (scene.n(), scene.k());
+    let no_sensitivities = Series::new(0);
     let names = |suffix: &'static str| c.iter().map(move |x| format!("{x}{suffix}"));
     let indexed = |prefix: &'static str| (1..=k).map(move |a| format!("{prefix}_{a}"));
     let (header, parts): (Vec<String>, Vec<Part<'_>>) = match which {
@@ -95,11 +96,20 @@ pub(super) fn write_table<W: Write>(
                 .map(|(_, e)| Part::Quantity(e))
                 .collect(),
         ),
+        Table::Sensitivities => {
+            let values = out
+                .sensitivities
+                .as_ref()
+                .map_or(&no_sensitivities, |s| &s.values);
+            let header = sensitivity_names(scene, false).collect::<Vec<_>>();
+            let width = header.len();
+            (header, vec![Part::Rows(values, width)])
+        }
         Table::Events => return write_events(w, scene, out),
     };
     write!(w, "t")?;
     for h in &header {
-        write!(w, ",{h}")?;
+        write!(w, ",{}", csv_text(h))?;
     }
     writeln!(w)?;
     for (i, t) in out.t.iter().enumerate() {
@@ -129,7 +139,30 @@ fn field<W: Write>(w: &mut W, v: Option<f64>) -> io::Result<()> {
     }
 }
 
-/// One row per located event: its name, `t`, the coordinates and the velocities.
+/// The names of the sensitivities' columns, for each parameter `p` of `[sensitivities]` in turn:
+/// `d(t)/d(p)` first if `with_time` (an event's time), then `d(x)/d(p)` for each coordinate, then
+/// `d(x_dot)/d(p)` for each velocity, the order of [`chetaev::Sensitivities::values`].
+pub(crate) fn sensitivity_names(
+    scene: &Scene,
+    with_time: bool,
+) -> impl Iterator<Item = String> + '_ {
+    let parameters = scene
+        .sensitivities
+        .as_ref()
+        .map_or(&[][..], |s| &s.parameters[..]);
+    let c = &scene.coordinates;
+    parameters.iter().flat_map(move |p| {
+        let time = with_time.then(|| "t".to_string());
+        time.into_iter()
+            .chain(c.iter().cloned())
+            .chain(c.iter().map(|x| format!("{x}_dot")))
+            .map(move |x| format!("d({x})/d({p})"))
+    })
+}
+
+/// One row per located event: its name, `t`, the coordinates and the velocities; with
+/// `[sensitivities]`, then for each parameter `dT/dp`, `dq(T)/dp` and `dq̇(T)/dp` (empty where the
+/// event was crossed tangentially, where `T` is not differentiable).
 fn write_events<W: Write>(w: &mut W, scene: &Scene, out: &Outcome) -> io::Result<()> {
     write!(w, "event,t")?;
     for x in &scene.coordinates {
@@ -138,8 +171,13 @@ fn write_events<W: Write>(w: &mut W, scene: &Scene, out: &Outcome) -> io::Result
     for x in &scene.coordinates {
         write!(w, ",{x}_dot")?;
     }
+    let derivatives: Vec<String> = sensitivity_names(scene, true).collect();
+    for h in &derivatives {
+        write!(w, ",{}", csv_text(h))?;
+    }
     writeln!(w)?;
-    for e in &out.events {
+    let moved = out.sensitivities.as_ref().map(|s| &s.events);
+    for (i, e) in out.events.iter().enumerate() {
         write!(
             w,
             "{},{}",
@@ -148,6 +186,21 @@ fn write_events<W: Write>(w: &mut W, scene: &Scene, out: &Outcome) -> io::Result
         )?;
         for v in e.q.iter().chain(&e.qd) {
             write!(w, ",{}", CsvNumber(*v))?;
+        }
+        match moved.and_then(|m| m.get(i)).and_then(Option::as_ref) {
+            Some(d) => {
+                for j in 0..d.t.len() {
+                    write!(w, ",{}", CsvNumber(d.t[j]))?;
+                    for v in d.q[j].iter().chain(&d.qd[j]) {
+                        write!(w, ",{}", CsvNumber(*v))?;
+                    }
+                }
+            }
+            None => {
+                for _ in &derivatives {
+                    write!(w, ",")?;
+                }
+            }
         }
         writeln!(w)?;
     }

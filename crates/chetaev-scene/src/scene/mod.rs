@@ -8,10 +8,12 @@
 //! | `schema.rs` | the file as written: serde structures, every value with its span |
 //! | `spec.rs` | the scene as validated: [`Scene`], [`SolveSpec`], [`EventSpec`], [`OutputSpec`], [`Units`], ... |
 //! | `validate.rs` | from one to the other, every mistake located |
-//! | `parameters.rs` | `[parameters]` resolved in dependency order, in linear time |
+//! | `parameters.rs` | `[parameters]` resolved in dependency order, in linear time, with the rates of those computed from parameters asked for |
+//! | `sensitivities.rs` | `[sensitivities]`: one seed per parameter asked for, with the rates of the initial values |
 
 mod parameters;
 mod schema;
+mod sensitivities;
 mod spec;
 mod validate;
 
@@ -24,7 +26,9 @@ use chetaev::prelude::Record;
 
 use crate::error::{Error, SourceFile};
 
-pub use spec::{EventSpec, GridEnd, OutputSpec, Picture, Scene, SolveSpec, Table, Times, Units};
+pub use spec::{
+    EventSpec, GridEnd, OutputSpec, Picture, Scene, SensitivitySpec, SolveSpec, Table, Times, Units,
+};
 
 /// The most times an output grid may have.
 pub const MAX_OUTPUT_TIMES: i64 = 10_000_000;

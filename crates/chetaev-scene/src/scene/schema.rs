@@ -23,7 +23,18 @@ pub(crate) struct RawScene {
     pub(crate) solve: Spanned<RawSolve>,
     #[serde(default)]
     pub(crate) events: Vec<Spanned<RawEvent>>,
+    pub(crate) sensitivities: Option<Spanned<RawSensitivities>>,
     pub(crate) output: Option<RawOutput>,
+}
+
+/// `[sensitivities]`: the parameters to differentiate the motion with respect to.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSensitivities {
+    pub(crate) parameters: Spanned<Vec<Spanned<String>>>,
+    /// Error control on the sensitivities too.
+    #[serde(default)]
+    pub(crate) control: bool,
 }
 
 #[derive(Deserialize)]

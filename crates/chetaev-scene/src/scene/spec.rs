@@ -5,6 +5,7 @@ use std::ops::Range;
 use std::path::PathBuf;
 
 use chetaev::prelude::{Atol, Direction, Record};
+use chetaev::Seed;
 use serde::Deserialize;
 
 use crate::error::SourceFile;
@@ -46,6 +47,8 @@ pub struct Scene {
     pub solve: SolveSpec,
     /// Events, in the order of the file.
     pub events: Vec<EventSpec>,
+    /// The sensitivities asked for by `[sensitivities]`, if any.
+    pub sensitivities: Option<SensitivitySpec>,
     /// What to write.
     pub output: OutputSpec,
     /// Units of time, the coordinates, the multipliers, the energy and the output quantities,
@@ -71,6 +74,23 @@ pub struct Units {
     pub quantities: Vec<Option<String>>,
 }
 
+/// `[sensitivities]`: derivatives of the motion and of the events with respect to parameters.
+///
+/// Each parameter asked for is one [`Seed`] (named after it) that moves the parameter at rate 1,
+/// every parameter computed from it at its rate `dp_i/dp` (by dual numbers through the
+/// definitions), and the initial values written as expressions of it at their rates (by dual
+/// numbers through those expressions). Only the parameters the model and the events read are
+/// named in a seed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SensitivitySpec {
+    /// The parameters asked for, in the order written.
+    pub parameters: Vec<String>,
+    /// Whether the sensitivities are under error control (`control = true`).
+    pub control: bool,
+    /// One seed per parameter asked for, in the same order.
+    pub seeds: Vec<Seed>,
+}
+
 /// Places in the file that errors found after validation point at.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Spans {
@@ -82,6 +102,8 @@ pub(crate) struct Spans {
     pub options: BTreeMap<&'static str, Range<usize>>,
     pub events: Vec<Range<usize>>,
     pub quantities: Vec<Range<usize>>,
+    /// `[sensitivities] parameters`, or the start of the file.
+    pub sensitivities: Range<usize>,
 }
 
 /// `[solve]`.
@@ -138,6 +160,8 @@ pub enum Table {
     Events,
     /// `t` and the scene's `[output.quantities]`.
     Quantities,
+    /// `t` and, for each parameter of `[sensitivities]`, `∂q/∂p` and `∂q̇/∂p`.
+    Sensitivities,
 }
 
 /// An SVG picture a scene can ask for.
@@ -168,7 +192,7 @@ pub enum Picture {
 
 impl Table {
     /// Every table, in the order of the documentation.
-    pub const ALL: [Table; 8] = [
+    pub const ALL: [Table; 9] = [
         Table::State,
         Table::Acceleration,
         Table::Multipliers,
@@ -177,6 +201,7 @@ impl Table {
         Table::Energy,
         Table::Events,
         Table::Quantities,
+        Table::Sensitivities,
     ];
 
     /// The file name without extension.
@@ -190,13 +215,16 @@ impl Table {
             Table::Energy => "energy",
             Table::Events => "events",
             Table::Quantities => "quantities",
+            Table::Sensitivities => "sensitivities",
         }
     }
 
     /// What has to be recorded along the motion for it.
     pub fn record(self) -> Record {
         match self {
-            Table::State | Table::Events | Table::Quantities => Record::State,
+            Table::State | Table::Events | Table::Quantities | Table::Sensitivities => {
+                Record::State
+            }
             Table::Acceleration | Table::Multipliers | Table::Force | Table::Residual => {
                 Record::Dynamics
             }

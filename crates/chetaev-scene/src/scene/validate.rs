@@ -12,6 +12,7 @@ use super::schema::{
     MethodName, Number, RawAtol, RawDirection, RawOutput, RawScene, RawSolve, RawTimes,
     RawTrajectory,
 };
+use super::sensitivities::reads;
 use super::spec::{
     EventSpec, GridEnd, OutputSpec, Picture, Scene, SolveSpec, Spans, Table, Times, Units,
 };
@@ -47,7 +48,7 @@ impl Builder {
     }
 
     /// Parses an expression given as a TOML string; errors point into the string.
-    fn expr(&self, s: &Spanned<String>, symbols: &Symbols) -> Result<Expr, Error> {
+    pub(super) fn expr(&self, s: &Spanned<String>, symbols: &Symbols) -> Result<Expr, Error> {
         Expr::parse(s.get_ref(), symbols).map_err(|e| self.expr_error(s, e))
     }
 
@@ -118,9 +119,23 @@ impl Builder {
     }
 
     pub(super) fn build(&self, raw: RawScene) -> Result<Scene, Error> {
-        let parameters = self.parameters(&raw.parameters)?;
+        let sensitivity = raw.sensitivities.as_ref().map(Spanned::get_ref);
+        let resolved = self.parameters(
+            &raw.parameters,
+            sensitivity.map(|s| &s.parameters),
+            raw.model.get_ref().coordinates.get_ref(),
+        )?;
+        let parameters = resolved.values.clone();
         let param_map: BTreeMap<String, f64> = parameters.iter().cloned().collect();
         let constants = Symbols::constants(&param_map);
+        // Where sensitivities are asked for, the parameters that move with them are kept as
+        // parameter nodes; every expression is also resolved without them first, so that it is
+        // checked (folded parts finite, divisions by a zero parameter) exactly as without.
+        let varying = resolved.varying();
+        let varying_constants = Symbols {
+            varying: varying.clone(),
+            ..constants.clone()
+        };
 
         // [model]
         let model = raw.model.get_ref();
@@ -155,9 +170,23 @@ impl Builder {
         let motion = Symbols {
             parameters: param_map.clone(),
             coordinates: coordinates.clone(),
+            varying: BTreeMap::new(),
             motion: true,
         };
-        let lagrangian = self.expr(&model.lagrangian, &motion)?;
+        let varying_motion = (!varying.is_empty()).then(|| Symbols {
+            varying: varying.clone(),
+            ..motion.clone()
+        });
+        // An expression of the model or of an event: with parameter nodes where sensitivities
+        // are asked for.
+        let model_expr = |s: &Spanned<String>| -> Result<Expr, Error> {
+            let folded = self.expr(s, &motion)?;
+            match &varying_motion {
+                Some(symbols) => self.expr(s, symbols),
+                None => Ok(folded),
+            }
+        };
+        let lagrangian = model_expr(&model.lagrangian)?;
         let mut constraints = Vec::new();
         let mut constraint_spans = Vec::new();
         if let Some(list) = &model.constraints {
@@ -172,7 +201,7 @@ impl Builder {
                 ));
             }
             for c in list.get_ref() {
-                constraints.push(self.expr(c, &motion)?);
+                constraints.push(model_expr(c)?);
                 constraint_spans.push(c.span());
             }
         }
@@ -209,7 +238,7 @@ impl Builder {
                         ),
                     ));
                 }
-                holonomic.push(self.expr(h, &motion)?);
+                holonomic.push(model_expr(h)?);
             }
         }
         let mut forces = Vec::new();
@@ -228,11 +257,11 @@ impl Builder {
                 ));
             }
             for f in list.get_ref() {
-                forces.push(self.expr(f, &motion)?);
+                forces.push(model_expr(f)?);
             }
         }
         let dissipation = match &model.dissipation {
-            Some(d) => Some(self.expr(d, &motion)?),
+            Some(d) => Some(model_expr(d)?),
             None => None,
         };
         let mut units = self.model_units(
@@ -249,9 +278,49 @@ impl Builder {
         };
         let q0 = self.vector(&initial.q, &coordinates, "q", &constants)?;
         let qd0 = self.vector(&initial.q_dot, &coordinates, "q_dot", &constants)?;
+        let (q_rates, qd_rates) = match &raw.sensitivities {
+            None => (Vec::new(), Vec::new()),
+            Some(s) => {
+                if let Some(Number::Expr(text)) = initial.t.as_ref().map(Spanned::get_ref) {
+                    let t = self.expr(
+                        &Spanned::new(initial.t.as_ref().map_or(0..0, Spanned::span), text.clone()),
+                        &varying_constants,
+                    )?;
+                    if !t.varying_parameters().is_empty() {
+                        return Err(self.err(
+                            initial.t.as_ref().map_or(0..0, Spanned::span),
+                            "the initial time depends on a parameter named under [sensitivities], \
+                             but sensitivities are taken at a fixed initial time; give initial.t \
+                             without that parameter",
+                        ));
+                    }
+                }
+                if initial.project_velocity {
+                    return Err(self.err(
+                        s.get_ref().parameters.span(),
+                        "[sensitivities] cannot be combined with project_velocity = true under \
+                         [initial]: the derivatives of the projected velocity are not computed; give \
+                         a q_dot that satisfies the constraints, written with the parameters it \
+                         depends on (as in q_dot = [\"v0\", 0.0]), and remove project_velocity",
+                    ));
+                }
+                (
+                    self.initial_rates(&initial.q, &varying_constants, &resolved)?,
+                    self.initial_rates(&initial.q_dot, &varying_constants, &resolved)?,
+                )
+            }
+        };
 
         // [solve]
         let (solve, options) = self.solve(raw.solve.get_ref(), n, &constants)?;
+        if let (Some(s), true) = (&raw.sensitivities, solve.projection) {
+            return Err(self.err(
+                s.get_ref().parameters.span(),
+                "[sensitivities] cannot be combined with projection = true under [solve]: the \
+                 projection would move the state but not its derivatives; remove projection (the \
+                 sensitivities stay on the linearised constraints without it)",
+            ));
+        }
         if solve.t_end == t0 {
             return Err(self.err(
                 raw.solve.get_ref().t_end.span(),
@@ -282,7 +351,7 @@ impl Builder {
             }
             events.push(EventSpec {
                 name: e.name.get_ref().clone(),
-                expr: self.expr(&e.expression, &motion)?,
+                expr: model_expr(&e.expression)?,
                 direction: match e.direction {
                     None | Some(RawDirection::Either) => Direction::Either,
                     Some(RawDirection::Rising) => Direction::Rising,
@@ -307,6 +376,34 @@ impl Builder {
             solve.t_end,
         )?;
         units.quantities = self.quantity_units(raw.output.as_ref(), &output.quantities)?;
+        let sensitivities = match &raw.sensitivities {
+            Some(s) => {
+                self.check_holonomic(&holonomic, t0, &q0, &q_rates, &resolved, initial.q.span())?;
+                let exprs = std::iter::once(&lagrangian)
+                    .chain(&constraints)
+                    .chain(&holonomic)
+                    .chain(&forces)
+                    .chain(&dissipation)
+                    .chain(events.iter().map(|e| &e.expr));
+                Some(self.seeds(s.get_ref(), &resolved, &reads(exprs), &q_rates, &qd_rates)?)
+            }
+            None => {
+                let asked = raw.output.as_ref().and_then(|o| {
+                    o.tables
+                        .iter()
+                        .find(|t| *t.get_ref() == Table::Sensitivities)
+                });
+                if let Some(t) = asked {
+                    return Err(self.err(
+                        t.span(),
+                        "the 'sensitivities' table needs the parameters to differentiate with \
+                         respect to: add a [sensitivities] table, as in [sensitivities] \
+                         parameters = [\"g\"], or remove 'sensitivities' from the list",
+                    ));
+                }
+                None
+            }
+        };
 
         let meta = raw.scene.as_ref();
         Ok(Scene {
@@ -328,6 +425,7 @@ impl Builder {
             project_velocity: initial.project_velocity,
             solve,
             events,
+            sensitivities,
             output,
             units,
             spans: Spans {
@@ -339,6 +437,10 @@ impl Builder {
                 options,
                 events: event_spans,
                 quantities: quantity_spans,
+                sensitivities: raw
+                    .sensitivities
+                    .as_ref()
+                    .map_or(0..0, |s| s.get_ref().parameters.span()),
             },
         })
     }
