@@ -5,10 +5,10 @@
 //! quadratures `[W_Φ, ∫∂L/∂t dt, W_Q]` with `dW_Φ/dt = q̇·Φ` and `dW_Q/dt = q̇·Q`. The quadratures
 //! are outside error control, so recording them never changes the motion.
 
+use num_dual::Dual64;
+
 use crate::equations::compiled::Compiled;
-use crate::equations::{
-    evaluate_with, lane, lanes, saddle::SaddleFailure, Dynamics, Lanes, Workspace, LANES,
-};
+use crate::equations::{evaluate_with, saddle::SaddleFailure, Dynamics, Workspace};
 use crate::error::Error;
 use crate::model::Model;
 use crate::sensitivity::Variational;
@@ -46,8 +46,7 @@ pub trait OdeSystem {
 pub struct Stats {
     /// Evaluations of the reduced right-hand side by the integrator.
     pub rhs_evaluations: usize,
-    /// Evaluations of the exact Jacobian (each costs `⌈(2n + 1)/4⌉` evaluations of the equations
-    /// with four directions of dual numbers).
+    /// Evaluations of the exact Jacobian (each costs `2n + 1` dual evaluations of the equations).
     pub jacobian_evaluations: usize,
     /// LU decompositions of the implicit methods' iteration matrix.
     pub lu_decompositions: usize,
@@ -111,7 +110,7 @@ pub struct ReducedOde<'a, M: ?Sized> {
     pub(crate) n: usize,
     pub(crate) ws: Workspace<f64>,
     /// Scratch space for the dual evaluations of the Jacobian, made on first use.
-    jac_ws: Option<Workspace<Lanes>>,
+    jac_ws: Option<Workspace<Dual64>>,
     energy: bool,
     /// Whether the energy quadratures include the work of forces not derivable from `L`.
     forces: bool,
@@ -376,38 +375,35 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         let ws = self
             .jac_ws
             .get_or_insert_with(|| Workspace::for_model(model));
-        let mut q = vec![Lanes::from_re(0.0); n];
-        let mut qd = vec![Lanes::from_re(0.0); n];
-        // The directions y_j for j < 2n, then t, LANES to a forward pass. The quadratures do not
-        // feed back.
-        for first in (0..=2 * n).step_by(LANES) {
-            let seed = |i: usize| move |l: usize| f64::from(u8::from(first + l == i));
+        let mut q = vec![Dual64::from(0.0); n];
+        let mut qd = vec![Dual64::from(0.0); n];
+        // One forward pass per direction: y_j for j < 2n, then t. The quadratures do not feed back.
+        for dir in 0..=2 * n {
+            let seed = |i: usize| if i == dir { 1.0 } else { 0.0 };
             for i in 0..n {
-                q[i] = lanes(y[i], seed(i));
-                qd[i] = lanes(y[n + i], seed(n + i));
+                q[i] = Dual64::new(y[i], seed(i));
+                qd[i] = Dual64::new(y[n + i], seed(n + i));
             }
-            let td = lanes(t, seed(2 * n));
+            let td = Dual64::new(t, seed(2 * n));
             let (d, fell_back) = evaluate_with(model, self.compiled, ws, td, &q, &qd, false)
                 .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
             self.stats.graph_fallbacks += usize::from(fell_back);
-            for (l, dir) in (first..=2 * n).take(LANES).enumerate() {
-                let mut put = |row: usize, v: &Lanes| {
-                    if dir < 2 * n {
-                        jac[row * dim + dir] = lane(v, l);
-                    } else {
-                        dfdt[row] = lane(v, l);
-                    }
-                };
-                for (i, (v, a)) in qd.iter().zip(&d.qdd).enumerate() {
-                    put(i, v);
-                    put(n + i, a);
+            let mut put = |row: usize, v: f64| {
+                if dir < 2 * n {
+                    jac[row * dim + dir] = v;
+                } else {
+                    dfdt[row] = v;
                 }
-                if self.energy {
-                    put(e, &d.power);
-                    put(e + 1, &d.dl_dt);
-                    if self.forces {
-                        put(e + 2, &d.power_forces);
-                    }
+            };
+            for (i, (v, a)) in qd.iter().zip(&d.qdd).enumerate() {
+                put(i, v.eps);
+                put(n + i, a.eps);
+            }
+            if self.energy {
+                put(e, d.power.eps);
+                put(e + 1, d.dl_dt.eps);
+                if self.forces {
+                    put(e + 2, d.power_forces.eps);
                 }
             }
         }
