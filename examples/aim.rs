@@ -12,6 +12,7 @@ use std::io::{self, Write};
 use std::process::ExitCode;
 
 use chetaev::prelude::*;
+use chetaev_suite::finish;
 use clap::Parser;
 use uniform_projectile::closed_form::{uniform, Params};
 use uniform_projectile::model::{impact, uniform_problem};
@@ -35,19 +36,7 @@ struct Cli {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match run(&cli, &mut io::stdout().lock()) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e)
-            if e.downcast_ref::<io::Error>()
-                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
-        {
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    finish(run(&cli, &mut io::stdout().lock()))
 }
 
 /// `(R, dR/dv0)` at speed `v0`, from one solve carrying the seed `v0`.

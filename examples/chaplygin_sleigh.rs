@@ -12,6 +12,7 @@ use std::process::ExitCode;
 use chetaev::prelude::*;
 use chetaev_catalogue::chaplygin_sleigh::{self, body_velocities};
 use chetaev_catalogue::{compare, max_energy_balance, Reference};
+use chetaev_suite::finish;
 use clap::Parser;
 
 /// The Chaplygin sleigh against the closed form of its body velocities (Bloch, §1.7).
@@ -21,23 +22,6 @@ struct Cli {}
 fn main() -> ExitCode {
     Cli::parse();
     finish(run(&mut io::stdout().lock()))
-}
-
-/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
-fn finish(result: Result<(), Box<dyn std::error::Error>>) -> ExitCode {
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e)
-            if e.downcast_ref::<io::Error>()
-                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
-        {
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
 }
 
 fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {

@@ -12,6 +12,7 @@ use std::process::ExitCode;
 
 use chetaev::integrate::system::Stats;
 use chetaev::prelude::*;
+use chetaev_suite::finish;
 use clap::Parser;
 use uniform_projectile::closed_form::Params;
 use uniform_projectile::model::{uniform_problem, UniformProblem};
@@ -32,23 +33,6 @@ struct Cli {}
 fn main() -> ExitCode {
     Cli::parse();
     finish(run(&mut io::stdout().lock()))
-}
-
-/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
-fn finish(result: Result<(), Box<dyn std::error::Error>>) -> ExitCode {
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e)
-            if e.downcast_ref::<io::Error>()
-                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
-        {
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
 }
 
 /// A small error: `0` when exact, otherwise two significant digits (`3.6e-16`).

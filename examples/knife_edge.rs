@@ -10,6 +10,7 @@ use std::process::ExitCode;
 
 use chetaev::prelude::*;
 use chetaev_catalogue::{compare, knife_edge, max_energy_balance, Reference};
+use chetaev_suite::finish;
 use clap::Parser;
 
 /// The knife edge on an inclined plane against its closed form (Bloch, §1.6).
@@ -19,23 +20,6 @@ struct Cli {}
 fn main() -> ExitCode {
     Cli::parse();
     finish(run(&mut io::stdout().lock()))
-}
-
-/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
-fn finish(result: Result<(), Box<dyn std::error::Error>>) -> ExitCode {
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e)
-            if e.downcast_ref::<io::Error>()
-                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
-        {
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
 }
 
 /// A small error: `0` when exact, otherwise two significant digits (`3.6e-16`).

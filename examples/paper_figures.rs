@@ -26,6 +26,7 @@ use std::process::ExitCode;
 
 use chetaev::prelude::*;
 use chetaev_plot::{Figure, Legend, Style};
+use chetaev_suite::finish;
 use clap::Parser;
 use uniform_projectile::closed_form::{classical, table, uniform, Params};
 use uniform_projectile::model::{classical_problem, impact, uniform_problem};
@@ -60,23 +61,6 @@ struct Cli {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     finish(run(&cli, &mut io::stdout().lock()))
-}
-
-/// Exit status of a run: a reader that stops early (`| head`) ends the output quietly.
-fn finish(result: Result<(), Box<dyn Error>>) -> ExitCode {
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e)
-            if e.downcast_ref::<io::Error>()
-                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
-        {
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
 }
 
 fn run(cli: &Cli, stdout: &mut impl Write) -> Result<(), Box<dyn Error>> {

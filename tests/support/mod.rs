@@ -1,5 +1,23 @@
 //! Shared helpers of the verification tests and example programs.
 
+/// The exit status of an example program's run: success, or the error's message on standard error
+/// and failure; a reader that stops early (`| head`, a closed pipe) ends the output quietly.
+pub fn finish(result: Result<(), Box<dyn std::error::Error>>) -> std::process::ExitCode {
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e)
+            if e.downcast_ref::<std::io::Error>()
+                .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe) =>
+        {
+            std::process::ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
 /// Relative difference `|a − b| / max(|b|, tiny)`.
 pub fn rel_err(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
