@@ -46,6 +46,15 @@ impl Outcome {
     pub fn event_name(&self, index: usize) -> &str {
         self.event_names.get(index).map_or("?", String::as_str)
     }
+
+    /// The width of the longest name among the located events, for aligned lines.
+    pub(crate) fn event_name_width(&self) -> usize {
+        self.events
+            .iter()
+            .map(|e| self.event_name(e.index).chars().count())
+            .max()
+            .unwrap_or(0)
+    }
 }
 
 impl Scene {

@@ -330,12 +330,7 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
             let _ = writeln!(s, "  events   none located");
         }
     } else {
-        let width = out
-            .events
-            .iter()
-            .map(|e| out.event_name(e.index).chars().count())
-            .max()
-            .unwrap_or(0);
+        let width = out.event_name_width();
         for (i, e) in out.events.iter().enumerate() {
             let label = if i == 0 { "events" } else { "" };
             let _ = writeln!(
@@ -447,12 +442,7 @@ fn sensitivity_text(scene: &Scene, out: &Outcome) -> Option<Vec<String>> {
             }
         )]);
     }
-    let width = out
-        .events
-        .iter()
-        .map(|e| out.event_name(e.index).chars().count())
-        .max()
-        .unwrap_or(0);
+    let width = out.event_name_width();
     let lines =
         out.events
             .iter()
