@@ -37,7 +37,9 @@ pub trait Real: DualNum<f64> + Copy + 'static {
     /// Write `R::parameter("g", self.g)` where the model would write `self.g`. In every
     /// evaluation it is the constant `value` (at no cost); only where sensitivities are asked for
     /// is it an input of the recorded equations, so that `∂F/∂p` is exact. A parameter read
-    /// as a plain number (`self.g`) is a constant for sensitivities.
+    /// as a plain number (`self.g`) is a constant for sensitivities. One name stands for one
+    /// value: a name read with two values is an [`Error::Sensitivity`](crate::Error::Sensitivity)
+    /// when sensitivities are asked for.
     ///
     /// ```
     /// use chetaev::prelude::*;

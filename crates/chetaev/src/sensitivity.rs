@@ -184,7 +184,7 @@ pub(crate) struct EventGradient {
 }
 
 /// Records `f` at `(t, q, q̇)` with its parameters as inputs and differentiates it; `None` where a
-/// value leaves the recording (`re()`).
+/// value leaves the recording (`re()`) or a parameter is read with two values.
 pub(crate) fn event_gradient<F: EventFunction>(
     f: &F,
     t: f64,
@@ -203,7 +203,8 @@ pub(crate) fn event_gradient<F: EventFunction>(
             .map(Sym::node)
             .collect();
         (value, inputs)
-    });
+    })
+    .ok()?;
     if g.escaped() {
         return None;
     }
@@ -301,14 +302,7 @@ impl Variational {
                 )));
             }
         }
-        let compiled = Compiled::with_parameters(model, t0, q0, qd0).ok_or_else(|| {
-            invalid(
-                "the model's equations cannot be recorded (it takes a value out of its scalar \
-                 with re(), or does not offer its functions), and sensitivities are derivatives \
-                 of them; write the model without re()"
-                    .to_string(),
-            )
-        })?;
+        let compiled = Compiled::with_parameters(model, t0, q0, qd0)?;
         let mut known: Vec<String> = compiled.parameters().iter().map(|p| p.0.clone()).collect();
         for e in events {
             if let Some(grad) = e.gradient.as_ref().and_then(|g| g(t0, q0, qd0)) {
@@ -416,12 +410,7 @@ impl Variational {
         q: &[f64],
         qd: &[f64],
     ) -> Result<(), Error> {
-        self.compiled = Compiled::with_parameters(model, t, q, qd).ok_or_else(|| {
-            invalid(format!(
-                "the model's equations could not be recorded again at t = {t}, where a branch of \
-                 its code changed"
-            ))
-        })?;
+        self.compiled = Compiled::with_parameters(model, t, q, qd)?;
         let k = model.sizes().1;
         self.lanes = Workspace::new(self.n, k);
         self.hyper = None;

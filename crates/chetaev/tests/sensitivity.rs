@@ -534,3 +534,27 @@ fn the_csv_carries_the_sensitivities_by_seed_name() -> Result<(), Error> {
     }
     Ok(())
 }
+
+/// Reads the name `g` for two different numbers.
+struct TwoValues;
+
+impl DynModel for TwoValues {
+    fn sizes(&self) -> (usize, usize) {
+        (1, 0)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        qd[0] * qd[0] * 0.5 - q[0] * R::parameter("g", 9.81) - q[0] * q[0] * R::parameter("g", 1.0)
+    }
+}
+
+#[test]
+fn a_name_read_with_two_values_is_a_typed_error() -> Result<(), Error> {
+    let problem = Problem::dynamic(TwoValues, 0.0, vec![1.0], vec![0.0])?;
+    let seeded = Options::until(1.0).sensitivity(Seed::parameter("g"));
+    let e = solve(&problem, Dop853::default(), &seeded).expect_err("ambiguous parameter");
+    assert!(matches!(e, Error::Sensitivity { .. }), "{e}");
+    assert!(e.to_string().contains("two values, 9.81 and 1"), "{e}");
+    // Without sensitivities the parameters are the plain numbers, and the model solves.
+    assert!(solve(&problem, Dop853::default(), &Options::until(1.0))?.is_success());
+    Ok(())
+}

@@ -32,11 +32,13 @@ use std::fmt;
 use std::sync::OnceLock;
 
 use super::graph::{
-    record, record_with_parameters, Deps, Graph, GuardFlip, Sym, Tape, DEP_Q, DEP_QD, DEP_T,
+    record, record_with_parameters, Deps, Graph, GuardFlip, ParameterConflict, Sym, Tape, DEP_Q,
+    DEP_QD, DEP_T,
 };
 use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
 use super::structure::{Dependence, Structure};
 use super::Dynamics;
+use crate::error::Error;
 use crate::model::{Functions, Model, Real};
 
 /// How `W` is handled.
@@ -188,20 +190,35 @@ impl Compiled {
     /// offer its functions ([`Model::functions`]) or its recording cannot be trusted (a value
     /// taken out of the graph).
     pub fn new<M: Model + ?Sized>(model: &M, t: f64, q: &[f64], qd: &[f64]) -> Option<Self> {
-        Self::build(model, t, q, qd, false)
+        Self::build(model, t, q, qd, false).ok()
     }
 
     /// As [`Compiled::new`], with every parameter the model reads by
     /// [`Real::parameter`] an input after `t`, `q`, `q̇` rather than a constant: the equations
     /// whose derivatives with respect to parameters give sensitivities. Blocks that depend on a
     /// parameter are not constant here.
+    ///
+    /// Fails where the model cannot be recorded (as [`Compiled::new`]) or reads one parameter
+    /// name with two values, with an [`Error::Sensitivity`] that says so.
     pub fn with_parameters<M: Model + ?Sized>(
         model: &M,
         t: f64,
         q: &[f64],
         qd: &[f64],
-    ) -> Option<Self> {
-        Self::build(model, t, q, qd, true)
+    ) -> Result<Self, Error> {
+        Self::build(model, t, q, qd, true).map_err(|conflict| Error::Sensitivity {
+            what: match conflict {
+                Some(c) => format!(
+                    "parameter {:?} is read with two values, {} and {}; read each value under a \
+                     name of its own",
+                    c.name, c.first, c.second
+                ),
+                None => "the model's equations cannot be recorded (it takes a value out of its \
+                         scalar with re(), or does not offer its functions), and sensitivities \
+                         are derivatives of them; write the model without re()"
+                    .to_string(),
+            },
+        })
     }
 
     /// The parameters that are inputs, in input order, with their recorded values.
@@ -209,13 +226,15 @@ impl Compiled {
         &self.parameters
     }
 
+    /// The compiled equations, or why not: `Some` conflict of a parameter's values, or `None` for
+    /// a model that does not offer its functions or whose recording cannot be trusted.
     fn build<M: Model + ?Sized>(
         model: &M,
         t: f64,
         q: &[f64],
         qd: &[f64],
         parametric: bool,
-    ) -> Option<Self> {
+    ) -> Result<Self, Option<ParameterConflict>> {
         let (n, k) = model.sizes();
         let holonomic = model.holonomic_count();
         let kv = k - holonomic;
@@ -240,23 +259,23 @@ impl Compiled {
             })
         };
         let (mut g, recorded, parameters) = if parametric {
-            record_with_parameters(run)
+            record_with_parameters(run).map_err(Some)?
         } else {
             let (g, recorded) = record(run);
             (g, recorded, Vec::new())
         };
-        let (tn, qn, qdn, l, fv, h, forces, dissipation) = recorded?;
+        let (tn, qn, qdn, l, fv, h, forces, dissipation) = recorded.ok_or(None)?;
         // Parameters are read after t, q, q̇ are made: their inputs follow, in the order read.
         if parameters
             .iter()
             .enumerate()
             .any(|(i, p)| p.2 as usize != 1 + 2 * n + i)
         {
-            return None;
+            return Err(None);
         }
         let parameters = parameters.into_iter().map(|(n, v, ..)| (n, v)).collect();
         if g.escaped() {
-            return None;
+            return Err(None);
         }
         let one = g.constant_node(1.0);
         let zero = g.constant_node(0.0);
@@ -356,7 +375,7 @@ impl Compiled {
         };
         let r_const = constants(&r);
         let dl_dq_const = constants(&dl_dq);
-        Some(Self {
+        Ok(Self {
             n,
             k,
             graph: g,

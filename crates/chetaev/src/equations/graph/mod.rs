@@ -518,8 +518,27 @@ impl Graph {
 thread_local! {
     static RECORDING: RefCell<Option<Graph>> = const { RefCell::new(None) };
     /// While recording with parameters as inputs: each parameter read so far, by name, with its
-    /// input scalar.
-    static PARAMETERS: RefCell<Option<Vec<(String, Sym)>>> = const { RefCell::new(None) };
+    /// input scalar; and the first one read again with another value.
+    static PARAMETERS: RefCell<Option<Reads>> = const { RefCell::new(None) };
+}
+
+/// The parameters read while recording.
+#[derive(Default)]
+struct Reads {
+    list: Vec<(String, Sym)>,
+    conflict: Option<ParameterConflict>,
+}
+
+/// A parameter read twice under one name with two values: the recording cannot say which one a
+/// derivative with respect to it is about.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParameterConflict {
+    /// The name.
+    pub name: String,
+    /// The value read first.
+    pub first: f64,
+    /// The other value.
+    pub second: f64,
 }
 
 /// The parameter `name` with value `value` in the graph being recorded: an input of class
@@ -528,25 +547,32 @@ thread_local! {
 pub(crate) fn parameter(name: &str, value: f64) -> Sym {
     PARAMETERS.with(|p| {
         let mut p = p.borrow_mut();
-        let Some(known) = p.as_mut() else {
+        let Some(reads) = p.as_mut() else {
             return Sym::constant(value);
         };
-        if let Some((_, s)) = known.iter().find(|(n, _)| n == name) {
+        if let Some((_, s)) = reads.list.iter().find(|(n, _)| n == name) {
+            if s.value().to_bits() != value.to_bits() && reads.conflict.is_none() {
+                reads.conflict = Some(ParameterConflict {
+                    name: name.to_string(),
+                    first: s.value(),
+                    second: value,
+                });
+            }
             return *s;
         }
         let s = Sym::input(DEP_P, value);
-        known.push((name.to_string(), s));
+        reads.list.push((name.to_string(), s));
         s
     })
 }
 
 /// [`record`] with every parameter that `f` reads ([`parameter`]) an input of the graph. Returns
 /// also the parameters read, in the order first read, each as `(name, value, input number,
-/// node)`.
+/// node)`, or the first name read with two values.
 #[allow(clippy::type_complexity)]
 pub fn record_with_parameters<O>(
     f: impl FnOnce() -> O,
-) -> (Graph, O, Vec<(String, f64, u32, u32)>) {
+) -> Result<(Graph, O, Vec<(String, f64, u32, u32)>), ParameterConflict> {
     struct Reset;
     impl Drop for Reset {
         fn drop(&mut self) {
@@ -554,15 +580,19 @@ pub fn record_with_parameters<O>(
         }
     }
     let mut read = Vec::new();
+    let mut conflict = None;
     let (graph, out) = record(|| {
-        PARAMETERS.with(|p| *p.borrow_mut() = Some(Vec::new()));
+        PARAMETERS.with(|p| *p.borrow_mut() = Some(Reads::default()));
         let reset = Reset;
         let out = f();
-        let list = PARAMETERS
+        let reads = PARAMETERS
             .with(|p| p.borrow_mut().take())
             .unwrap_or_default();
+        conflict = reads.conflict;
         read = with_graph(|g| {
-            list.into_iter()
+            reads
+                .list
+                .into_iter()
                 .map(|(name, s)| match g.nodes[s.node_id() as usize] {
                     Node::Input(i) => (name, s.value(), i, s.node_id()),
                     _ => unreachable!("a parameter is made as an input"),
@@ -572,7 +602,10 @@ pub fn record_with_parameters<O>(
         drop(reset);
         out
     });
-    (graph, out, read)
+    match conflict {
+        Some(c) => Err(c),
+        None => Ok((graph, out, read)),
+    }
 }
 
 /// Runs `f` on the graph being recorded on this thread. Outside [`record`] there is none, and a
