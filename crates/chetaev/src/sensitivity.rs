@@ -445,40 +445,51 @@ impl Variational {
             self.lq[i] = lanes(q[i], |l| rate(l, i));
             self.lqd[i] = lanes(qd[i], |l| rate(l, n + i));
         }
-        let mut again = false;
-        loop {
-            let dp = &self.dp;
-            self.lp.clear();
-            self.lp.extend(
-                self.compiled
+        self.with_recording(model, t, q, qd, |v| {
+            let dp = &v.dp;
+            v.lp.clear();
+            v.lp.extend(
+                v.compiled
                     .parameters()
                     .iter()
                     .enumerate()
                     .map(|(k, p)| lanes(p.1, |l| if l < count { dp[first + l][k] } else { 0.0 })),
             );
-            let result = evaluate_compiled(
-                &self.compiled,
-                &mut self.lanes,
-                &self.lp,
+            evaluate_compiled(
+                &v.compiled,
+                &mut v.lanes,
+                &v.lp,
                 Lanes::from_re(t),
-                &self.lq,
-                &self.lqd,
+                &v.lq,
+                &v.lqd,
             )
-            .map(|_| ());
-            match result {
-                Ok(()) => return Ok(self.lanes.dynamics()),
+            .map(|_| ())
+        })?;
+        Ok(self.lanes.dynamics())
+    }
+
+    /// Runs `eval`, an evaluation of the compiled equations at `(t, q, q̇)`; where a branch of
+    /// the model's code goes the other way than when recorded, records the equations again there
+    /// and runs it once more.
+    fn with_recording<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        mut eval: impl FnMut(&mut Self) -> Result<(), CompiledFailure>,
+    ) -> Result<(), Error> {
+        for again in [false, true] {
+            match eval(self) {
+                Ok(()) => return Ok(()),
                 Err(CompiledFailure::Saddle(e)) => return Err(locate(e, t, q, qd)),
-                Err(CompiledFailure::Guard(_)) if !again => {
-                    self.rerecord(model, t, q, qd)?;
-                    again = true;
-                }
-                Err(CompiledFailure::Guard(_)) => {
-                    return Err(invalid(format!(
-                        "the model's branches at t = {t} are not those of its own recording there"
-                    )))
-                }
+                Err(CompiledFailure::Guard(_)) if !again => self.rerecord(model, t, q, qd)?,
+                Err(CompiledFailure::Guard(_)) => {}
             }
         }
+        Err(invalid(format!(
+            "the model's branches at t = {t} are not those of its own recording there"
+        )))
     }
 
     /// `dS = (S_q̇, ∂F/∂y · S + ∂F/∂p · δp)` for every seed at `(t, q, q̇)`, [`LANES`] seeds per
@@ -533,6 +544,10 @@ impl Variational {
         let n = self.n;
         let k = model.sizes().1;
         let (q, qd) = (&y[..n], &y[n..2 * n]);
+        let h = |re: f64| HyperDual64::new(re, 0.0, 0.0, 0.0);
+        let mut hq: Vec<HyperDual64> = q.iter().map(|&v| h(v)).collect();
+        let mut hqd: Vec<HyperDual64> = qd.iter().map(|&v| h(v)).collect();
+        let mut hp: Vec<HyperDual64> = Vec::new();
         for j in 0..self.seeds.len() {
             let off = 2 * n + 2 * n * j;
             for r in 0..2 * n {
@@ -543,33 +558,27 @@ impl Variational {
             let s = &y[off..off + 2 * n];
             for dir in 0..=2 * n {
                 let seed = |i: usize| if i == dir { 1.0 } else { 0.0 };
-                let hq: Vec<HyperDual64> = (0..n)
-                    .map(|i| HyperDual64::new(q[i], seed(i), s[i], 0.0))
-                    .collect();
-                let hqd: Vec<HyperDual64> = (0..n)
-                    .map(|i| HyperDual64::new(qd[i], seed(n + i), s[n + i], 0.0))
-                    .collect();
-                let hp: Vec<HyperDual64> = self
-                    .compiled
-                    .parameters()
-                    .iter()
-                    .zip(&self.dp[j])
-                    .map(|(p, &r)| HyperDual64::new(p.1, 0.0, r, 0.0))
-                    .collect();
+                for i in 0..n {
+                    hq[i] = HyperDual64::new(q[i], seed(i), s[i], 0.0);
+                    hqd[i] = HyperDual64::new(qd[i], seed(n + i), s[n + i], 0.0);
+                }
                 let ht = HyperDual64::new(t, seed(2 * n), 0.0, 0.0);
-                let ws = self.hyper.get_or_insert_with(|| Workspace::new(n, k));
-                let d =
-                    evaluate_compiled(&self.compiled, ws, &hp, ht, &hq, &hqd).map_err(
-                        |e| match e {
-                            CompiledFailure::Saddle(e) => locate(e, t, q, qd),
-                            CompiledFailure::Guard(_) => invalid(format!(
-                                "a branch of the model's code changed at t = {t} within a step of \
-                             the implicit method; sensitivities across it need an explicit \
-                             method"
-                            )),
-                        },
-                    )?;
-                for (i, a) in d.qdd.iter().enumerate() {
+                self.with_recording(model, t, q, qd, |v| {
+                    // The parameters in the equations' input order (they change where the
+                    // equations are recorded again).
+                    hp.clear();
+                    hp.extend(
+                        v.compiled
+                            .parameters()
+                            .iter()
+                            .zip(&v.dp[j])
+                            .map(|(p, &r)| HyperDual64::new(p.1, 0.0, r, 0.0)),
+                    );
+                    let ws = v.hyper.get_or_insert_with(|| Workspace::new(n, k));
+                    evaluate_compiled(&v.compiled, ws, &hp, ht, &hq, &hqd).map(|_| ())
+                })?;
+                let d = self.hyper.as_ref().map(Workspace::dynamics);
+                for (i, a) in d.iter().flat_map(|d| d.qdd.iter()).enumerate() {
                     if dir < 2 * n {
                         jac[(off + n + i) * dim + dir] = a.eps1eps2;
                     } else {
