@@ -303,19 +303,28 @@ impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
     ) -> Result<(), Error> {
         let n = self.n;
         let (q, qd) = (&y[..n], &y[n..2 * n]);
+        // How the event moves, before anything is recorded: a failure leaves the hits and their
+        // sensitivities aligned.
+        let moved = match &sys.sens {
+            Some(_) => {
+                let e = sys.quadratures();
+                let qdd = sys.evaluate(t, q, qd)?.qdd.clone();
+                let event = &self.options.events[i];
+                Some(
+                    sys.sens
+                        .as_ref()
+                        .and_then(|v| v.at_event(event, t, (q, qd, &qdd), &y[2 * n..e])),
+                )
+            }
+            None => None,
+        };
         self.sol.events.push(EventHit {
             index: i,
             t,
             q: q.to_vec(),
             qd: qd.to_vec(),
         });
-        if let Some(record) = &mut self.sol.sensitivities {
-            let e = sys.quadratures();
-            let qdd = sys.evaluate(t, q, qd)?.qdd.clone();
-            let moved = sys
-                .sens
-                .as_ref()
-                .and_then(|v| v.at_event(&self.options.events[i], t, (q, qd, &qdd), &y[2 * n..e]));
+        if let (Some(record), Some(moved)) = (&mut self.sol.sensitivities, moved) {
             record.events.push(moved);
         }
         Ok(())
