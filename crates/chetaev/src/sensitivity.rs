@@ -162,12 +162,21 @@ impl Sensitivities {
     }
 
     /// `∂q/∂θ` at recorded point `point` for seed `seed`.
+    ///
+    /// # Panics
+    ///
+    /// If `point` is not below the number of recorded points or `seed` not below the number of
+    /// seeds, as slice indexing does.
     pub fn q(&self, point: usize, seed: usize) -> &[f64] {
         let n = self.n;
         &self.values[point][2 * n * seed..2 * n * seed + n]
     }
 
     /// `∂q̇/∂θ` at recorded point `point` for seed `seed`.
+    ///
+    /// # Panics
+    ///
+    /// As [`Sensitivities::q`].
     pub fn qd(&self, point: usize, seed: usize) -> &[f64] {
         let n = self.n;
         &self.values[point][2 * n * seed + n..2 * n * (seed + 1)]
