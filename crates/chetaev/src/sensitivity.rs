@@ -143,7 +143,6 @@ pub struct Sensitivities {
     /// cannot be differentiated: make it with [`Event::smooth`]) or one crossed tangentially
     /// (`ġ = 0`, where `T` is not differentiable).
     pub events: Vec<Option<EventSensitivity>>,
-    n: usize,
 }
 
 impl Sensitivities {
@@ -152,8 +151,12 @@ impl Sensitivities {
             values: Series::new(2 * n * names.len()),
             names,
             events: Vec::new(),
-            n,
         }
+    }
+
+    /// The number of coordinates `n`: each seed takes `2n` of the width.
+    fn n(&self) -> usize {
+        self.values.width() / (2 * self.names.len()).max(1)
     }
 
     /// The index of the seed named `name`.
@@ -168,7 +171,7 @@ impl Sensitivities {
     /// If `point` is not below the number of recorded points or `seed` not below the number of
     /// seeds, as slice indexing does.
     pub fn q(&self, point: usize, seed: usize) -> &[f64] {
-        let n = self.n;
+        let n = self.n();
         &self.values[point][2 * n * seed..2 * n * seed + n]
     }
 
@@ -178,7 +181,7 @@ impl Sensitivities {
     ///
     /// As [`Sensitivities::q`].
     pub fn qd(&self, point: usize, seed: usize) -> &[f64] {
-        let n = self.n;
+        let n = self.n();
         &self.values[point][2 * n * seed + n..2 * n * (seed + 1)]
     }
 }
