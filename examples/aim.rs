@@ -64,8 +64,11 @@ fn range_and_slope(p: &Params) -> Result<(f64, f64), Box<dyn std::error::Error>>
 }
 
 fn run(cli: &Cli, out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
-    if !(cli.target > 0.0 && cli.g > 0.0 && cli.h0 > 0.0 && cli.v0 > 0.0) {
-        return Err("target, g, h0 and the first guess v0 must be positive".into());
+    if ![cli.target, cli.g, cli.h0, cli.v0]
+        .iter()
+        .all(|x| x.is_finite() && *x > 0.0)
+    {
+        return Err("target, g, h0 and the first guess v0 must be positive finite numbers".into());
     }
     let mut p = Params {
         v0: cli.v0,
