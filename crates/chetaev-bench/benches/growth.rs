@@ -41,7 +41,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use chetaev::equations::compiled::Compiled;
-use chetaev::equations::{evaluate_with, Workspace};
+use chetaev::equations::{evaluate_with, Need, Workspace};
 use chetaev::prelude::*;
 use criterion::{BenchmarkGroup, Criterion, SamplingMode};
 
@@ -200,7 +200,7 @@ fn bench_model<M: DynModel + Clone>(
     });
     let mut dual_ws = Workspace::for_model(&model);
     let (dual_one, reference) = best_of(1, || {
-        evaluate_with(&model, None, &mut dual_ws, 0.0, &q, &qd, false)
+        evaluate_with(&model, None, &mut dual_ws, 0.0, &q, &qd, Need::Motion)
             .expect("the dual route solves the block system")
             .0
             .qdd
@@ -228,7 +228,7 @@ fn bench_model<M: DynModel + Clone>(
 
     let mut ws = Workspace::for_model(&model);
     let (graph_one, (qdd, fell_back)) = best_of(3, || {
-        let (d, fell_back) = evaluate_with(&model, Some(plan), &mut ws, 0.0, &q, &qd, false)
+        let (d, fell_back) = evaluate_with(&model, Some(plan), &mut ws, 0.0, &q, &qd, Need::Motion)
             .expect("the graph route solves the block system");
         (d.qdd.clone(), fell_back)
     });
@@ -253,7 +253,7 @@ fn bench_model<M: DynModel + Clone>(
                 0.0,
                 black_box(&q),
                 black_box(&qd),
-                false,
+                Need::Motion,
             )
             .map(|(d, _)| d.qdd[0])
         })
@@ -269,7 +269,7 @@ fn bench_model<M: DynModel + Clone>(
                     0.0,
                     black_box(&q),
                     black_box(&qd),
-                    false,
+                    Need::Motion,
                 )
                 .map(|(d, _)| d.qdd[0])
             })

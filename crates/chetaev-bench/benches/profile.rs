@@ -14,7 +14,9 @@ use std::time::Duration;
 use chetaev::equations::derivatives::{
     constraint_derivatives, lagrangian_derivatives, velocity_hessian,
 };
-use chetaev::equations::{evaluate, evaluate_with, saddle, saddle::SaddleWorkspace, Workspace};
+use chetaev::equations::{
+    evaluate, evaluate_with, saddle, saddle::SaddleWorkspace, Need, Workspace,
+};
 use chetaev::integrate::system::OdeSystem;
 use chetaev::prelude::*;
 use chetaev_bench::handwritten::{Full, Reduced};
@@ -58,9 +60,16 @@ fn profile(c: &mut Criterion) {
         b.iter(|| uniform_problem(black_box(&p)).map(|pr| pr.compiled().is_some()))
     });
     let compiled = problem.compiled();
-    for (name, full) in [
-        ("compiled dynamics (right-hand side)", false),
-        ("compiled dynamics (with the energy balance)", true),
+    for (name, need) in [
+        ("compiled dynamics (right-hand side)", Need::Motion),
+        (
+            "compiled dynamics (with the rates of the energy balance)",
+            Need::Rates,
+        ),
+        (
+            "compiled dynamics (everything, as at an output point)",
+            Need::All,
+        ),
     ] {
         let mut workspace = Workspace::for_model(&fixed);
         g.bench_function(name, |b| {
@@ -72,7 +81,7 @@ fn profile(c: &mut Criterion) {
                     t,
                     black_box(q.as_slice()),
                     black_box(qd.as_slice()),
-                    full,
+                    need,
                 )
                 .map(|(d, _)| d.qdd[0])
             })

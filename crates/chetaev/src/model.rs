@@ -23,7 +23,7 @@ use crate::equations::compiled::Compiled;
 use crate::equations::derivatives::{self, ConstraintBlocks, Holonomic, LagrangianBlocks};
 use crate::equations::graph::Sym;
 use crate::equations::saddle::SaddleFailure;
-use crate::equations::Workspace;
+use crate::equations::{Need, Workspace};
 
 /// A scalar the library can differentiate: `f64`, or any (nested) num-dual number over `f64`.
 ///
@@ -354,7 +354,7 @@ pub trait Model {
     /// The reduced equations by a route of the flavour's own that uses the structure found in
     /// `plan` (the model's compiled equations), or `None` to evaluate the compiled tape. A static
     /// model keeps its fixed-size dual passes and skips the blocks the plan proves zero or
-    /// constant; `full = false` may leave out the energy `E`.
+    /// constant, and what `need` leaves out.
     #[inline]
     fn evaluate_planned<T: Real>(
         &self,
@@ -363,9 +363,9 @@ pub trait Model {
         t: T,
         q: &[T],
         qd: &[T],
-        full: bool,
+        need: Need,
     ) -> Option<Result<(), SaddleFailure>> {
-        let _ = (plan, ws, t, q, qd, full);
+        let _ = (plan, ws, t, q, qd, need);
         None
     }
 }
@@ -452,10 +452,10 @@ where
             // The holonomic rows have sizes known only at run time.
             return crate::equations::evaluate_blocks(self, ws, t, q, qd);
         }
-        crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, None, ws, t, q, qd, true)
+        crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, None, ws, t, q, qd, Need::All)
     }
 
-    #[inline(never)]
+    #[inline]
     fn evaluate_planned<T: Real>(
         &self,
         plan: &Compiled,
@@ -463,12 +463,12 @@ where
         t: T,
         q: &[T],
         qd: &[T],
-        full: bool,
+        need: Need,
     ) -> Option<Result<(), SaddleFailure>> {
         // The fixed-size passes skip what the recorded structure proves, but they do not re-check
         // the recorded branches: a model with guards takes the compiled tape, which does.
         (self.0.holonomic_count() == 0 && plan.guards() == 0).then(|| {
-            crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, t, q, qd, full)
+            crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, t, q, qd, need)
         })
     }
 

@@ -5,7 +5,7 @@ use std::sync::{Arc, OnceLock};
 use nalgebra::SVector;
 
 use crate::equations::compiled::Compiled;
-use crate::equations::{evaluate, evaluate_with, Workspace};
+use crate::equations::{evaluate, evaluate_with, Need, Workspace};
 use crate::error::Error;
 use crate::integrate::projection::{
     constraint_scale, project_positions, project_velocity, Projection,
@@ -234,7 +234,7 @@ impl<M: Model> Problem<M> {
     ) -> Result<crate::equations::Dynamics<f64>, Error> {
         check_state(&self.model, t, q, qd)?;
         let mut ws = Workspace::for_model(&self.model);
-        let (d, _) = evaluate_with(&self.model, self.compiled(), &mut ws, t, q, qd, true)
+        let (d, _) = evaluate_with(&self.model, self.compiled(), &mut ws, t, q, qd, Need::All)
             .map_err(|e| locate(e, t, q, qd))?;
         Ok(d.clone())
     }
@@ -332,7 +332,7 @@ impl<M: Model> Problem<M> {
         let large = q0.len() > DUAL_CHECK_MAX_N;
         let plan = if large { self.compiled() } else { None };
         let mut ws = Workspace::for_model(&self.model);
-        let (d, _) = evaluate_with(&self.model, plan, &mut ws, t0, q0, qd0, true)
+        let (d, _) = evaluate_with(&self.model, plan, &mut ws, t0, q0, qd0, Need::All)
             .map_err(|e| locate(e, t0, q0, qd0))?;
         if d.f.iter().any(|f| !f.is_finite()) || !d.energy.is_finite() || !d.l.is_finite() {
             return Err(Error::NonFiniteEvaluation {
@@ -383,7 +383,8 @@ fn compile<M: Model>(model: &M, t0: f64, q0: &[f64], qd0: &[f64]) -> Option<Comp
         let mut own = crate::model::Functions::<f64>::new(n, k - kh, kh);
         model.functions(t0, q0, qd0, &mut own);
         let mut ws = Workspace::for_model(model);
-        let (fast, _) = evaluate_with(model, Some(&compiled), &mut ws, t0, q0, qd0, true).ok()?;
+        let (fast, _) =
+            evaluate_with(model, Some(&compiled), &mut ws, t0, q0, qd0, Need::All).ok()?;
         let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1.0);
         let agree = same(own.l, fast.l) && own.f.iter().zip(&fast.f).all(|(&a, &b)| same(a, b));
         return agree.then_some(compiled);
@@ -391,7 +392,7 @@ fn compile<M: Model>(model: &M, t0: f64, q0: &[f64], qd0: &[f64]) -> Option<Comp
     let mut ws = Workspace::for_model(model);
     let reference = evaluate(model, &mut ws, t0, q0, qd0).ok()?.clone();
     let mut ws = Workspace::for_model(model);
-    let (fast, _) = evaluate_with(model, Some(&compiled), &mut ws, t0, q0, qd0, true).ok()?;
+    let (fast, _) = evaluate_with(model, Some(&compiled), &mut ws, t0, q0, qd0, Need::All).ok()?;
     let close = |a: &[f64], b: &[f64]| {
         let scale = a.iter().fold(1.0f64, |m, v| m.max(v.abs()));
         a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-9 * scale)

@@ -46,6 +46,25 @@ pub(crate) fn lane(x: &Lanes, l: usize) -> f64 {
     x.eps.unwrap_generic(nalgebra::Const::<LANES>, nalgebra::U1)[l]
 }
 
+/// What an evaluation of the reduced equations must produce, so that a caller pays only for what
+/// it reads: the right-hand side of a run without the energy balance needs `q̈` alone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Need {
+    /// `q̈`, `μ`, `J` and the conditioning: the right-hand side of the motion.
+    Motion,
+    /// And the rates of the energy balance, `q̇·Φ` (with `Φ`), `∂L/∂t` and `q̇·Q`.
+    Rates,
+    /// Everything in [`Dynamics`], with `L`, `E`, `f` and `Q`: what is recorded at output points.
+    All,
+}
+
+impl Need {
+    /// Whether the rates of the energy balance are needed.
+    pub fn rates(self) -> bool {
+        self != Need::Motion
+    }
+}
+
 /// Everything known at one point `(t, q, q̇)` after the multipliers are eliminated.
 #[derive(Clone, Debug)]
 pub struct Dynamics<T> {
@@ -165,9 +184,9 @@ where
 
 /// [`evaluate`] by the compiled equations of the model when there are some ([`Compiled`]), and by
 /// the dual-number blocks otherwise or where a guard of the compiled equations flips (a branch of
-/// the model's code taken the other way). With `full = false` the energy `E` and the forces `Q`
-/// may be left out (the right-hand side needs only the powers `q̇·Φ`, `q̇·Q` and `∂L/∂t`). Returns the dynamics and whether the dual-number path was taken
-/// in place of compiled equations.
+/// the model's code taken the other way). Only what `need` asks for is sure to be written (a route
+/// may write more); the rest of [`Dynamics`] may hold an earlier evaluation's values. Returns the
+/// dynamics and whether the dual-number path was taken in place of compiled equations.
 #[inline]
 #[allow(clippy::too_many_arguments)]
 pub fn evaluate_with<'w, M, T>(
@@ -177,7 +196,7 @@ pub fn evaluate_with<'w, M, T>(
     t: T,
     q: &[T],
     qd: &[T],
-    full: bool,
+    need: Need,
 ) -> Result<(&'w Dynamics<T>, bool), SaddleFailure>
 where
     M: Model + ?Sized,
@@ -186,11 +205,11 @@ where
     let Some(c) = compiled else {
         return evaluate(model, ws, t, q, qd).map(|d| (d, false));
     };
-    if let Some(result) = model.evaluate_planned(c, ws, t, q, qd, full) {
+    if let Some(result) = model.evaluate_planned(c, ws, t, q, qd, need) {
         return result.map(|()| (&ws.dynamics, false));
     }
     let cws = ws.compiled.get_or_insert_with(|| CompiledWorkspace::new(c));
-    match c.evaluate(cws, &mut ws.dynamics, t, q, qd, full) {
+    match c.evaluate(cws, &mut ws.dynamics, t, q, qd, need == Need::All) {
         Ok(()) => Ok((&ws.dynamics, false)),
         Err(CompiledFailure::Saddle(e)) => Err(e),
         Err(CompiledFailure::Guard(_)) => evaluate(model, ws, t, q, qd).map(|d| (d, true)),
@@ -302,8 +321,9 @@ where
 /// With the model's compiled equations (`plan`), only what their structure needs is evaluated: a
 /// constant `W` is never differentiated again (its factor is the plan's), a constant `r` needs no
 /// pass over `L` at all, `g`, `c` and `Q` are skipped where they are zero, and the block system is
-/// solved by the Schur complement. With `full = false` the energy `E` (which needs `p = ∂L/∂q̇`)
-/// is left out. Without a plan every block is evaluated.
+/// solved by the Schur complement. What `need` leaves out is not evaluated: `L`, `E` (which needs
+/// `p = ∂L/∂q̇`) and `Q` outside [`Need::All`], `Φ` and the rates of the energy balance under
+/// [`Need::Motion`]. Without a plan every block is evaluated.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn evaluate_fixed<M, T, const N: usize, const K: usize>(
@@ -313,7 +333,7 @@ pub(crate) fn evaluate_fixed<M, T, const N: usize, const K: usize>(
     t: T,
     q: &[T],
     qd: &[T],
-    full: bool,
+    need: Need,
 ) -> Result<(), SaddleFailure>
 where
     M: crate::model::Lagrangian<N> + crate::model::Constraints<N, K> + ?Sized,
@@ -322,11 +342,13 @@ where
     use compiled::{cholesky, cholesky_solve, Metric};
     use derivatives::fixed as fx;
     use nalgebra::{SMatrix, SVector};
-    let q = SVector::<T, N>::from_column_slice(q);
-    let qd = SVector::<T, N>::from_column_slice(qd);
+    // Element by element rather than `from_column_slice`, which calls `memcpy` for a few words.
+    let q = SVector::<T, N>::from_fn(|i, _| q[i]);
+    let qd = SVector::<T, N>::from_fn(|i, _| qd[i]);
     let s = plan.map(|p| p.structure());
     let zero = |b: fn(&structure::Structure) -> bool| s.is_some_and(b);
     let known_w = plan.and_then(|p| p.constant_factor());
+    let (full, rates) = (need == Need::All, need.rates());
 
     // L, p = ∂L/∂q̇ (for E) and W.
     let (l, p, w) = match known_w {
@@ -334,14 +356,15 @@ where
             let (l, p) = fx::momentum(model, t, &q, &qd);
             (l, Some(p), None)
         }
-        Some(_) => (model.lagrangian(t, &q, &qd), None, None),
+        // The right-hand side needs neither L nor E.
+        Some(_) => (T::zero(), None, None),
         None => {
             let (l, p, w) = fx::velocity_hessian(model, t, &q, &qd);
             (l, Some(p), Some(w))
         }
     };
-    // r = ∂L/∂q − g + Q, and ∂L/∂t and Q for the energy balance.
-    let quiet = zero(|s| s.dl_dt.zero) && zero(|s| s.forces.zero);
+    // r = ∂L/∂q − g + Q, and ∂L/∂t and Q for the energy balance (when they are needed).
+    let quiet = !rates || (zero(|s| s.dl_dt.zero) && zero(|s| s.forces.zero));
     let (r, dl_dt, forces) = match plan.and_then(|p| p.r_constant()) {
         Some(rc) if quiet => (
             SVector::<T, N>::from_fn(|i, _| T::from(rc[i])),
@@ -353,7 +376,7 @@ where
                 Some(c) => SVector::<T, N>::from_fn(|i, _| T::from(c[i])),
                 None => fx::position_gradient(model, t, &q, &qd),
             };
-            let (g, dl_dt) = if zero(|s| s.g.zero) && zero(|s| s.dl_dt.zero) {
+            let (g, dl_dt) = if zero(|s| s.g.zero) && (!rates || zero(|s| s.dl_dt.zero)) {
                 (SVector::<T, N>::zeros(), T::zero())
             } else {
                 let (g, dl_dir) = fx::along_motion(model, t, &q, &qd);
@@ -486,25 +509,27 @@ where
     };
     put(&mut d.qdd[..N], qdd.as_slice());
     put(&mut d.mu[..K], mu.as_slice());
-    let phi = j.tr_mul(&mu);
-    put(&mut d.phi[..N], phi.as_slice());
     put(&mut d.f[..K], f.as_slice());
     d.l = l;
-    if let Some(p) = p.filter(|_| full) {
-        d.energy = qd.dot(&p) - l;
-    }
-    d.dl_dt = dl_dt;
-    d.power = qd.dot(&phi);
-    match forces {
-        Some(f) => {
-            put(&mut d.forces[..N], f.as_slice());
-            d.power_forces = qd.dot(&f);
+    if rates {
+        let phi = j.tr_mul(&mu);
+        put(&mut d.phi[..N], phi.as_slice());
+        if let Some(p) = p.filter(|_| full) {
+            d.energy = qd.dot(&p) - l;
         }
-        None => {
-            if full {
-                d.forces[..N].iter_mut().for_each(|v| *v = T::zero());
+        d.dl_dt = dl_dt;
+        d.power = qd.dot(&phi);
+        match forces {
+            Some(f) => {
+                put(&mut d.forces[..N], f.as_slice());
+                d.power_forces = qd.dot(&f);
             }
-            d.power_forces = T::zero();
+            None => {
+                if full {
+                    d.forces[..N].iter_mut().for_each(|v| *v = T::zero());
+                }
+                d.power_forces = T::zero();
+            }
         }
     }
     d.pivot_ratio = pivot_ratio;

@@ -8,7 +8,7 @@
 use num_dual::Dual64;
 
 use crate::equations::compiled::Compiled;
-use crate::equations::{evaluate_with, saddle::SaddleFailure, Dynamics, Workspace};
+use crate::equations::{evaluate_with, saddle::SaddleFailure, Dynamics, Need, Workspace};
 use crate::error::Error;
 use crate::model::Model;
 use crate::sensitivity::Variational;
@@ -81,6 +81,7 @@ impl Stats {
 }
 
 /// Adds `t` and the state to a failure of the block solve. Constraints are numbered from 1.
+#[cold]
 pub(crate) fn locate(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
     let (q, qd) = (q.to_vec(), qd.to_vec());
     match e {
@@ -202,13 +203,19 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
                 culprit = Some((Some(a + 1), r, self.previous_t + s * (t - self.previous_t)));
                 break;
             }
-            if let Some(r) = off(cc.sqrt(), then).filter(|_| cc * tol * tol > then * then) {
-                culprit = Some((Some(a + 1), r, t));
-                break;
+            // |J_a| > then / tol, compared squared: the root only for the report.
+            if cc * tol * tol > then * then {
+                if let Some(r) = off(cc.sqrt(), then) {
+                    culprit = Some((Some(a + 1), r, t));
+                    break;
+                }
             }
         }
         let culprit = culprit.or_else(|| off(d.w_scale, *w0).map(|r| (None, r, t)));
-        self.previous_j.clone_from(&d.j);
+        // Element by element: `clone_from` calls `memcpy`, which costs more for a few words.
+        for (dst, &v) in self.previous_j.iter_mut().zip(&d.j) {
+            *dst = v;
+        }
         self.previous_t = t;
         match culprit {
             None => Ok(()),
@@ -287,6 +294,16 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         self.energy
     }
 
+    /// What the right-hand side needs of an evaluation: the rates of the energy balance only when
+    /// the state carries its quadratures.
+    fn need(&self) -> Need {
+        if self.energy {
+            Need::Rates
+        } else {
+            Need::Motion
+        }
+    }
+
     /// The number of coordinates `n`.
     pub fn n(&self) -> usize {
         self.n
@@ -295,8 +312,9 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     /// The full dynamics at a state, for output (counted as an output evaluation).
     pub fn evaluate(&mut self, t: f64, q: &[f64], qd: &[f64]) -> Result<&Dynamics<f64>, Error> {
         self.stats.output_evaluations += 1;
-        let (d, fell_back) = evaluate_with(self.model, self.compiled, &mut self.ws, t, q, qd, true)
-            .map_err(|e| locate(e, t, q, qd))?;
+        let (d, fell_back) =
+            evaluate_with(self.model, self.compiled, &mut self.ws, t, q, qd, Need::All)
+                .map_err(|e| locate(e, t, q, qd))?;
         self.stats.graph_fallbacks += usize::from(fell_back);
         Ok(d)
     }
@@ -333,14 +351,19 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         self.stats.rhs_evaluations += 1;
         let (n, e) = (self.n, self.quadratures());
         let (q, qd) = (&y[..n], &y[n..2 * n]);
-        // The right-hand side needs q̈ and the rates of the quadratures (q̇·Φ, ∂L/∂t, q̇·Q), never E.
-        let (d, fell_back) =
-            evaluate_with(self.model, self.compiled, &mut self.ws, t, q, qd, false)
-                .map_err(|e| locate(e, t, q, qd))?;
+        // The right-hand side needs q̈, and the rates of the quadratures (q̇·Φ, ∂L/∂t, q̇·Q) only
+        // when they are recorded; never E.
+        let need = self.need();
+        let (d, fell_back) = evaluate_with(self.model, self.compiled, &mut self.ws, t, q, qd, need)
+            .map_err(|e| locate(e, t, q, qd))?;
         self.stats.graph_fallbacks += usize::from(fell_back);
         self.last_t = t;
-        dy[..n].copy_from_slice(qd);
-        dy[n..2 * n].copy_from_slice(&d.qdd);
+        // Element by element: `copy_from_slice` calls `memcpy`, which costs more for a few words.
+        let (dq, dqd) = dy[..2 * n].split_at_mut(n);
+        for (((dq, dqd), &v), &a) in dq.iter_mut().zip(dqd).zip(qd).zip(&d.qdd) {
+            *dq = v;
+            *dqd = a;
+        }
         if self.energy {
             dy[e] = d.power;
             dy[e + 1] = d.dl_dt;
@@ -371,7 +394,7 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
             jac.fill(0.0);
             dfdt.fill(0.0);
         }
-        let model = self.model;
+        let (model, need) = (self.model, self.need());
         let ws = self
             .jac_ws
             .get_or_insert_with(|| Workspace::for_model(model));
@@ -385,7 +408,7 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 qd[i] = Dual64::new(y[n + i], seed(n + i));
             }
             let td = Dual64::new(t, seed(2 * n));
-            let (d, fell_back) = evaluate_with(model, self.compiled, ws, td, &q, &qd, false)
+            let (d, fell_back) = evaluate_with(model, self.compiled, ws, td, &q, &qd, need)
                 .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
             self.stats.graph_fallbacks += usize::from(fell_back);
             let mut put = |row: usize, v: f64| {
