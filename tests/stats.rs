@@ -53,9 +53,10 @@ fn problem_on(route: Route) -> Problem<Fixed<Counting, 2, 1>> {
 fn rhs_and_output_evaluations_match_model_calls() {
     // (route, passes over L per right-hand side, per output evaluation, passes over f per either)
     let routes = [(Route::Graph, 0, 1, 1), (Route::Dual, 3, 3, 2)];
-    for (record, (route, l_rhs, l_output, f_passes)) in [Record::State, Record::Dynamics, Record::Energy]
-        .into_iter()
-        .flat_map(|r| routes.map(|route| (r, route)))
+    for (record, (route, l_rhs, l_output, f_passes)) in
+        [Record::State, Record::Dynamics, Record::Energy]
+            .into_iter()
+            .flat_map(|r| routes.map(|route| (r, route)))
     {
         let p = problem_on(route);
         let sol = solve(
