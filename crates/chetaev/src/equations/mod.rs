@@ -354,13 +354,13 @@ where
     let (l, p, w) = match known_w {
         Some(_) if full => {
             let (l, p) = fx::momentum(model, t, &q, &qd);
-            (l, Some(p), None)
+            (Some(l), Some(p), None)
         }
-        // The right-hand side needs neither L nor E.
-        Some(_) => (T::zero(), None, None),
+        // The right-hand side needs neither L nor E: `d.l` keeps its last value.
+        Some(_) => (None, None, None),
         None => {
             let (l, p, w) = fx::velocity_hessian(model, t, &q, &qd);
-            (l, Some(p), Some(w))
+            (Some(l), Some(p), Some(w))
         }
     };
     // r = ∂L/∂q − g + Q, and ∂L/∂t and Q for the energy balance (when they are needed).
@@ -410,7 +410,7 @@ where
         };
         (f, j, c)
     };
-    if !l.re().is_finite() || f.iter().any(|f| !f.re().is_finite()) {
+    if l.is_some_and(|l| !l.re().is_finite()) || f.iter().any(|f| !f.re().is_finite()) {
         return Err(SaddleFailure::NonFinite);
     }
     for a in 0..K {
@@ -510,11 +510,13 @@ where
     put(&mut d.qdd[..N], qdd.as_slice());
     put(&mut d.mu[..K], mu.as_slice());
     put(&mut d.f[..K], f.as_slice());
-    d.l = l;
+    if let Some(l) = l {
+        d.l = l;
+    }
     if rates {
         let phi = j.tr_mul(&mu);
         put(&mut d.phi[..N], phi.as_slice());
-        if let Some(p) = p.filter(|_| full) {
+        if let (Some(p), Some(l), true) = (p, l, full) {
             d.energy = qd.dot(&p) - l;
         }
         d.dl_dt = dl_dt;
