@@ -467,8 +467,15 @@ where
     ) -> Option<Result<(), SaddleFailure>> {
         // The fixed-size passes skip what the recorded structure proves, but they do not re-check
         // the recorded branches: a model with guards takes the compiled tape, which does.
+        // A constant metric leaves a short body, inlined into the caller; the longer one of a
+        // metric that varies is called, which keeps the caller's loop lean.
         (self.0.holonomic_count() == 0 && plan.guards() == 0).then(|| {
-            crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, t, q, qd, need)
+            let m = &self.0;
+            if plan.constant_factor().is_some() {
+                crate::equations::evaluate_fixed::<M, T, N, K>(m, Some(plan), ws, t, q, qd, need)
+            } else {
+                crate::equations::evaluate_fixed_outlined::<M, T, N, K>(m, plan, ws, t, q, qd, need)
+            }
         })
     }
 

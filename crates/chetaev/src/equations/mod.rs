@@ -314,6 +314,26 @@ where
     Ok(())
 }
 
+/// [`evaluate_fixed`] with a plan, called rather than inlined: for a metric `W` that varies the body
+/// is long, and inlined into the integrator's right-hand side it slows the loop around it.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn evaluate_fixed_outlined<M, T, const N: usize, const K: usize>(
+    model: &M,
+    plan: &Compiled,
+    ws: &mut Workspace<T>,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    need: Need,
+) -> Result<(), SaddleFailure>
+where
+    M: crate::model::Lagrangian<N> + crate::model::Constraints<N, K> + ?Sized,
+    T: Real,
+{
+    evaluate_fixed::<M, T, N, K>(model, Some(plan), ws, t, q, qd, need)
+}
+
 /// [`evaluate`] for a static model: the same equations and the same block solve, with every block
 /// a fixed-size `SVector`/`SMatrix` on the stack, so the sizes are known to the compiler
 /// throughout.
