@@ -41,7 +41,8 @@ pub enum Error {
 
     /// No method has this name.
     #[error(
-        "unknown method {name:?}: choose one of dopri5, dop853, tsit5, rk4 (with its step), rodas4"
+        "unknown method {name:?}: choose one of dopri5, dop853, tsit5, rk4 (with its step), rodas4, \
+         rodas5p"
     )]
     UnknownMethod {
         /// The name given.

@@ -12,7 +12,7 @@
 //! | problem | [`Problem`] | the model with a consistent initial state, validated; [`Problem::new`] or [`Problem::dynamic`], one type |
 //! | derivatives | [`equations::derivatives`] | `∂L/∂q`, `W = ∂²L/∂q̇²`, `(∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t`, `J = ∂f/∂q̇`, `(∂f/∂q) q̇ + ∂f/∂t` by num-dual, in the way that suits the model's flavour |
 //! | block solve | [`equations::saddle`] | `[W −Jᵀ; J 0][q̈; μ] = [∂L/∂q − g; −c]`, complete pivoting, conditioning reported; one engine for every model ([`equations::evaluate`]) |
-//! | method | [`integrate`] | [`Dopri5`](integrate::Dopri5), [`Dop853`](integrate::Dop853), [`Tsit5`](integrate::Tsit5), [`Rk4`](integrate::Rk4), [`Rodas4`](integrate::Rodas4): a recipe of facts ([`MethodInfo`](integrate::MethodInfo)), a trial step, its error, dense output |
+//! | method | [`integrate`] | [`Dopri5`](integrate::Dopri5), [`Dop853`](integrate::Dop853), [`Tsit5`](integrate::Tsit5), [`Rk4`](integrate::Rk4), [`Rodas4`](integrate::Rodas4), [`Rodas5P`](integrate::Rodas5P): a recipe of facts ([`MethodInfo`](integrate::MethodInfo)), a trial step, its error, dense output |
 //! | driver | [`solve`] | step control, output, events, projection, statistics |
 //! | solution | [`Solution`] | `t, q, q̇, q̈, μ, Φ, f, E, W_Φ`, events, [`Stats`](integrate::system::Stats), [`Status`] |
 //!
@@ -86,7 +86,9 @@ pub mod prelude {
     pub use crate::integrate::events::{Direction, Event, EventFunction};
     pub use crate::integrate::options::{Atol, Options, Output, Record};
     pub use crate::integrate::projection::Projection;
-    pub use crate::integrate::{AnyMethod, Controller, Dop853, Dopri5, Method, Rk4, Rodas4, Tsit5};
+    pub use crate::integrate::{
+        AnyMethod, Controller, Dop853, Dopri5, Method, Rk4, Rodas4, Rodas5P, Tsit5,
+    };
     pub use crate::model::{Constraints, DynModel, Lagrangian, Model, Real, Unconstrained};
     pub use crate::solution::Series;
     pub use crate::{solve, Error, Problem, Route, Seed, Solution, Status};

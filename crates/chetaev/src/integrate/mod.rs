@@ -1,6 +1,6 @@
 //! Integration: the methods, and the driver that owns step control, output, events and projection.
 //!
-//! A method ([`Dopri5`], [`Dop853`], [`Tsit5`], [`Rk4`], [`Rodas4`]) is a small value holding only
+//! A method ([`Dopri5`], [`Dop853`], [`Tsit5`], [`Rk4`], [`Rodas4`], [`Rodas5P`]) is a small value holding only
 //! its own options, and a recipe: its facts in one place ([`MethodInfo`]: orders, stability size,
 //! whether it needs a Jacobian, its step-size [`Controller`], the advice when it fails) and a
 //! [`Stepper`] that takes one trial step on an [`OdeSystem`], estimates its error and interpolates
@@ -16,6 +16,8 @@ pub mod options;
 pub mod projection;
 pub mod rk4;
 pub mod rodas4;
+pub mod rodas5p;
+pub mod rosenbrock;
 pub mod system;
 pub mod tsit5;
 
@@ -28,6 +30,7 @@ pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use rk4::Rk4;
 pub use rodas4::Rodas4;
+pub use rodas5p::Rodas5P;
 pub use tsit5::Tsit5;
 
 use crate::error::Error;
@@ -278,6 +281,8 @@ pub enum AnyMethod {
     Rk4(Rk4),
     /// [`Rodas4`].
     Rodas4(Rodas4),
+    /// [`Rodas5P`].
+    Rodas5P(Rodas5P),
 }
 
 impl AnyMethod {
@@ -290,10 +295,11 @@ impl AnyMethod {
             AnyMethod::Tsit5(Tsit5),
             AnyMethod::Rk4(Rk4::new(rk4_step)),
             AnyMethod::Rodas4(Rodas4),
+            AnyMethod::Rodas5P(Rodas5P),
         ]
     }
 
-    /// The method of this name (case-insensitive: `dopri5`, `dop853`, `tsit5`, `rodas4`; `rk4`
+    /// The method of this name (case-insensitive: `dopri5`, `dop853`, `tsit5`, `rodas4`, `rodas5p`; `rk4`
     /// takes its step `rk4_step`), with default options.
     pub fn from_name(name: &str, rk4_step: Option<f64>) -> Result<AnyMethod, Error> {
         Ok(match name.to_ascii_lowercase().as_str() {
@@ -301,6 +307,7 @@ impl AnyMethod {
             "dop853" => AnyMethod::Dop853(Dop853::default()),
             "tsit5" => AnyMethod::Tsit5(Tsit5),
             "rodas4" => AnyMethod::Rodas4(Rodas4),
+            "rodas5p" => AnyMethod::Rodas5P(Rodas5P),
             "rk4" => match rk4_step {
                 Some(h) => AnyMethod::Rk4(Rk4::new(h)),
                 None => {
@@ -330,6 +337,7 @@ macro_rules! each_method {
             $enum::Tsit5($m) => $body,
             $enum::Rk4($m) => $body,
             $enum::Rodas4($m) => $body,
+            $enum::Rodas5P($m) => $body,
         }
     };
 }
@@ -346,6 +354,7 @@ impl Method for AnyMethod {
             AnyMethod::Tsit5(m) => AnyStepper::Tsit5(m.stepper(dim)),
             AnyMethod::Rk4(m) => AnyStepper::Rk4(m.stepper(dim)),
             AnyMethod::Rodas4(m) => AnyStepper::Rodas4(m.stepper(dim)),
+            AnyMethod::Rodas5P(m) => AnyStepper::Rodas5P(m.stepper(dim)),
         }
     }
     fn validate(&self) -> Result<(), Error> {
@@ -368,6 +377,8 @@ pub enum AnyStepper {
     Rk4(rk4::Rk4Stepper),
     /// [`Rodas4`]'s.
     Rodas4(rodas4::Rodas4Stepper),
+    /// [`Rodas5P`]'s.
+    Rodas5P(rodas5p::Rodas5PStepper),
 }
 
 impl Stepper for AnyStepper {

@@ -1,0 +1,283 @@
+//! The stepper shared by the stiffly accurate Rosenbrock methods of the RODAS family ([`Rodas4`],
+//! [`Rodas5P`]): each of them is a [`Tableau`] and a `MethodInfo`, and steps with
+//! [`RosenbrockStepper`].
+//!
+//! Method: E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II*, 2nd ed., Springer
+//! 1996, Section IV.7 (the implementation in the variables `u_i`, which avoids a matrix-vector
+//! product per stage) and Section VI.4 (the stiffly accurate code RODAS). With `E = I/(hγ) − J`,
+//! `J = ∂F/∂y (t, y)` and `F_t = ∂F/∂t (t, y)`, both evaluated once at the start of the step, the
+//! `s` stages are
+//!
+//! ```text
+//! E u_i = F(t + c_i h, Y_i) + h d_i F_t + Σ_{j<i} (c_ij / h) u_j,   i = 1..s,
+//! ```
+//!
+//! with `Y_1 = y`, `Y_i = y + Σ_{j<i} a_ij u_j` for the first `m` stages (their rows of `a`), and
+//! `Y_i = Y_{i−1} + u_{i−1}` for the others, which all sit at `c_i = 1` with `d_i = 0`. The step is
+//! `y_1 = Y_s + u_s`; `Y_s` is the embedded solution, so `u_s` is the error estimate. The dense
+//! output, with `D` rows `h_r` of dense coefficients, is
+//!
+//! ```text
+//! y(t + θh) = (1 − θ) y + θ (y_1 + (1 − θ)(w_1 + θ (w_2 + … + θ w_D))),   w_r = Σ_j h_rj u_j.
+//! ```
+//!
+//! One step costs one Jacobian (reused when a rejected step is retried from the same point, as in
+//! RODAS), one LU decomposition of `E` with partial pivoting, `s` right-hand sides (`s − 1` when
+//! the Jacobian is reused) and `s` triangular solves.
+//!
+//! [`Rodas4`]: super::Rodas4
+//! [`Rodas5P`]: super::Rodas5P
+
+use nalgebra::{DMatrix, DVectorViewMut, Dyn, LU};
+
+use super::system::OdeSystem;
+use super::{Step, Stepper, Trial};
+use crate::error::Error;
+
+/// The coefficients of an `S`-stage method of the family, with `D` rows of dense output; see the
+/// module docs. Rows and columns are stages, counted from 0; entries on and above the diagonal of
+/// `a` and `coupling`, and the rows of `a` from `m` on, are not read.
+#[derive(Debug)]
+pub struct Tableau<const S: usize, const D: usize> {
+    /// `γ`, the diagonal of the method.
+    pub gamma: f64,
+    /// `m`: the stages whose arguments come from their row of `a` (stage 0 included).
+    pub m: usize,
+    /// The nodes `c_i`.
+    pub c: [f64; S],
+    /// The coefficients `d_i` of `h F_t` (`γ_i = Σ_j γ_ij`).
+    pub d: [f64; S],
+    /// The stage arguments `a_ij`, `j < i < m`.
+    pub a: [[f64; S]; S],
+    /// The couplings `c_ij` of the stage increments, `j < i`.
+    pub coupling: [[f64; S]; S],
+    /// The dense-output rows `h_rj`.
+    pub dense: [[f64; S]; D],
+}
+
+/// The working state of a RODAS-type method.
+#[derive(Clone, Debug)]
+pub struct RosenbrockStepper<const S: usize, const D: usize> {
+    tableau: &'static Tableau<S, D>,
+    /// `∂F/∂y`, row-major.
+    jac: Vec<f64>,
+    /// `∂F/∂t`.
+    dfdt: Vec<f64>,
+    /// `F(t, y)` at the point of the Jacobian.
+    f0: Vec<f64>,
+    /// The point `(t, y)` of `jac`, `dfdt` and `f0`, valid when `jac_valid`.
+    jac_t: f64,
+    jac_y: Vec<f64>,
+    jac_valid: bool,
+    /// The LU factors of `I/(hγ) − J` (`None` only while they are being recomputed).
+    lu: Option<LU<f64, Dyn, Dyn>>,
+    /// The stage increments `u_i`.
+    k: [Vec<f64>; S],
+    ytmp: Vec<f64>,
+    dy: Vec<f64>,
+    /// Dense output of the last accepted step: `y`, `y_1` and the rows `w_r`.
+    y0: Vec<f64>,
+    y1: Vec<f64>,
+    w: [Vec<f64>; D],
+    dense: bool,
+}
+
+impl<const S: usize, const D: usize> RosenbrockStepper<S, D> {
+    /// The stepper of `tableau` for states of dimension `dim`.
+    pub(crate) fn new(tableau: &'static Tableau<S, D>, dim: usize) -> Self {
+        Self {
+            tableau,
+            jac: vec![0.0; dim * dim],
+            dfdt: vec![0.0; dim],
+            f0: vec![0.0; dim],
+            jac_t: f64::NAN,
+            jac_y: vec![0.0; dim],
+            jac_valid: false,
+            lu: Some(LU::new(DMatrix::zeros(dim, dim))),
+            k: std::array::from_fn(|_| vec![0.0; dim]),
+            ytmp: vec![0.0; dim],
+            dy: vec![0.0; dim],
+            y0: vec![0.0; dim],
+            y1: vec![0.0; dim],
+            w: std::array::from_fn(|_| vec![0.0; dim]),
+            dense: true,
+        }
+    }
+
+    /// Factors `I/(hγ) − J` into `self.lu`, reusing the storage of the previous factors. Returns
+    /// whether the matrix is invertible.
+    fn decompose<Sys: OdeSystem>(&mut self, sys: &mut Sys, h: f64) -> bool {
+        let n = self.dfdt.len();
+        let mut m = self
+            .lu
+            .take()
+            .map_or_else(|| DMatrix::zeros(n, n), LU::l_unpack);
+        let fac = 1.0 / (h * self.tableau.gamma);
+        for r in 0..n {
+            for c in 0..n {
+                m[(r, c)] = -self.jac[r * n + c];
+            }
+            m[(r, r)] += fac;
+        }
+        let lu = LU::new(m);
+        sys.count_lu();
+        let ok = lu.is_invertible();
+        self.lu = Some(lu);
+        ok
+    }
+}
+
+impl<const S: usize, const D: usize> Stepper for RosenbrockStepper<S, D> {
+    fn reset<Sys: OdeSystem>(&mut self, _sys: &mut Sys, _t: f64, _y: &[f64]) -> Result<(), Error> {
+        // F, J and ∂F/∂t are evaluated by the step at its starting point, and reused only while
+        // that point stays the same.
+        Ok(())
+    }
+
+    fn attempt<Sys: OdeSystem>(&mut self, sys: &mut Sys, trial: Trial<'_>) -> Result<f64, Error> {
+        let (t, h, y, y_new, norm) = trial.parts();
+        let n = y.len();
+        let tab = self.tableau;
+        if !(self.jac_valid && self.jac_t == t && self.jac_y[..] == *y) {
+            self.jac_valid = false;
+            sys.rhs(t, y, &mut self.f0)?;
+            sys.jacobian(t, y, &mut self.jac, &mut self.dfdt)?;
+            self.jac_t = t;
+            self.jac_y.copy_from_slice(y);
+            self.jac_valid = true;
+        }
+        if !(1.0 / (h * tab.gamma)).is_finite() {
+            // A step so short (subnormal) that 1/(hγ) overflows: the change of y is h·F(t, y) to
+            // far below rounding, so one explicit Euler step is exact in floating point.
+            for i in 0..n {
+                y_new[i] = y[i] + h * self.f0[i];
+            }
+            return Ok(0.0);
+        }
+        if !self.decompose(sys, h) {
+            // A singular iteration matrix: reject, so that the driver retries with a smaller h.
+            return Ok(f64::INFINITY);
+        }
+        let Self {
+            dfdt,
+            f0,
+            lu,
+            k,
+            ytmp,
+            dy,
+            ..
+        } = self;
+        let Some(lu) = lu.as_ref() else {
+            return Ok(f64::INFINITY);
+        };
+        let hinv = 1.0 / h;
+        ytmp.copy_from_slice(y);
+        for i in 0..S {
+            let (done, rest) = k.split_at_mut(i);
+            let ki = &mut rest[0];
+            let f: &[f64] = if i == 0 {
+                f0
+            } else {
+                if i < tab.m {
+                    let a = &tab.a[i][..i];
+                    for e in 0..n {
+                        let mut acc = 0.0;
+                        for (a, u) in a.iter().zip(done.iter()) {
+                            acc += a * u[e];
+                        }
+                        ytmp[e] = y[e] + acc;
+                    }
+                } else {
+                    for (x, u) in ytmp.iter_mut().zip(&done[i - 1]) {
+                        *x += u;
+                    }
+                }
+                sys.rhs(t + tab.c[i] * h, ytmp, dy)?;
+                dy
+            };
+            let hd = h * tab.d[i];
+            let coupling = tab.coupling[i].map(|c| c * hinv);
+            for e in 0..n {
+                let mut acc = f[e] + hd * dfdt[e];
+                for (c, u) in coupling[..i].iter().zip(done.iter()) {
+                    acc += c * u[e];
+                }
+                ki[e] = acc;
+            }
+            lu.solve_mut(&mut DVectorViewMut::from_slice(ki, n));
+        }
+        // y_1 = Y_s + u_s; u_s is its difference from the embedded solution Y_s.
+        let last = &k[S - 1];
+        for e in 0..n {
+            y_new[e] = ytmp[e] + last[e];
+        }
+        Ok(norm.norm(last, y, y_new))
+    }
+
+    fn commit<Sys: OdeSystem>(&mut self, _sys: &mut Sys, step: Step<'_>) -> Result<(), Error> {
+        if !self.dense {
+            return Ok(());
+        }
+        let Step { y, y_new, .. } = step;
+        self.y0.copy_from_slice(y);
+        self.y1.copy_from_slice(y_new);
+        for (w, row) in self.w.iter_mut().zip(&self.tableau.dense) {
+            for (e, we) in w.iter_mut().enumerate() {
+                *we = row.iter().zip(&self.k).map(|(h, u)| h * u[e]).sum();
+            }
+        }
+        Ok(())
+    }
+
+    fn interpolate(&self, theta: f64, out: &mut [f64]) {
+        let th1 = 1.0 - theta;
+        for (e, o) in out.iter_mut().enumerate() {
+            let mut acc = 0.0;
+            for w in self.w.iter().rev() {
+                acc = w[e] + theta * acc;
+            }
+            *o = th1 * self.y0[e] + theta * (self.y1[e] + th1 * acc);
+        }
+    }
+
+    fn set_dense_output(&mut self, needed: bool) {
+        self.dense = needed;
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// Checks a tableau against `y' = 1` (`h = 1`, `J = 0`, `F_t = 0`): there
+    /// `u_i = γ (1 + Σ_j c_ij u_j)`, every stage argument must be `y + c_i`, the step is exact, so
+    /// the increments from stage `m − 1` on (among them the error estimate) and the dense-output
+    /// rows must vanish.
+    pub(crate) fn check_consistency<const S: usize, const D: usize>(tab: &Tableau<S, D>) {
+        let mut u = [0.0f64; S];
+        for i in 0..S {
+            let s: f64 = (0..i).map(|j| tab.coupling[i][j] * u[j]).sum();
+            u[i] = tab.gamma * (1.0 + s);
+        }
+        for i in 1..tab.m {
+            let s: f64 = (0..i).map(|j| tab.a[i][j] * u[j]).sum();
+            assert!(
+                (s - tab.c[i]).abs() < 1e-13,
+                "stage {i}: node {} ≠ {s}",
+                tab.c[i]
+            );
+        }
+        for i in tab.m..S {
+            assert_eq!((tab.c[i], tab.d[i]), (1.0, 0.0), "stage {i}");
+        }
+        for (j, uj) in u.iter().enumerate().skip(tab.m - 1) {
+            assert!(uj.abs() < 1e-13, "u_{j} = {uj}");
+        }
+        for (r, row) in tab.dense.iter().enumerate() {
+            let w: f64 = row.iter().zip(&u).map(|(h, u)| h * u).sum();
+            assert!(w.abs() < 1e-12, "dense row {r}: {w}");
+        }
+        // d_0 = γ: the first stage's F_t term.
+        assert_eq!(tab.d[0], tab.gamma);
+    }
+}
