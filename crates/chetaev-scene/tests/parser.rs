@@ -198,7 +198,7 @@ fn schema_errors_are_located_too() {
         (
             "method = \"dop853\"",
             "method = \"dop85\"",
-            "dop853",
+            "choose one of dopri5, dop853",
             "\"dop85\"",
         ),
         (

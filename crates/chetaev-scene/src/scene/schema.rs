@@ -70,7 +70,7 @@ pub(crate) struct RawInitial {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawSolve {
-    pub(crate) method: Option<Spanned<MethodName>>,
+    pub(crate) method: Option<Spanned<String>>,
     pub(crate) t_end: Spanned<Number>,
     pub(crate) rtol: Option<Spanned<f64>>,
     pub(crate) atol: Option<Spanned<RawAtol>>,
@@ -81,16 +81,6 @@ pub(crate) struct RawSolve {
     #[serde(default)]
     pub(crate) projection: bool,
     pub(crate) stiffness_detection: Option<Spanned<bool>>,
-}
-
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub(crate) enum MethodName {
-    Dopri5,
-    Dop853,
-    Tsit5,
-    Rk4,
-    Rodas4,
 }
 
 #[derive(Deserialize)]

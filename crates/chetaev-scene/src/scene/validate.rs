@@ -9,8 +9,7 @@ use chetaev::prelude::{Atol, Direction};
 use toml::Spanned;
 
 use super::schema::{
-    MethodName, Number, RawAtol, RawDirection, RawOutput, RawScene, RawSolve, RawTimes,
-    RawTrajectory,
+    Number, RawAtol, RawDirection, RawOutput, RawScene, RawSolve, RawTimes, RawTrajectory,
 };
 use super::sensitivities::reads;
 use super::spec::{
@@ -495,21 +494,25 @@ impl Builder {
         constants: &Symbols,
     ) -> Result<(SolveSpec, BTreeMap<&'static str, Range<usize>>), Error> {
         let mut spans = BTreeMap::new();
-        let method_name = raw
+        use chetaev::integrate::{AnyMethod, Method};
+        let (name, method_span) = raw
             .method
             .as_ref()
-            .map_or(MethodName::Dop853, |m| *m.get_ref());
-        let stiffness = raw.stiffness_detection.as_ref().map(|s| *s.get_ref());
-        if let (Some(s), MethodName::Rk4 | MethodName::Rodas4) =
-            (&raw.stiffness_detection, method_name)
-        {
+            .map_or(("dop853", 0..0), |m| (m.get_ref().as_str(), m.span()));
+        // The library's names; `rk4`'s step is set below, once it is known to be wanted.
+        let method = AnyMethod::from_name(name, Some(1.0))
+            .map_err(|e| self.err(method_span.clone(), e.to_string()))?;
+        let info = method.info();
+        let fixed = info.fixed_step.is_some();
+        let detects_stiffness = matches!(method, AnyMethod::Dopri5(_) | AnyMethod::Dop853(_));
+        if let (Some(s), false) = (&raw.stiffness_detection, detects_stiffness) {
             return Err(self.err(
                 s.span(),
                 "stiffness_detection applies to dopri5 and dop853 only; remove it",
             ));
         }
-        let step = match (&raw.step, method_name) {
-            (Some(s), MethodName::Rk4) => {
+        let step = match (&raw.step, fixed) {
+            (Some(s), true) => {
                 spans.insert("step", s.span());
                 let h = self.number(s, constants, "solve.step")?;
                 if h <= 0.0 {
@@ -520,35 +523,33 @@ impl Builder {
                 }
                 h
             }
-            (None, MethodName::Rk4) => {
-                let span = raw.method.as_ref().map_or(0..0, |m| m.span());
+            (None, true) => {
                 return Err(self.err(
-                    span,
-                    "rk4 takes a fixed step: add `step = ...` under [solve] (or choose an adaptive method: dopri5, dop853, rodas4)",
+                    method_span,
+                    "rk4 takes a fixed step: add `step = ...` under [solve] (or choose an adaptive method: dopri5, dop853, tsit5, rodas4, rodas5p)",
                 ));
             }
-            (Some(s), _) => {
+            (Some(s), false) => {
                 return Err(self.err(
                     s.span(),
                     "`step` is the fixed step of rk4; the adaptive methods choose their own steps \
                      (use initial_step or max_step to guide them)",
                 ));
             }
-            (None, _) => 0.0,
+            (None, false) => 0.0,
         };
-        use chetaev::integrate::{AnyMethod, Dop853, Dopri5, Rk4, Rodas4, Tsit5};
-        let method = match method_name {
-            MethodName::Dopri5 => AnyMethod::Dopri5(Dopri5 {
-                stiffness_detection: stiffness.unwrap_or(true),
-                ..Dopri5::default()
+        let stiffness = raw.stiffness_detection.as_ref().map(|s| *s.get_ref());
+        let method = match method {
+            AnyMethod::Dopri5(m) => AnyMethod::Dopri5(chetaev::integrate::Dopri5 {
+                stiffness_detection: stiffness.unwrap_or(m.stiffness_detection),
+                ..m
             }),
-            MethodName::Dop853 => AnyMethod::Dop853(Dop853 {
-                stiffness_detection: stiffness.unwrap_or(true),
-                ..Dop853::default()
+            AnyMethod::Dop853(m) => AnyMethod::Dop853(chetaev::integrate::Dop853 {
+                stiffness_detection: stiffness.unwrap_or(m.stiffness_detection),
+                ..m
             }),
-            MethodName::Tsit5 => AnyMethod::Tsit5(Tsit5),
-            MethodName::Rk4 => AnyMethod::Rk4(Rk4::new(step)),
-            MethodName::Rodas4 => AnyMethod::Rodas4(Rodas4),
+            AnyMethod::Rk4(_) => AnyMethod::Rk4(chetaev::integrate::Rk4::new(step)),
+            other => other,
         };
         let t_end = self.number(&raw.t_end, constants, "solve.t_end")?;
         spans.insert("t_end", raw.t_end.span());
