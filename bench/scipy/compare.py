@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""LSODA (lsoda.py) against chetaev's Rodas4 (rust/, binary `rodas4`) at equal error.
+"""LSODA (lsoda.py) against chetaev's Rodas4 or Rodas5P (`--method`; rust/, binary `rodas4`) at equal
+error.
 
 The two are separate processes, so they are run alternately, A B A B ...: each round runs the
 Rodas4 program once (every tolerance) and then lsoda.py once (every tolerance and variant). A
@@ -11,7 +12,7 @@ Equal error: each code's points (error, time), sorted by error, are interpolated
 measured error (no extrapolation). The ratios are taken at each decade of error that every code
 compared covers, and, per round, from that round's times (the range over the rounds is given).
 
-Usage: nice -n 10 python3 compare.py [--rounds 7] [--out results/run.csv]
+Usage: nice -n 10 python3 compare.py [--rounds 7] [--method rodas5p] [--out results/run.csv]
 Build the Rust side first: cargo build --release --manifest-path rust/Cargo.toml
 """
 
@@ -62,7 +63,9 @@ def main():
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--t-end", default="999.9")
     ap.add_argument("--lsoda-tols", default="1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10,1e-11,1e-12,1e-13")
-    ap.add_argument("--rodas4-tols", default="1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10,1e-11,1e-12")
+    ap.add_argument("--method", default="rodas4", help="chetaev's methods, comma-separated (rodas4, rodas5p); the first is the reference of the ratios")
+    ap.add_argument("--rust-tols", "--rodas4-tols", dest="rust_tols",
+                    default="1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10,1e-11,1e-12")
     ap.add_argument("--variants", default="lsoda,lsoda_jac,odeint")
     ap.add_argument("--python-runs", default="51", help="timed solves per tolerance in lsoda.py")
     ap.add_argument("--rust-runs", default="201", help="timed solves per tolerance in rodas4")
@@ -71,7 +74,7 @@ def main():
     ap.add_argument("--out", default=None, help="CSV of every round's numbers")
     a = ap.parse_args()
 
-    cmd_a = [a.rodas4, "--t-end", a.t_end, "--tols", a.rodas4_tols, "--runs", a.rust_runs,
+    cmd_a = [a.rodas4, "--method", a.method, "--t-end", a.t_end, "--tols", a.rust_tols, "--runs", a.rust_runs,
              "--min-batch-ms", a.rust_min_batch_ms]
     cmd_b = [sys.executable, os.path.join(HERE, "lsoda.py"), "--t-end", a.t_end, "--tols", a.lsoda_tols,
              "--runs", a.python_runs, "--variants", a.variants]
@@ -121,7 +124,7 @@ def main():
         return [(d["error"], statistics.median(d["times"].values()) if rnd is None else d["times"][rnd])
                 for d in data[s].values() if rnd is None or rnd in d["times"]]
 
-    ref = "rodas4"
+    ref = a.method.split(",")[0].strip()
     others = [s for s in solvers if s != ref]
     levels = []
     for k in range(0, 16):
@@ -130,10 +133,10 @@ def main():
             levels.append(e)
     rounds = sorted({row["round"] for row in rows})
 
-    print("\n## At equal error (time interpolated; ratio = other / rodas4, median-of-rounds curves "
+    print(f"\n## At equal error (time interpolated; ratio = other / {ref}, median-of-rounds curves "
           "[range of the per-round ratios])\n")
-    head = "| error | " + " | ".join(f"{s} time" for s in others) + " | rodas4 time | " + \
-        " | ".join(f"{s} / rodas4" for s in others) + " |"
+    head = "| error | " + " | ".join(f"{s} time" for s in others) + f" | {ref} time | " + \
+        " | ".join(f"{s} / {ref}" for s in others) + " |"
     print(head)
     print("|" + "---|" * (2 + 2 * len(others)))
     for e in levels:
@@ -150,8 +153,8 @@ def main():
             ratios.append(f"{to / tr:.1f} [{min(per):.1f}–{max(per):.1f}]")
         print(f"| {e:.0e} | " + " | ".join(cells) + f" | {fmt_t(tr)} | " + " | ".join(ratios) + " |")
 
-    print("\n## At each rodas4 point (other's time interpolated at rodas4's error)\n")
-    print("| rodas4 tol | error | rodas4 time | " + " | ".join(f"{s} / rodas4" for s in others) + " |")
+    print(f"\n## At each {ref} point (other's time interpolated at {ref}'s error)\n")
+    print(f"| {ref} tol | error | {ref} time | " + " | ".join(f"{s} / {ref}" for s in others) + " |")
     print("|" + "---|" * (3 + len(others)))
     for tol, d in sorted(data[ref].items(), reverse=True):
         tr = statistics.median(d["times"].values())

@@ -1,10 +1,12 @@
-//! chetaev's Rodas4 on the stiff uniform projectile (v0 = 1e-3, g = 9.81, h0 = 1, m = 1), the
+//! chetaev's Rodas4 (or another method, `--method`) on the stiff uniform projectile (v0 = 1e-3, g = 9.81, h0 = 1, m = 1), the
 //! counterpart of `bench/scipy/lsoda.py`: same problem, end time, tolerances and error measure.
 //!
 //! Prints CSV to stdout, one row per tolerance:
 //! `solver,tol,error,abs_error,median_s,runs,batch,rhs,jac,steps,rejected`.
 //!
-//! Usage: `rodas4 [--t-end T] [--runs N] [--min-batch-ms MS] [--tols 1e-4,1e-5,...]`.
+//! Usage: `rodas4 [--method rodas4,rodas5p] [--t-end T] [--runs N] [--min-batch-ms MS]
+//! [--tols 1e-4,1e-5,...]`. The `solver` column is the method's name in lower case; with several
+//! methods, each tolerance's timed solves alternate between them (A B A B ...).
 //!
 //! Time: the median over `--runs` (default 201) timed batches, after one untimed solve that gives
 //! the error and the counters; a batch is as many solves as last `--min-batch-ms` (default 0: one
@@ -26,6 +28,7 @@ const P: Params = Params {
 };
 
 struct Args {
+    methods: Vec<AnyMethod>,
     t_end: f64,
     runs: usize,
     min_batch_s: f64,
@@ -34,6 +37,7 @@ struct Args {
 
 fn parse_args() -> Result<Args, String> {
     let mut a = Args {
+        methods: vec![AnyMethod::Rodas4(Rodas4)],
         t_end: 999.9,
         runs: 201,
         min_batch_s: 0.0,
@@ -43,6 +47,13 @@ fn parse_args() -> Result<Args, String> {
     while let Some(flag) = it.next() {
         let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
         match flag.as_str() {
+            "--method" => {
+                a.methods = value()?
+                    .split(',')
+                    .map(|m| AnyMethod::from_name(m.trim(), None))
+                    .collect::<Result<_, _>>()
+                    .map_err(|e| format!("--method: {e}"))?;
+            }
             "--t-end" => a.t_end = value()?.parse().map_err(|e| format!("--t-end: {e}"))?,
             "--runs" => a.runs = value()?.parse().map_err(|e| format!("--runs: {e}"))?,
             "--min-batch-ms" => {
@@ -114,49 +125,58 @@ fn main() {
             .tolerances(tol, tol)
             .record(Record::State)
             .output_final();
-        let solve_once = || chetaev::solve(black_box(&problem), Rodas4, black_box(&opts));
-        let sol = match solve_once() {
-            Ok(s) if s.is_success() => s,
-            Ok(s) => {
-                eprintln!("rodas4: tol {tol:e}: {:?}", s.error());
+        // Per method: the untimed solve's row, and the batch size.
+        let mut timed = Vec::new();
+        for &method in &args.methods {
+            let name = method.info().name.to_ascii_lowercase();
+            let solve_once = || chetaev::solve(black_box(&problem), method, black_box(&opts));
+            let sol = match solve_once() {
+                Ok(s) if s.is_success() => s,
+                Ok(s) => {
+                    eprintln!("rodas4: {name} tol {tol:e}: {:?}", s.error());
+                    continue;
+                }
+                Err(e) => {
+                    eprintln!("rodas4: {name} tol {tol:e}: {e}");
+                    continue;
+                }
+            };
+            let Some((t, q, qd)) = sol.last() else {
+                eprintln!("rodas4: {name} tol {tol:e}: no final state");
+                continue;
+            };
+            if t != args.t_end {
+                eprintln!("rodas4: {name} tol {tol:e}: stopped at t = {t}");
                 continue;
             }
-            Err(e) => {
-                eprintln!("rodas4: tol {tol:e}: {e}");
-                continue;
-            }
-        };
-        let Some((t, q, qd)) = sol.last() else {
-            eprintln!("rodas4: tol {tol:e}: no final state");
-            continue;
-        };
-        if t != args.t_end {
-            eprintln!("rodas4: tol {tol:e}: stopped at t = {t}");
-            continue;
-        }
-        let (err, abs_err) = errors(t, q, qd);
-        // Batch size: enough solves that one timed batch lasts at least min_batch_s.
-        let start = Instant::now();
-        black_box(solve_once().ok());
-        let one = start.elapsed().as_secs_f64().max(1e-9);
-        let batch = ((args.min_batch_s / one).ceil() as usize).max(1);
-        let mut times = Vec::with_capacity(args.runs);
-        for _ in 0..args.runs {
+            let (err, abs_err) = errors(t, q, qd);
+            // Batch size: enough solves that one timed batch lasts at least min_batch_s.
             let start = Instant::now();
-            for _ in 0..batch {
-                black_box(solve_once().ok());
-            }
-            times.push(start.elapsed().as_secs_f64() / batch as f64);
+            black_box(solve_once().ok());
+            let one = start.elapsed().as_secs_f64().max(1e-9);
+            let batch = ((args.min_batch_s / one).ceil() as usize).max(1);
+            timed.push((method, name, err, abs_err, sol.stats, batch, Vec::new()));
         }
-        let s = &sol.stats;
-        println!(
-            "rodas4,{tol:e},{err:.6e},{abs_err:.6e},{:.6e},{},{batch},{},{},{},{}",
-            median(times),
-            args.runs,
-            s.rhs_evaluations,
-            s.jacobian_evaluations,
-            s.accepted_steps,
-            s.rejected_steps
-        );
+        // The methods timed in turn, A B A B ..., so that a change of load falls on all alike.
+        for _ in 0..args.runs {
+            for (method, _, _, _, _, batch, times) in &mut timed {
+                let start = Instant::now();
+                for _ in 0..*batch {
+                    black_box(chetaev::solve(black_box(&problem), *method, black_box(&opts)).ok());
+                }
+                times.push(start.elapsed().as_secs_f64() / *batch as f64);
+            }
+        }
+        for (_, name, err, abs_err, s, batch, times) in timed {
+            println!(
+                "{name},{tol:e},{err:.6e},{abs_err:.6e},{:.6e},{},{batch},{},{},{},{}",
+                median(times),
+                args.runs,
+                s.rhs_evaluations,
+                s.jacobian_evaluations,
+                s.accepted_steps,
+                s.rejected_steps
+            );
+        }
     }
 }
