@@ -34,9 +34,9 @@ use super::system::OdeSystem;
 use super::{Step, Stepper, Trial};
 use crate::error::Error;
 
-/// The coefficients of an `S`-stage method of the family, with `D` rows of dense output; see the
-/// module docs. Rows and columns are stages, counted from 0; entries on and above the diagonal of
-/// `a` and `coupling`, and the rows of `a` from `m` on, are not read.
+/// The coefficients of an `S`-stage method of the family (`S ≥ 1`), with `D` rows of dense output;
+/// see the module docs. Rows and columns are stages, counted from 0; entries on and above the
+/// diagonal of `a` and `coupling`, and the rows of `a` from `m` on, are not read.
 #[derive(Debug)]
 pub struct Tableau<const S: usize, const D: usize> {
     /// `γ`, the diagonal of the method.
@@ -83,8 +83,11 @@ pub struct RosenbrockStepper<const S: usize, const D: usize> {
 }
 
 impl<const S: usize, const D: usize> RosenbrockStepper<S, D> {
-    /// The stepper of `tableau` for states of dimension `dim`.
-    pub(crate) fn new(tableau: &'static Tableau<S, D>, dim: usize) -> Self {
+    /// The stepper of `tableau` for states of dimension `dim`: what [`Method::stepper`] of a
+    /// method of the family returns.
+    ///
+    /// [`Method::stepper`]: super::Method::stepper
+    pub fn new(tableau: &'static Tableau<S, D>, dim: usize) -> Self {
         Self {
             tableau,
             jac: vec![0.0; dim * dim],
