@@ -315,7 +315,8 @@ where
         .collect()
 }
 
-/// Runs the whole study on one scene: chetaev's `Dopri5`, `Dop853`, `Rodas4` over the tolerances,
+/// Runs the whole study on one scene: chetaev's `Dopri5`, `Dop853`, `Rodas4`, `Rodas5P` over the
+/// tolerances,
 /// `Rk4` over the step counts, and ode_solvers' `Dopri5`, `Dop853` over the tolerances. `progress`
 /// is told the name of each method as it starts.
 ///
@@ -338,6 +339,8 @@ where
     points.extend(adaptive_points(scene, config, Dop853::default()));
     progress("Rodas4");
     points.extend(adaptive_points(scene, config, Rodas4));
+    progress("Rodas5P");
+    points.extend(adaptive_points(scene, config, Rodas5P));
     progress("Rk4");
     match &scene.rk4_steps {
         Ok(steps) => {
@@ -541,7 +544,7 @@ where
     points
 }
 
-/// The limit: `Dopri5`, `Dop853`, `Rodas4` over the tolerances and `Rk4` over `rk4_steps`, each on
+/// The limit: `Dopri5`, `Dop853`, `Rodas4`, `Rodas5P` over the tolerances and `Rk4` over `rk4_steps`, each on
 /// the paper's model through chetaev (`scene`, the uniform motion) and on the two hand-written
 /// systems through the same driver ([`solve_ode`]), the three timed interleaved at every setting.
 pub fn run_limit<M>(
@@ -563,6 +566,7 @@ where
         Dop853::default(),
     ));
     points.extend(limit_adaptive(scene, reduced, full, config, Rodas4));
+    points.extend(limit_adaptive(scene, reduced, full, config, Rodas5P));
     for &n in rk4_steps {
         let h = scene.t_end / n as f64;
         let o = rk4_options(scene, config, n);

@@ -102,18 +102,20 @@ struct MergeArgs {
 const COMPARE_AT: [f64; 6] = [1e-6, 1e-8, 1e-10, 1e-11, 1e-12, 1e-13];
 
 /// chetaev's methods in the order of the tables, with the colour of their lines.
-const METHODS: [(&str, &str); 4] = [
+const METHODS: [(&str, &str); 5] = [
     ("Dopri5", "#0072B2"),
     ("Dop853", "#D55E00"),
     ("Rodas4", "#009E73"),
+    ("Rodas5P", "#E69F00"),
     ("Rk4", "#CC79A7"),
 ];
 
 /// The methods of a scene in the order of its tables and CSV.
-const SCENE_ORDER: [&str; 6] = [
+const SCENE_ORDER: [&str; 7] = [
     "Dopri5",
     "Dop853",
     "Rodas4",
+    "Rodas5P",
     "Rk4",
     "Dopri5 (ode_solvers)",
     "Dop853 (ode_solvers)",
@@ -593,6 +595,11 @@ fn limit_family(method: &str) -> &str {
     method.split_once(' ').map_or(method, |(m, _)| m)
 }
 
+/// Whether the method of a point (`Rodas4`, `Dopri5 (ode_solvers)`, ...) evaluates Jacobians.
+fn needs_jacobian(method: &str) -> bool {
+    AnyMethod::from_name(limit_family(method), Some(1.0)).is_ok_and(|m| m.info().needs_jacobian)
+}
+
 /// Writes every table, diagram and `results.md` of the whole study from its merged part. Returns
 /// the summary for stdout.
 fn report(study: &Study, whole: &Part, out: &Path) -> Result<String, Box<dyn Error>> {
@@ -967,29 +974,27 @@ fn overheads_report(
             c.ratio()
         );
     }
-    let explicit: Vec<&Point> = all
+    let ran: Vec<&Point> = all
         .iter()
-        .filter(|p| {
-            !p.method.starts_with("Rodas4") && !matches!(p.outcome, PointOutcome::Skipped(_))
-        })
+        .filter(|p| !matches!(p.outcome, PointOutcome::Skipped(_)))
         .collect();
+    let (rodas, explicit): (Vec<&Point>, Vec<&Point>) =
+        ran.into_iter().partition(|p| needs_jacobian(&p.method));
     let explicit_jac: usize = explicit.iter().map(|p| p.jacobian_evaluations).sum();
-    let rodas: Vec<&Point> = all
-        .iter()
-        .filter(|p| p.method == "Rodas4" && !matches!(p.outcome, PointOutcome::Skipped(_)))
-        .collect();
     let rodas_jac: usize = rodas.iter().map(|p| p.jacobian_evaluations).sum();
     let _ = writeln!(
         md,
         "\nJacobians: the {} runs of explicit methods above (Dopri5, Dop853, Rk4 and ode_solvers, \
          every scene, measured or failed) evaluated {explicit_jac} Jacobians in all \
-         (`sol.stats.jacobian_evaluations`); the {} runs of Rodas4 evaluated {rodas_jac}.",
+         (`sol.stats.jacobian_evaluations`); the {} runs of Rodas4 and Rodas5P evaluated \
+         {rodas_jac}.",
         explicit.len(),
         rodas.len()
     );
     let _ = writeln!(
         summary,
-        "Jacobian evaluations: explicit methods {explicit_jac} over {} runs, Rodas4 {rodas_jac} over {} runs",
+        "Jacobian evaluations: explicit methods {explicit_jac} over {} runs, Rodas4 and Rodas5P \
+         {rodas_jac} over {} runs",
         explicit.len(),
         rodas.len()
     );
@@ -1045,7 +1050,7 @@ mod tests {
         scene.rk4_steps = Ok(vec![8, 32]);
         let whole = run_scene(&scene, &config, &mut |_| {});
         assert_eq!(untimed(&arranged), untimed(&whole));
-        assert_eq!(whole.len(), 5 * 2 + 2);
+        assert_eq!(whole.len(), 6 * 2 + 2);
     }
 
     #[test]
@@ -1076,7 +1081,7 @@ mod tests {
         let (reduced, full) = (scenes::reduced_handwritten(), scenes::full_handwritten());
         let whole = run_limit(&scene, &reduced, &full, &settings.config(), &[8, 32]);
         assert_eq!(untimed(&arranged), untimed(&whole));
-        assert_eq!(whole.len(), 3 * (3 * 2 + 2));
+        assert_eq!(whole.len(), 3 * (4 * 2 + 2));
     }
 
     #[test]
