@@ -28,8 +28,6 @@
 //! [`Rodas4`]: super::Rodas4
 //! [`Rodas5P`]: super::Rodas5P
 
-use nalgebra::{DMatrix, DVectorViewMut, Dyn, LU};
-
 use super::system::OdeSystem;
 use super::{Step, Stepper, Trial};
 use crate::error::Error;
@@ -69,8 +67,8 @@ pub struct RosenbrockStepper<const S: usize, const D: usize> {
     jac_t: f64,
     jac_y: Vec<f64>,
     jac_valid: bool,
-    /// The LU factors of `I/(hγ) − J` (`None` only while they are being recomputed).
-    lu: Option<LU<f64, Dyn, Dyn>>,
+    /// The LU factors of `I/(hγ) − J`.
+    lu: Lu,
     /// The stage increments `u_i`.
     k: [Vec<f64>; S],
     ytmp: Vec<f64>,
@@ -96,7 +94,7 @@ impl<const S: usize, const D: usize> RosenbrockStepper<S, D> {
             jac_t: f64::NAN,
             jac_y: vec![0.0; dim],
             jac_valid: false,
-            lu: Some(LU::new(DMatrix::zeros(dim, dim))),
+            lu: Lu::new(dim),
             k: std::array::from_fn(|_| vec![0.0; dim]),
             ytmp: vec![0.0; dim],
             dy: vec![0.0; dim],
@@ -107,26 +105,16 @@ impl<const S: usize, const D: usize> RosenbrockStepper<S, D> {
         }
     }
 
-    /// Factors `I/(hγ) − J` into `self.lu`, reusing the storage of the previous factors. Returns
-    /// whether the matrix is invertible.
+    /// Factors `I/(hγ) − J` into `self.lu`. Returns whether the matrix is invertible.
     fn decompose<Sys: OdeSystem>(&mut self, sys: &mut Sys, h: f64) -> bool {
         let n = self.dfdt.len();
-        let mut m = self
-            .lu
-            .take()
-            .map_or_else(|| DMatrix::zeros(n, n), LU::l_unpack);
         let fac = 1.0 / (h * self.tableau.gamma);
-        for r in 0..n {
-            for c in 0..n {
-                m[(r, c)] = -self.jac[r * n + c];
-            }
-            m[(r, r)] += fac;
+        let m = &mut self.lu.a;
+        for (e, (m, j)) in m.iter_mut().zip(&self.jac).enumerate() {
+            *m = if e / n == e % n { -j + fac } else { -j };
         }
-        let lu = LU::new(m);
         sys.count_lu();
-        let ok = lu.is_invertible();
-        self.lu = Some(lu);
-        ok
+        self.lu.factor()
     }
 }
 
@@ -170,9 +158,6 @@ impl<const S: usize, const D: usize> Stepper for RosenbrockStepper<S, D> {
             dy,
             ..
         } = self;
-        let Some(lu) = lu.as_ref() else {
-            return Ok(f64::INFINITY);
-        };
         let hinv = 1.0 / h;
         ytmp.copy_from_slice(y);
         for i in 0..S {
@@ -207,7 +192,7 @@ impl<const S: usize, const D: usize> Stepper for RosenbrockStepper<S, D> {
                 }
                 ki[e] = acc;
             }
-            lu.solve_mut(&mut DVectorViewMut::from_slice(ki, n));
+            lu.solve(ki);
         }
         // y_1 = Y_s + u_s; u_s is its difference from the embedded solution Y_s.
         let last = &k[S - 1];
@@ -245,6 +230,86 @@ impl<const S: usize, const D: usize> Stepper for RosenbrockStepper<S, D> {
 
     fn set_dense_output(&mut self, needed: bool) {
         self.dense = needed;
+    }
+}
+
+/// LU factors with partial pivoting of a small dense `n × n` matrix, in place and without
+/// allocating after [`Lu::new`]: the iteration matrix of a stiff problem of a few coordinates is
+/// factored at every step and solved with at every stage.
+#[derive(Clone, Debug)]
+struct Lu {
+    n: usize,
+    /// The matrix (row-major) before [`Lu::factor`]; after it, `L` below the diagonal (unit
+    /// diagonal implied) and `U` on and above it, of the rows as permuted.
+    a: Vec<f64>,
+    /// Row `k` was swapped with row `swap[k] ≥ k` at elimination step `k`.
+    swap: Vec<usize>,
+}
+
+impl Lu {
+    fn new(n: usize) -> Self {
+        Self {
+            n,
+            a: vec![0.0; n * n],
+            swap: vec![0; n],
+        }
+    }
+
+    /// Factors `a` in place, choosing at each step the first row of largest magnitude in the
+    /// column. Returns `false` when a pivot is zero (the matrix is singular).
+    fn factor(&mut self) -> bool {
+        let (n, a) = (self.n, &mut self.a);
+        for k in 0..n {
+            let mut p = k;
+            for r in k + 1..n {
+                if a[r * n + k].abs() > a[p * n + k].abs() {
+                    p = r;
+                }
+            }
+            self.swap[k] = p;
+            if p != k {
+                for c in 0..n {
+                    a.swap(k * n + c, p * n + c);
+                }
+            }
+            let pivot = a[k * n + k];
+            if pivot == 0.0 {
+                return false;
+            }
+            let inv = 1.0 / pivot;
+            let (upper, lower) = a.split_at_mut((k + 1) * n);
+            let row_k = &upper[k * n + k + 1..(k + 1) * n];
+            for row in lower.chunks_exact_mut(n) {
+                let l = row[k] * inv;
+                row[k] = l;
+                for (x, &u) in row[k + 1..].iter_mut().zip(row_k) {
+                    *x -= l * u;
+                }
+            }
+        }
+        true
+    }
+
+    /// Solves `A x = b` in place with the factors of [`Lu::factor`].
+    fn solve(&self, b: &mut [f64]) {
+        let (n, a) = (self.n, &self.a);
+        for (k, &p) in self.swap.iter().enumerate() {
+            b.swap(k, p);
+        }
+        for i in 0..n {
+            let mut x = b[i];
+            for (l, bj) in a[i * n..i * n + i].iter().zip(&b[..i]) {
+                x -= l * bj;
+            }
+            b[i] = x;
+        }
+        for i in (0..n).rev() {
+            let mut x = b[i];
+            for j in (i + 1..n).rev() {
+                x -= a[i * n + j] * b[j];
+            }
+            b[i] = x / a[i * n + i];
+        }
     }
 }
 
