@@ -208,6 +208,37 @@ fn compiled_motions_equal_the_dual_number_motions_for_explicit_and_implicit_meth
     compare_motion(&sphere(), Rodas4, 2.0);
 }
 
+/// `∂F/∂y` and `∂F/∂t` of the reduced equations (with the energy quadratures) at `(t, q, q̇)`.
+fn jacobian<M: Model>(problem: &Problem<M>, t: f64, y: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    use chetaev::integrate::system::{OdeSystem, ReducedOde};
+    let mut sys = ReducedOde::for_problem(problem, true);
+    let dim = sys.dim();
+    let (mut jac, mut dfdt) = (vec![f64::NAN; dim * dim], vec![f64::NAN; dim]);
+    sys.jacobian(t, y, &mut jac, &mut dfdt).expect("evaluates");
+    (jac, dfdt)
+}
+
+#[test]
+fn the_jacobian_skips_the_time_direction_only_where_nothing_depends_on_t() {
+    fn check<M: Model + Clone>(problem: &Problem<M>, autonomous: bool) {
+        let compiled = problem.compiled().expect("compiled");
+        assert_eq!(compiled.autonomous(), autonomous);
+        let y = [0.4, -0.3, 0.8, 0.6];
+        let (jac, dfdt) = jacobian(problem, 0.7, &y);
+        let (jac_dual, dfdt_dual) = jacobian(&problem.clone().with_route(Route::Dual), 0.7, &y);
+        close_at(0.7, "∂F/∂y", &jac, &jac_dual);
+        close_at(0.7, "∂F/∂t", &dfdt, &dfdt_dual);
+        assert_eq!(dfdt.iter().any(|&v| v != 0.0), !autonomous, "{dfdt:?}");
+    }
+    check(&uniform(), true);
+    check(&pendulum(), true);
+    // The driven pivot: L depends on t, so ∂F/∂t is evaluated.
+    check(&dyn_pendulum(), false);
+    // A comparison in the model's code could switch to a branch that depends on t.
+    let kinked = Problem::dynamic(Kinked, 0.0, vec![1.0], vec![0.0]).expect("ok");
+    assert!(!kinked.compiled().expect("compiled").autonomous());
+}
+
 fn structure<M: Model>(p: &Problem<M>) -> &Structure {
     p.compiled().expect("compiled").structure()
 }

@@ -452,6 +452,17 @@ impl Compiled {
         (self.core().len(), self.full().len())
     }
 
+    /// Whether the reduced equations provably do not depend on `t`: no block of the structure
+    /// varies with it, and no comparison in the model's code could switch to a branch that does.
+    /// An implicit method's `∂F/∂t` is then zero without evaluating it.
+    pub fn autonomous(&self) -> bool {
+        let s = &self.structure;
+        self.graph.guards().is_empty()
+            && ![s.w, s.dl_dq, s.g, s.dl_dt, s.j, s.c, s.forces]
+                .iter()
+                .any(|d| d.t)
+    }
+
     /// The number of comparisons in the model's code that the tape re-checks.
     pub fn guards(&self) -> usize {
         self.graph.guards().len()

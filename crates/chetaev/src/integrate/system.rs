@@ -110,8 +110,9 @@ pub struct ReducedOde<'a, M: ?Sized> {
     compiled: Option<&'a Compiled>,
     pub(crate) n: usize,
     pub(crate) ws: Workspace<f64>,
-    /// Scratch space for the dual evaluations of the Jacobian, made on first use.
-    jac_ws: Option<Workspace<Dual64>>,
+    /// Scratch space for the dual evaluations of the Jacobian, made on first use: the workspace
+    /// and the seeded `q`, `q̇`.
+    jac_ws: Option<(Workspace<Dual64>, Vec<Dual64>, Vec<Dual64>)>,
     energy: bool,
     /// Whether the energy quadratures include the work of forces not derivable from `L`.
     forces: bool,
@@ -395,20 +396,26 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
             dfdt.fill(0.0);
         }
         let (model, need) = (self.model, self.need());
-        let ws = self
-            .jac_ws
-            .get_or_insert_with(|| Workspace::for_model(model));
-        let mut q = vec![Dual64::from(0.0); n];
-        let mut qd = vec![Dual64::from(0.0); n];
-        // One forward pass per direction: y_j for j < 2n, then t. The quadratures do not feed back.
-        for dir in 0..=2 * n {
+        let (ws, q, qd) = self.jac_ws.get_or_insert_with(|| {
+            let zero = Dual64::from(0.0);
+            (Workspace::for_model(model), vec![zero; n], vec![zero; n])
+        });
+        // One forward pass per direction: y_j for j < 2n, then t (unless the compiled equations
+        // prove that nothing depends on t). The quadratures do not feed back.
+        let autonomous = self.compiled.is_some_and(Compiled::autonomous);
+        if autonomous {
+            dfdt[..2 * n].fill(0.0);
+            dfdt[e..dim].fill(0.0);
+        }
+        let directions = if autonomous { 2 * n } else { 2 * n + 1 };
+        for dir in 0..directions {
             let seed = |i: usize| if i == dir { 1.0 } else { 0.0 };
             for i in 0..n {
                 q[i] = Dual64::new(y[i], seed(i));
                 qd[i] = Dual64::new(y[n + i], seed(n + i));
             }
             let td = Dual64::new(t, seed(2 * n));
-            let (d, fell_back) = evaluate_with(model, self.compiled, ws, td, &q, &qd, need)
+            let (d, fell_back) = evaluate_with(model, self.compiled, ws, td, q, qd, need)
                 .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
             self.stats.graph_fallbacks += usize::from(fell_back);
             let mut put = |row: usize, v: f64| {
