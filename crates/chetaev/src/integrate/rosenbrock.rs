@@ -81,11 +81,9 @@ pub struct RosenbrockStepper<const S: usize, const D: usize> {
 }
 
 impl<const S: usize, const D: usize> RosenbrockStepper<S, D> {
-    /// The stepper of `tableau` for states of dimension `dim`: what [`Method::stepper`] of a
-    /// method of the family returns.
-    ///
-    /// [`Method::stepper`]: super::Method::stepper
-    pub fn new(tableau: &'static Tableau<S, D>, dim: usize) -> Self {
+    /// The stepper of `tableau` for states of dimension `dim`: what `Method::stepper` of a method
+    /// of the family returns.
+    pub(crate) fn new(tableau: &'static Tableau<S, D>, dim: usize) -> Self {
         Self {
             tableau,
             jac: vec![0.0; dim * dim],
@@ -110,8 +108,11 @@ impl<const S: usize, const D: usize> RosenbrockStepper<S, D> {
         let n = self.dfdt.len();
         let fac = 1.0 / (h * self.tableau.gamma);
         let m = &mut self.lu.a;
-        for (e, (m, j)) in m.iter_mut().zip(&self.jac).enumerate() {
-            *m = if e / n == e % n { -j + fac } else { -j };
+        for (m, j) in m.iter_mut().zip(&self.jac) {
+            *m = -j;
+        }
+        for d in m.iter_mut().step_by(n + 1) {
+            *d += fac;
         }
         sys.count_lu();
         self.lu.factor()
