@@ -125,12 +125,12 @@ fn main() {
             .tolerances(tol, tol)
             .record(Record::State)
             .output_final();
+        let solve_once = |method| chetaev::solve(black_box(&problem), method, black_box(&opts));
         // Per method: the untimed solve's row, and the batch size.
         let mut timed = Vec::new();
         for &method in &args.methods {
             let name = method.info().name.to_ascii_lowercase();
-            let solve_once = || chetaev::solve(black_box(&problem), method, black_box(&opts));
-            let sol = match solve_once() {
+            let sol = match solve_once(method) {
                 Ok(s) if s.is_success() => s,
                 Ok(s) => {
                     eprintln!("rodas4: {name} tol {tol:e}: {:?}", s.error());
@@ -152,7 +152,7 @@ fn main() {
             let (err, abs_err) = errors(t, q, qd);
             // Batch size: enough solves that one timed batch lasts at least min_batch_s.
             let start = Instant::now();
-            black_box(solve_once().ok());
+            black_box(solve_once(method).ok());
             let one = start.elapsed().as_secs_f64().max(1e-9);
             let batch = ((args.min_batch_s / one).ceil() as usize).max(1);
             timed.push((method, name, err, abs_err, sol.stats, batch, Vec::new()));
@@ -162,7 +162,7 @@ fn main() {
             for (method, _, _, _, _, batch, times) in &mut timed {
                 let start = Instant::now();
                 for _ in 0..*batch {
-                    black_box(chetaev::solve(black_box(&problem), *method, black_box(&opts)).ok());
+                    black_box(solve_once(*method).ok());
                 }
                 times.push(start.elapsed().as_secs_f64() / *batch as f64);
             }
