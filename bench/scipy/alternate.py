@@ -25,8 +25,13 @@ import sys
 
 def run(binary, args, core):
     cmd = (["taskset", "-c", core] if core is not None else []) + [binary] + args
-    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-    return list(csv.DictReader(io.StringIO(out)))
+    try:
+        done = subprocess.run(cmd, capture_output=True, text=True)
+    except OSError as e:
+        sys.exit(f"alternate.py: cannot run {binary}: {e}; build it first (see the usage above)")
+    if done.returncode != 0:
+        sys.exit(f"alternate.py: {binary} failed ({done.returncode}): {done.stderr.strip()}")
+    return list(csv.DictReader(io.StringIO(done.stdout)))
 
 
 def main():

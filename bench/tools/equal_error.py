@@ -36,8 +36,17 @@ def main():
         print(__doc__, file=sys.stderr)
         return 2
     path, a, b = sys.argv[1:]
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.DictReader(f))
+    except OSError as e:
+        print(f"cannot read {path}: {e}; write it with the work-precision program (see above)",
+              file=sys.stderr)
+        return 1
+    if rows and not {"method", "error", "seconds"} <= rows[0].keys():
+        print(f"{path} is not a CSV of the work-precision program (columns method, error, seconds)",
+              file=sys.stderr)
+        return 1
     ca, cb = curve(rows, a), curve(rows, b)
     if not ca or not cb:
         print(f"no measured points of {a!r} or {b!r} in {path}", file=sys.stderr)
