@@ -37,7 +37,7 @@ use super::graph::{
 };
 use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
 use super::structure::{Dependence, Structure};
-use super::Dynamics;
+use super::{Dynamics, Need};
 use crate::error::Error;
 use crate::model::{Functions, Model, Real};
 
@@ -111,6 +111,7 @@ impl fmt::Debug for Compiled {
             .field("sizes", &(self.n, self.k))
             .field("structure", &self.structure)
             .field("operations", &self.operations())
+            .field("runs", &self.runs())
             .field("guards", &self.graph.guards().len())
             .finish()
     }
@@ -358,15 +359,14 @@ impl Compiled {
             Vec::new()
         };
 
-        let mut core_out = vec![l];
-        core_out.extend(&f);
+        let mut core_out = f.clone();
         core_out.extend(&r);
         core_out.extend(j_entries.iter().map(|&(a, i)| j[a * n + i]));
         core_out.extend(&c);
         core_out.extend(w_entries.iter().map(|&(i, m)| w[i * n + m]));
         core_out.extend([dl_dt, power_forces]);
         let mut full_out = core_out.clone();
-        full_out.push(energy);
+        full_out.extend([l, energy]);
         full_out.extend(&qf);
         let constants = |ids: &[u32]| {
             ids.iter()
@@ -452,6 +452,13 @@ impl Compiled {
         (self.core().len(), self.full().len())
     }
 
+    /// The runs the operations of [`Compiled::operations`] are grouped into, each evaluated by one
+    /// loop: `(right-hand side, with the energy balance)`. A model written with loops over its
+    /// coordinates has far fewer runs than operations.
+    pub fn runs(&self) -> (usize, usize) {
+        (self.core().runs(), self.full().runs())
+    }
+
     /// Whether the reduced equations provably do not depend on `t`: no block of the structure
     /// varies with it, and no comparison in the model's code could switch to a branch that does.
     /// An implicit method's `∂F/∂t` is then zero without evaluating it.
@@ -527,9 +534,9 @@ impl Compiled {
         out
     }
 
-    /// Evaluates the reduced equations at `(t, q, q̇)` into `d`; with `full` also `E` and `Q`.
-    /// `q̈`, `μ`, `Φ`, `f`, `L`, the powers `q̇·Φ` and `q̇·Q`, `∂L/∂t`, `J` and the conditioning are
-    /// always written.
+    /// Evaluates the reduced equations at `(t, q, q̇)` into `d`, what `need` asks for: `q̈`, `μ`,
+    /// `f`, `∂L/∂t`, `q̇·Q`, `J` and the conditioning always; `Φ` and `q̇·Φ` from [`Need::Rates`];
+    /// `L`, `E` and `Q` with [`Need::All`] (otherwise those keep their last values).
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub fn evaluate<T: Real>(
@@ -539,22 +546,18 @@ impl Compiled {
         t: T,
         q: &[T],
         qd: &[T],
-        full: bool,
+        need: Need,
     ) -> Result<(), CompiledFailure> {
         let n = self.n;
+        let full = need == Need::All;
         let tape = if full { self.full() } else { self.core() };
         let mut slots = std::mem::take(if full { &mut ws.full } else { &mut ws.core });
         let params = &ws.params;
-        let input = |i: usize| {
-            if i == 0 {
-                t
-            } else if i <= n {
-                q[i - 1]
-            } else if i <= 2 * n {
-                qd[i - 1 - n]
-            } else {
-                params[i - 1 - 2 * n]
-            }
+        let input = |x: &mut [T]| {
+            x[0] = t;
+            x[1..=n].copy_from_slice(q);
+            x[n + 1..=2 * n].copy_from_slice(qd);
+            x[2 * n + 1..].copy_from_slice(params);
         };
         let read = tape
             .eval(&mut slots, input)
@@ -565,23 +568,27 @@ impl Compiled {
         } else {
             ws.core = slots;
         }
-        d.l = read?;
+        read?;
         d.pivot_ratio = self.solve(ws)?;
         d.qdd.copy_from_slice(&ws.a);
         d.mu.copy_from_slice(&ws.mu);
-        if d.qdd.iter().chain(&d.mu).any(|v| !v.re().is_finite()) {
+        // Without a branch per entry, so that the loop is vectorised.
+        let finite = |x: &[T]| x.iter().fold(true, |ok, v| ok & v.re().is_finite());
+        if !(finite(&d.qdd) && finite(&d.mu)) {
             return Err(SaddleFailure::NonFinite.into());
         }
-        let mut power = T::zero();
-        for (i, (phi_i, &qd_i)) in d.phi.iter_mut().zip(qd).enumerate() {
-            let mut phi = T::zero();
-            for (a, &mu_a) in ws.mu.iter().enumerate() {
-                phi += ws.j[a * n + i] * mu_a;
+        if need.rates() {
+            let mut power = T::zero();
+            for (i, (phi_i, &qd_i)) in d.phi.iter_mut().zip(qd).enumerate() {
+                let mut phi = T::zero();
+                for (a, &mu_a) in ws.mu.iter().enumerate() {
+                    phi += ws.j[a * n + i] * mu_a;
+                }
+                *phi_i = phi;
+                power += qd_i * phi;
             }
-            *phi_i = phi;
-            power += qd_i * phi;
+            d.power = power;
         }
-        d.power = power;
         for (dst, src) in d.j.iter_mut().zip(&ws.j) {
             *dst = src.re();
         }
@@ -593,10 +600,11 @@ impl Compiled {
     }
 
     /// Reads the outputs of `tape` (`full` or `core`), evaluated into `slots`, into `ws` (`r`, `J`,
-    /// `c`, `W`) and `d` (`f`, and with `full` the energy balance); returns `L`.
+    /// `c`, `W`) and `d` (`f`, `∂L/∂t`, `q̇·Q`, and with `full` `L`, `E` and `Q`).
     ///
-    /// Output layout: `L`, `f` (k), `r` (n), `J` entries, `c` (k), `W` entries, `∂L/∂t`, `q̇·Q`,
-    /// then with `full` `E`, `Q` (n).
+    /// Output layout: `f` (k), `r` (n), `J` entries, `c` (k), `W` entries, `∂L/∂t`, `q̇·Q`, then
+    /// with `full` `L`, `E`, `Q` (n). The right-hand side needs no `L` (a model written with
+    /// loops spends a loop on it), so only the full tape has it.
     #[inline]
     fn read<T: Real>(
         &self,
@@ -605,23 +613,25 @@ impl Compiled {
         ws: &mut CompiledWorkspace<T>,
         d: &mut Dynamics<T>,
         full: bool,
-    ) -> Result<T, CompiledFailure> {
+    ) -> Result<(), CompiledFailure> {
         let (n, k) = (self.n, self.k);
         let out = |i: usize| tape.output(slots, i);
-        let l = out(0);
         for (a, fa) in d.f.iter_mut().enumerate() {
-            *fa = out(1 + a);
+            *fa = out(a);
         }
-        if !l.re().is_finite() || d.f.iter().any(|f| !f.re().is_finite()) {
+        if d.f.iter().any(|f| !f.re().is_finite()) {
             return Err(SaddleFailure::NonFinite.into());
         }
-        let mut o = 1 + k;
-        for (i, ri) in ws.r.iter_mut().enumerate() {
-            *ri = out(o + i);
-        }
+        let mut o = k;
+        tape.outputs(slots, o, &mut ws.r);
         o += n;
-        for (e, &(a, i)) in self.j_entries.iter().enumerate() {
-            ws.j[a * n + i] = out(o + e);
+        if self.j_entries.len() == k * n {
+            // Dense, in row-major order.
+            tape.outputs(slots, o, &mut ws.j);
+        } else {
+            for (e, &(a, i)) in self.j_entries.iter().enumerate() {
+                ws.j[a * n + i] = out(o + e);
+            }
         }
         o += self.j_entries.len();
         for (a, ca) in ws.c.iter_mut().enumerate() {
@@ -637,24 +647,52 @@ impl Compiled {
         d.dl_dt = out(o);
         d.power_forces = out(o + 1);
         if full {
-            d.energy = out(o + 2);
+            d.l = out(o + 2);
+            if !d.l.re().is_finite() {
+                return Err(SaddleFailure::NonFinite.into());
+            }
+            d.energy = out(o + 3);
             for (i, fi) in d.forces.iter_mut().enumerate() {
-                *fi = out(o + 3 + i);
+                *fi = out(o + 4 + i);
             }
         }
-        Ok(l)
+        Ok(())
     }
 
     /// Solves the block system from `ws.r`, `ws.j`, `ws.c` (and `ws.w` when varying): `q̈` into
     /// `ws.a`, `μ` into `ws.mu`; returns the pivot ratio.
     fn solve<T: Real>(&self, ws: &mut CompiledWorkspace<T>) -> Result<f64, SaddleFailure> {
         let (n, k) = (self.n, self.k);
-        for a in 0..k {
-            if ws.j[a * n..(a + 1) * n].iter().all(|v| v.re() == 0.0) {
-                return Err(SaddleFailure::ZeroConstraintRow { row: a });
+        // A constraint row that vanishes is reported as such. The Schur complement finds it as a
+        // singular `S` (checked then, below); the elimination needs it checked first.
+        let zero_row = |ws: &CompiledWorkspace<T>| {
+            (0..k)
+                .find(|&a| ws.j[a * n..(a + 1) * n].iter().all(|v| v.re() == 0.0))
+                .map(|row| SaddleFailure::ZeroConstraintRow { row })
+        };
+        if matches!(self.metric, Metric::Indefinite(_) | Metric::Varying) {
+            if let Some(e) = zero_row(ws) {
+                return Err(e);
             }
         }
         let w_ratio = match &self.metric {
+            Metric::Diagonal(inv) if k == 1 => {
+                // a = W⁻¹ r, y = W⁻¹ Jᵀ, S = J y and J a in one pass (the sums in the same order
+                // as `dot`'s, so that the result is that of the separate passes).
+                let (mut s, mut j_a) = (T::zero(), T::zero());
+                let CompiledWorkspace { r, j, a, y, .. } = &mut *ws;
+                for ((((ai, yi), &ri), &ji), &di) in
+                    a.iter_mut().zip(y.iter_mut()).zip(&*r).zip(&*j).zip(inv)
+                {
+                    *ai = ri * di;
+                    *yi = ji * di;
+                    s += ji * *yi;
+                    j_a += ji * *ai;
+                }
+                ws.s[0] = s;
+                ws.mu[0] = -ws.c[0] - j_a;
+                return self.finish(ws, self.w_ratio, zero_row);
+            }
             Metric::Diagonal(inv) => {
                 let mul = |x: &mut [T]| {
                     for (xi, &di) in x.iter_mut().zip(inv) {
@@ -707,6 +745,18 @@ impl Compiled {
             }
             ws.mu[a] = -ws.c[a] - dot(ja, &ws.a);
         }
+        self.finish(ws, w_ratio, zero_row)
+    }
+
+    /// Solves `S μ = −c − J a` from `ws.s` and `ws.mu`, then `q̈ = a + Yᵀ μ` into `ws.a`; returns
+    /// the smaller of `w_ratio` and `S`'s pivot ratio.
+    fn finish<T: Real>(
+        &self,
+        ws: &mut CompiledWorkspace<T>,
+        w_ratio: f64,
+        zero_row: impl Fn(&CompiledWorkspace<T>) -> Option<SaddleFailure>,
+    ) -> Result<f64, SaddleFailure> {
+        let (n, k) = (self.n, self.k);
         let s_ratio = if k == 1 {
             // One constraint: S is a positive number unless J_1 W⁻¹ J_1ᵀ vanishes (as in the
             // static route, so that both round alike).
@@ -725,9 +775,9 @@ impl Compiled {
             ratio
         };
         if s_ratio < SINGULAR_PIVOT_RATIO {
-            return Err(SaddleFailure::Singular {
+            return Err(zero_row(ws).unwrap_or(SaddleFailure::Singular {
                 pivot_ratio: s_ratio,
-            });
+            }));
         }
         for a in 0..k {
             let mu = ws.mu[a];

@@ -209,7 +209,7 @@ where
         return result.map(|()| (&ws.dynamics, false));
     }
     let cws = ws.compiled.get_or_insert_with(|| CompiledWorkspace::new(c));
-    match c.evaluate(cws, &mut ws.dynamics, t, q, qd, need == Need::All) {
+    match c.evaluate(cws, &mut ws.dynamics, t, q, qd, need) {
         Ok(()) => Ok((&ws.dynamics, false)),
         Err(CompiledFailure::Saddle(e)) => Err(e),
         Err(CompiledFailure::Guard(_)) => evaluate(model, ws, t, q, qd).map(|d| (d, true)),
@@ -230,7 +230,7 @@ pub(crate) fn evaluate_compiled<'w, T: Real>(
         .compiled
         .get_or_insert_with(|| CompiledWorkspace::new(compiled));
     cws.params.copy_from_slice(params);
-    compiled.evaluate(cws, &mut ws.dynamics, t, q, qd, false)?;
+    compiled.evaluate(cws, &mut ws.dynamics, t, q, qd, Need::Motion)?;
     Ok(&ws.dynamics)
 }
 

@@ -234,7 +234,8 @@ mod tests {
         let dir = g.directional(&[on], &[(xn, yn)], DEP_Q)[0];
         let tape = super::super::Tape::new(&g, &[grad_x, grad_y, dir]);
         let mut slots = tape.slots::<f64>();
-        tape.eval(&mut slots, |i| [x0, y0][i]).expect("no guards");
+        tape.eval(&mut slots, |x| x.copy_from_slice(&[x0, y0]))
+            .expect("no guards");
         let dx = num_dual::first_derivative(|x| f(x, num_dual::Dual64::from(y0)), x0).1;
         let dy = num_dual::first_derivative(|y| f(num_dual::Dual64::from(x0), y), y0).1;
         assert!((tape.output(&slots, 0) - dx).abs() < 1e-13 * dx.abs().max(1.0));

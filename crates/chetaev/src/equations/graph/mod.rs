@@ -164,6 +164,22 @@ impl Node {
         }
     }
 
+    /// This node with operand number `i` (0 or 1), `o`, replaced by `f(i, o)`.
+    pub fn map_operands(self, f: impl Fn(usize, u32) -> u32) -> Node {
+        match self {
+            Node::Const(_) | Node::Input(_) => self,
+            Node::Add(a, b) => Node::Add(f(0, a), f(1, b)),
+            Node::Sub(a, b) => Node::Sub(f(0, a), f(1, b)),
+            Node::Mul(a, b) => Node::Mul(f(0, a), f(1, b)),
+            Node::Div(a, b) => Node::Div(f(0, a), f(1, b)),
+            Node::Neg(a) => Node::Neg(f(0, a)),
+            Node::Powi(a, n) => Node::Powi(f(0, a), n),
+            Node::Powf(a, p) => Node::Powf(f(0, a), p),
+            Node::Atan2(a, b) => Node::Atan2(f(0, a), f(1, b)),
+            Node::Fun(fun, a) => Node::Fun(fun, f(0, a)),
+        }
+    }
+
     /// The operands.
     pub fn operands(&self) -> ([u32; 2], usize) {
         match *self {
@@ -345,6 +361,11 @@ impl Graph {
     /// The constant `c` as a node.
     pub fn constant_node(&mut self, c: f64) -> u32 {
         self.intern(Node::Const(c))
+    }
+
+    /// The id of `node` (its operands given as node ids) if the graph holds it.
+    pub(crate) fn find(&self, node: &Node) -> Option<u32> {
+        self.map.get(&key(node)).copied()
     }
 
     fn intern(&mut self, node: Node) -> u32 {
