@@ -411,3 +411,50 @@ fn a_solution_serialises_to_json_with_its_events_statistics_and_status() {
     );
     assert_eq!(json["status"]["Terminated"]["event"], 0);
 }
+
+/// `L = ½|q̇|²` under `q̇0² = 1` and, with `two`, also `q̇1 = 1/2`: `J`'s first row vanishes where
+/// `q̇0 = 0`.
+#[derive(Clone)]
+struct Vanishing {
+    two: bool,
+}
+impl DynModel for Vanishing {
+    fn sizes(&self) -> (usize, usize) {
+        (2, if self.two { 2 } else { 1 })
+    }
+    fn lagrangian<R: Real>(&self, _t: R, _q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd[0] * qd[0] - 1.0;
+        if self.two {
+            f[1] = qd[1] - 0.5;
+        }
+    }
+}
+
+#[test]
+fn a_vanishing_constraint_row_is_reported_as_such_by_both_routes() {
+    use chetaev::equations::saddle::SaddleFailure;
+    use chetaev::equations::{evaluate_with, Need, Workspace};
+    for two in [false, true] {
+        let model = Vanishing { two };
+        let problem = Problem::dynamic(model.clone(), 0.0, vec![0.0, 0.0], vec![1.0, 0.5])
+            .expect("consistent");
+        let plan = problem.compiled().expect("compiled");
+        let (q, qd) = ([0.3, -0.1], [0.0, 0.5]);
+        for need in [Need::Motion, Need::Rates, Need::All] {
+            for route in [Some(plan), None] {
+                let mut ws = Workspace::for_model(&model);
+                let e = evaluate_with(&model, route, &mut ws, 0.0, &q, &qd, need).map(|_| ());
+                assert_eq!(
+                    e,
+                    Err(SaddleFailure::ZeroConstraintRow { row: 0 }),
+                    "k = {}, {need:?}, compiled: {}",
+                    1 + usize::from(two),
+                    route.is_some()
+                );
+            }
+        }
+    }
+}

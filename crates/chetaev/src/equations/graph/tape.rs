@@ -292,9 +292,7 @@ impl Run {
         let (src, dst) = slots.split_at_mut(out);
         let dst = &mut dst[..len];
         match (self.links, da, db) {
-            (Links::Running(0), _, 1) => {
-                running(dst, src[a], &src[b..b + len], &op)
-            }
+            (Links::Running(0), _, 1) => running(dst, src[a], &src[b..b + len], &op),
             (Links::Running(1), 1, _) => {
                 running(dst, src[b], &src[a..a + len], |acc, x| op(x, acc))
             }
