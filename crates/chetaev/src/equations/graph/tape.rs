@@ -251,20 +251,19 @@ impl Run {
     /// Evaluates the run's elements into `slots[out..out + len]`.
     #[inline]
     fn eval<T: Real>(&self, slots: &mut [T], out: usize) {
-        let len = self.len as usize;
         let ([a, b], _) = self.first.operands();
         let (a, b) = (a as usize, b as usize);
         let (da, db) = (self.da as isize, self.db as isize);
         match self.first {
-            Node::Add(..) => self.binary(slots, out, len, (a, da), (b, db), |x, y| x + y),
-            Node::Sub(..) => self.binary(slots, out, len, (a, da), (b, db), |x, y| x - y),
-            Node::Mul(..) => self.binary(slots, out, len, (a, da), (b, db), |x, y| x * y),
-            Node::Div(..) => self.binary(slots, out, len, (a, da), (b, db), |x, y| x / y),
-            Node::Atan2(..) => self.binary(slots, out, len, (a, da), (b, db), |x, y| x.atan2(y)),
-            Node::Neg(_) => self.unary(slots, out, len, (a, da), |x| -x),
-            Node::Powi(_, n) => self.unary(slots, out, len, (a, da), |x| x.powi(n)),
-            Node::Powf(_, p) => self.unary(slots, out, len, (a, da), |x| x.powf(p)),
-            Node::Fun(f, _) => self.unary(slots, out, len, (a, da), |x| f.apply(x)),
+            Node::Add(..) => self.binary(slots, out, (a, da), (b, db), |x, y| x + y),
+            Node::Sub(..) => self.binary(slots, out, (a, da), (b, db), |x, y| x - y),
+            Node::Mul(..) => self.binary(slots, out, (a, da), (b, db), |x, y| x * y),
+            Node::Div(..) => self.binary(slots, out, (a, da), (b, db), |x, y| x / y),
+            Node::Atan2(..) => self.binary(slots, out, (a, da), (b, db), |x, y| x.atan2(y)),
+            Node::Neg(_) => self.unary(slots, out, (a, da), |x| -x),
+            Node::Powi(_, n) => self.unary(slots, out, (a, da), |x| x.powi(n)),
+            Node::Powf(_, p) => self.unary(slots, out, (a, da), |x| x.powf(p)),
+            Node::Fun(f, _) => self.unary(slots, out, (a, da), |x| f.apply(x)),
             Node::Const(_) | Node::Input(_) => unreachable!("inputs and constants are not run"),
         }
     }
@@ -275,11 +274,11 @@ impl Run {
         &self,
         slots: &mut [T],
         out: usize,
-        len: usize,
         (a, da): (usize, isize),
         (b, db): (usize, isize),
         op: impl Fn(T, T) -> T,
     ) {
+        let len = self.len as usize;
         let at = |s: usize, d: isize, j: usize| s.wrapping_add_signed(d * j as isize);
         if self.links == Links::Chained {
             for j in 0..len {
@@ -360,10 +359,10 @@ impl Run {
         &self,
         slots: &mut [T],
         out: usize,
-        len: usize,
         (a, da): (usize, isize),
         op: impl Fn(T) -> T,
     ) {
+        let len = self.len as usize;
         let at = |j: usize| a.wrapping_add_signed(da * j as isize);
         if self.links != Links::Apart {
             for j in 0..len {
