@@ -507,8 +507,8 @@ impl<'g> Scheduler<'g> {
         (runs, self.slot)
     }
 
-    /// Gives operation `p` the next slot and releases its users; returns the slot.
-    fn place(&mut self, p: u32) -> u32 {
+    /// Gives operation `p` the next slot and releases its users.
+    fn place(&mut self, p: u32) {
         let id = self.ops[p as usize];
         let s = self.next;
         self.next += 1;
@@ -520,7 +520,6 @@ impl<'g> Scheduler<'g> {
                 self.ready.push(Reverse(u));
             }
         }
-        s
     }
 
     /// The ready operation that continues `run` and its strides `(da, db)`: with two or more
