@@ -30,7 +30,7 @@ use num_dual::HyperDual64;
 
 use crate::equations::compiled::{Compiled, CompiledFailure};
 use crate::equations::graph::{record_with_parameters, Sym, DEP_P, DEP_Q, DEP_QD, DEP_T};
-use crate::equations::{evaluate_compiled, lane, lanes, Dynamics, Lanes, Workspace, LANES};
+use crate::equations::{evaluate_compiled, lane, lanes, Dynamics, Lanes, Need, Workspace, LANES};
 use crate::error::Error;
 use crate::integrate::events::{Event, EventFunction};
 use crate::integrate::system::locate;
@@ -361,7 +361,7 @@ impl Variational {
             })
             .collect();
         for first in (0..seeds.len()).step_by(LANES) {
-            let d = v.lanes(model, t0, q0, qd0, &s0, first)?;
+            let d = v.lanes(model, t0, q0, qd0, &s0, first, Need::All)?;
             for (a, fa) in d.f.iter().enumerate() {
                 let row = &d.j[a * n..(a + 1) * n];
                 let size = row.iter().map(|x| x.abs()).sum::<f64>().max(fa.re.abs());
@@ -443,6 +443,7 @@ impl Variational {
         qd: &[f64],
         s: &[f64],
         first: usize,
+        need: Need,
     ) -> Result<&Dynamics<Lanes>, Error> {
         let n = self.n;
         let count = (self.seeds.len() - first).min(LANES);
@@ -474,6 +475,7 @@ impl Variational {
                 Lanes::from_re(t),
                 &v.lq,
                 &v.lqd,
+                need,
             )
             .map(|_| ())
         })?;
@@ -517,7 +519,7 @@ impl Variational {
     ) -> Result<(), Error> {
         let (n, m) = (self.n, self.seeds.len());
         for first in (0..m).step_by(LANES) {
-            let d = self.lanes(model, t, q, qd, s, first)?;
+            let d = self.lanes(model, t, q, qd, s, first, Need::Motion)?;
             for (i, a) in d.qdd.iter().enumerate() {
                 for (l, j) in (first..m.min(first + LANES)).enumerate() {
                     ds[2 * n * j + n + i] = lane(a, l);
@@ -587,7 +589,7 @@ impl Variational {
                             .map(|(p, &r)| HyperDual64::new(p.1, 0.0, r, 0.0)),
                     );
                     let ws = v.hyper.get_or_insert_with(|| Workspace::new(n, k));
-                    evaluate_compiled(&v.compiled, ws, &hp, ht, &hq, &hqd).map(|_| ())
+                    evaluate_compiled(&v.compiled, ws, &hp, ht, &hq, &hqd, Need::Motion).map(|_| ())
                 })?;
                 let d = self.hyper.as_ref().map(Workspace::dynamics);
                 for (i, a) in d.iter().flat_map(|d| d.qdd.iter()).enumerate() {

@@ -359,13 +359,13 @@ impl Compiled {
             Vec::new()
         };
 
-        let mut core_out = f.clone();
-        core_out.extend(&r);
+        let mut core_out = r.clone();
         core_out.extend(j_entries.iter().map(|&(a, i)| j[a * n + i]));
         core_out.extend(&c);
         core_out.extend(w_entries.iter().map(|&(i, m)| w[i * n + m]));
         core_out.extend([dl_dt, power_forces]);
         let mut full_out = core_out.clone();
+        full_out.extend(&f);
         full_out.extend([l, energy]);
         full_out.extend(&qf);
         let constants = |ids: &[u32]| {
@@ -535,7 +535,7 @@ impl Compiled {
     }
 
     /// Evaluates the reduced equations at `(t, q, q̇)` into `d`, what `need` asks for: `q̈`, `μ`,
-    /// `f`, `∂L/∂t`, `q̇·Q`, `J` and the conditioning always; `Φ` and `q̇·Φ` from [`Need::Rates`];
+    /// `∂L/∂t`, `q̇·Q`, `J` and the conditioning always; `Φ` and `q̇·Φ` from [`Need::Rates`]; `f`,
     /// `L`, `E` and `Q` with [`Need::All`] (otherwise those keep their last values).
     #[inline]
     #[allow(clippy::too_many_arguments)]
@@ -600,11 +600,11 @@ impl Compiled {
     }
 
     /// Reads the outputs of `tape` (`full` or `core`), evaluated into `slots`, into `ws` (`r`, `J`,
-    /// `c`, `W`) and `d` (`f`, `∂L/∂t`, `q̇·Q`, and with `full` `L`, `E` and `Q`).
+    /// `c`, `W`) and `d` (`∂L/∂t`, `q̇·Q`, and with `full` `f`, `L`, `E` and `Q`).
     ///
-    /// Output layout: `f` (k), `r` (n), `J` entries, `c` (k), `W` entries, `∂L/∂t`, `q̇·Q`, then
-    /// with `full` `L`, `E`, `Q` (n). The right-hand side needs no `L` (a model written with
-    /// loops spends a loop on it), so only the full tape has it.
+    /// Output layout: `r` (n), `J` entries, `c` (k), `W` entries, `∂L/∂t`, `q̇·Q`, then with
+    /// `full` `f` (k), `L`, `E`, `Q` (n). The right-hand side needs neither `f` nor `L` (a model
+    /// written with loops spends a loop on each), so only the full tape has them.
     #[inline]
     fn read<T: Real>(
         &self,
@@ -616,15 +616,8 @@ impl Compiled {
     ) -> Result<(), CompiledFailure> {
         let (n, k) = (self.n, self.k);
         let out = |i: usize| tape.output(slots, i);
-        for (a, fa) in d.f.iter_mut().enumerate() {
-            *fa = out(a);
-        }
-        if d.f.iter().any(|f| !f.re().is_finite()) {
-            return Err(SaddleFailure::NonFinite.into());
-        }
-        let mut o = k;
-        tape.outputs(slots, o, &mut ws.r);
-        o += n;
+        tape.outputs(slots, 0, &mut ws.r);
+        let mut o = n;
         if self.j_entries.len() == k * n {
             // Dense, in row-major order.
             tape.outputs(slots, o, &mut ws.j);
@@ -647,14 +640,15 @@ impl Compiled {
         d.dl_dt = out(o);
         d.power_forces = out(o + 1);
         if full {
-            d.l = out(o + 2);
-            if !d.l.re().is_finite() {
+            o += 2;
+            tape.outputs(slots, o, &mut d.f);
+            o += k;
+            d.l = out(o);
+            if !d.l.re().is_finite() || d.f.iter().any(|f| !f.re().is_finite()) {
                 return Err(SaddleFailure::NonFinite.into());
             }
-            d.energy = out(o + 3);
-            for (i, fi) in d.forces.iter_mut().enumerate() {
-                *fi = out(o + 4 + i);
-            }
+            d.energy = out(o + 1);
+            tape.outputs(slots, o + 2, &mut d.forces);
         }
         Ok(())
     }

@@ -225,12 +225,13 @@ pub(crate) fn evaluate_compiled<'w, T: Real>(
     t: T,
     q: &[T],
     qd: &[T],
+    need: Need,
 ) -> Result<&'w Dynamics<T>, CompiledFailure> {
     let cws = ws
         .compiled
         .get_or_insert_with(|| CompiledWorkspace::new(compiled));
     cws.params.copy_from_slice(params);
-    compiled.evaluate(cws, &mut ws.dynamics, t, q, qd, Need::Motion)?;
+    compiled.evaluate(cws, &mut ws.dynamics, t, q, qd, need)?;
     Ok(&ws.dynamics)
 }
 
