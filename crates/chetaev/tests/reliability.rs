@@ -377,3 +377,144 @@ fn a_singular_point_of_the_constraint_stops_the_run_where_it_is() {
     .expect("valid options");
     assert!(!matches!(sol.error(), Some(Error::SingularPoint { .. })));
 }
+
+/// The paper's uniform motion, with static sizes and with run-time sizes.
+struct Uniform;
+impl Lagrangian<2> for Uniform {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5 - q[1] * 10.0
+    }
+}
+impl Constraints<2, 1> for Uniform {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        SVector::from([qd.dot(qd) - 100.0])
+    }
+}
+struct DynUniform;
+impl DynModel for DynUniform {
+    fn sizes(&self) -> (usize, usize) {
+        (2, 1)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5 - q[1] * 10.0
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd[0] * qd[0] + qd[1] * qd[1] - 100.0;
+    }
+}
+
+#[test]
+fn the_equations_refuse_arguments_of_the_wrong_size_with_a_typed_error() {
+    use chetaev::equations::compiled::CompiledWorkspace;
+    use chetaev::equations::saddle::SaddleFailure;
+    use chetaev::equations::{evaluate, evaluate_with, Need, Workspace};
+
+    // A refusal names the argument and gives the size called for and the size given.
+    let mismatch = |r: Result<(), SaddleFailure>, what: &str, expected: usize, got: usize| match r {
+        Err(SaddleFailure::SizeMismatch {
+            what: said,
+            expected: e,
+            got: g,
+        }) => {
+            assert!(said.contains(what), "{said:?} should name {what:?}");
+            assert_eq!((e, g), (expected, got), "{said}");
+        }
+        other => panic!("{what}: {other:?} where a size mismatch was expected"),
+    };
+    let fixed = Problem::new(
+        Uniform,
+        0.0,
+        SVector::from([0.0, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )
+    .expect("consistent");
+    let dynamic =
+        Problem::dynamic(DynUniform, 0.0, vec![0.0, 5.0], vec![10.0, 0.0]).expect("consistent");
+    let (q, qd) = ([3.0, 4.0], [8.0, -6.0]);
+    let ok = |d: &chetaev::equations::Dynamics<f64>| {
+        // g − (g·v) v / |v|² with g = (0, −10), v = (8, −6).
+        assert!(
+            (d.qdd[0] + 4.8).abs() < 1e-12 && (d.qdd[1] + 6.4).abs() < 1e-12,
+            "{d:?}"
+        );
+    };
+
+    // Static sizes: both entry points, every argument, with and without compiled equations.
+    let model = fixed.model();
+    let mut ws = Workspace::for_model(model);
+    let mut other = Workspace::<f64>::new(3, 1);
+    for plan in [None, fixed.compiled()] {
+        let with = |ws: &mut Workspace<f64>, q: &[f64], qd: &[f64]| {
+            evaluate_with(model, plan, ws, 0.5, q, qd, Need::Motion).map(|(d, _)| ok(d))
+        };
+        mismatch(with(&mut ws, &q[..1], &qd), "q", 2, 1);
+        mismatch(with(&mut ws, &q, &[8.0, -6.0, 0.0]), "q̇", 2, 3);
+        mismatch(with(&mut other, &q, &qd), "coordinates", 2, 3);
+        with(&mut ws, &q, &qd).expect("the right sizes evaluate");
+    }
+    mismatch(evaluate(model, &mut ws, 0.5, &q, &[]).map(ok), "q̇", 2, 0);
+    mismatch(
+        evaluate(model, &mut Workspace::new(2, 0), 0.5, &q, &qd).map(ok),
+        "constraints",
+        1,
+        0,
+    );
+    evaluate(model, &mut ws, 0.5, &q, &qd)
+        .map(ok)
+        .expect("the right sizes evaluate");
+
+    // Compiled equations of another model.
+    let (dm, dc) = (
+        dynamic.model(),
+        dynamic.compiled().expect("the model compiles"),
+    );
+    let oscillator = oscillator();
+    let one = oscillator.compiled().expect("the oscillator compiles");
+    mismatch(
+        evaluate_with(
+            dm,
+            Some(one),
+            &mut Workspace::for_model(dm),
+            0.5,
+            &q,
+            &qd,
+            Need::All,
+        )
+        .map(|(d, _)| ok(d)),
+        "compiled equations",
+        2,
+        1,
+    );
+
+    // `Compiled::evaluate` directly: its workspace and dynamics must be made for it.
+    let unwrap = |r: Result<(), chetaev::equations::compiled::CompiledFailure>| {
+        r.map_err(|e| match e {
+            chetaev::equations::compiled::CompiledFailure::Saddle(s) => s,
+            other => panic!("{other:?}"),
+        })
+    };
+    let mut cws = CompiledWorkspace::<f64>::new(dc);
+    let mut d = Workspace::<f64>::new(2, 1).dynamics().clone();
+    let mut wrong_d = Workspace::<f64>::new(2, 2).dynamics().clone();
+    let mut wrong_cws = CompiledWorkspace::<f64>::new(one);
+    mismatch(
+        unwrap(dc.evaluate(&mut cws, &mut d, 0.5, &q, &qd[..1], Need::All)),
+        "q̇",
+        2,
+        1,
+    );
+    mismatch(
+        unwrap(dc.evaluate(&mut cws, &mut wrong_d, 0.5, &q, &qd, Need::All)),
+        "dynamics",
+        1,
+        2,
+    );
+    assert!(matches!(
+        dc.evaluate(&mut wrong_cws, &mut d, 0.5, &q, &qd, Need::All),
+        Err(chetaev::equations::compiled::CompiledFailure::Saddle(
+            SaddleFailure::SizeMismatch { .. }
+        ))
+    ));
+    unwrap(dc.evaluate(&mut cws, &mut d, 0.5, &q, &qd, Need::All)).expect("the right sizes");
+    ok(&d);
+}

@@ -441,6 +441,12 @@ impl Compiled {
             .get_or_init(|| Tape::new(&self.graph, &self.full_out))
     }
 
+    /// The sizes `(n, k)` of the model these equations were compiled from (`k` counts the
+    /// holonomic constraints too).
+    pub fn sizes(&self) -> (usize, usize) {
+        (self.n, self.k)
+    }
+
     /// The structure found: which blocks are zero, constant, or depend on `t`, `q`, `q̇`, and the
     /// sparsity of `W` and `J` (proved from the expressions).
     pub fn structure(&self) -> &Structure {
@@ -537,9 +543,57 @@ impl Compiled {
     /// Evaluates the reduced equations at `(t, q, q̇)` into `d`, what `need` asks for: `q̈`, `μ`,
     /// `∂L/∂t`, `q̇·Q`, `J` and the conditioning always; `Φ` and `q̇·Φ` from [`Need::Rates`]; `f`,
     /// `L`, `E` and `Q` with [`Need::All`] (otherwise those keep their last values).
+    ///
+    /// `ws` must be made for these equations ([`CompiledWorkspace::new`]) and `d` for their sizes
+    /// ([`Workspace::new`](crate::equations::Workspace::new)); other sizes, or `q`, `q̇` of
+    /// another length than `n`, give [`SaddleFailure::SizeMismatch`] and evaluate nothing.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub fn evaluate<T: Real>(
+        &self,
+        ws: &mut CompiledWorkspace<T>,
+        d: &mut Dynamics<T>,
+        t: T,
+        q: &[T],
+        qd: &[T],
+        need: Need,
+    ) -> Result<(), CompiledFailure> {
+        let (n, k) = (self.n, self.k);
+        let slots = |tape: &Tape| tape.slot_count();
+        saddle::check_sizes([
+            ("the length of q", n, q.len()),
+            ("the length of q̇", n, qd.len()),
+            (
+                "the workspace's right-hand-side slots",
+                slots(self.core()),
+                ws.core.len(),
+            ),
+            ("the workspace's slots", slots(self.full()), ws.full.len()),
+            (
+                "the workspace's parameters",
+                self.parameters.len(),
+                ws.params.len(),
+            ),
+            ("the workspace's coordinates", n, ws.a.len()),
+            ("the workspace's constraints", k, ws.mu.len()),
+            ("the workspace's metric", ws.w.len(), ws.wf.len()),
+            ("the dynamics' coordinates", n, d.qdd.len()),
+            ("the dynamics' forces", n, d.forces.len()),
+            ("the dynamics' Chetaev forces", n, d.phi.len()),
+            ("the dynamics' constraints", k, d.mu.len()),
+            ("the dynamics' residual", k, d.f.len()),
+            ("the dynamics' J", k * n, d.j.len()),
+        ])?;
+        if matches!(self.metric, Metric::Varying) {
+            saddle::check_sizes([("the workspace's metric", n * n, ws.w.len())])?;
+        }
+        self.evaluate_unchecked(ws, d, t, q, qd, need)
+    }
+
+    /// [`Compiled::evaluate`] without the check of the sizes.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn evaluate_unchecked<T: Real>(
         &self,
         ws: &mut CompiledWorkspace<T>,
         d: &mut Dynamics<T>,

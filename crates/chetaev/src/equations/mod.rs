@@ -149,6 +149,17 @@ impl<T: Real> Workspace<T> {
         &self.dynamics
     }
 
+    /// Whether this workspace, `q` and `q̇` have `model`'s sizes.
+    fn fits<M: Model + ?Sized>(&self, model: &M, q: &[T], qd: &[T]) -> Result<(), SaddleFailure> {
+        let (n, k) = model.sizes();
+        saddle::check_sizes([
+            ("the length of q", n, q.len()),
+            ("the length of q̇", n, qd.len()),
+            ("the workspace's coordinates", n, self.n),
+            ("the workspace's constraints", k, self.k),
+        ])
+    }
+
     pub(crate) fn saddle(&mut self) -> &mut SaddleWorkspace<T> {
         &mut self.saddle
     }
@@ -165,9 +176,28 @@ impl<T: Real> Workspace<T> {
 /// with `Q` the forces not derivable from `L` (and `−∂D/∂q̇` of a Rayleigh function), if any.
 ///
 /// With `k = 0` no constraint derivative is taken and the system is `W q̈ = ∂L/∂q − g`. The result
-/// is in [`Workspace::dynamics`] (and returned).
+/// is in [`Workspace::dynamics`] (and returned). `q`, `q̇` of another length than `n`, or a
+/// workspace made for other sizes, give [`SaddleFailure::SizeMismatch`].
 #[inline]
 pub fn evaluate<'w, M, T>(
+    model: &M,
+    ws: &'w mut Workspace<T>,
+    t: T,
+    q: &[T],
+    qd: &[T],
+) -> Result<&'w Dynamics<T>, SaddleFailure>
+where
+    M: Model + ?Sized,
+    T: Real,
+{
+    ws.fits(model, q, qd)?;
+    evaluate_unchecked(model, ws, t, q, qd)
+}
+
+/// [`evaluate`] without the check of the sizes, for callers that made `ws`, `q` and `q̇` for
+/// `model` themselves.
+#[inline]
+pub(crate) fn evaluate_unchecked<'w, M, T>(
     model: &M,
     ws: &'w mut Workspace<T>,
     t: T,
@@ -186,7 +216,9 @@ where
 /// the dual-number blocks otherwise or where a guard of the compiled equations flips (a branch of
 /// the model's code taken the other way). Only what `need` asks for is sure to be written (a route
 /// may write more); the rest of [`Dynamics`] may hold an earlier evaluation's values. Returns the
-/// dynamics and whether the dual-number path was taken in place of compiled equations.
+/// dynamics and whether the dual-number path was taken in place of compiled equations. Sizes that
+/// do not fit the model (and `compiled`, which must be the model's) give
+/// [`SaddleFailure::SizeMismatch`].
 #[inline]
 #[allow(clippy::too_many_arguments)]
 pub fn evaluate_with<'w, M, T>(
@@ -202,17 +234,47 @@ where
     M: Model + ?Sized,
     T: Real,
 {
+    ws.fits(model, q, qd)?;
+    if let Some(c) = compiled {
+        let (n, k) = model.sizes();
+        saddle::check_sizes([
+            ("the compiled equations' coordinates", n, c.sizes().0),
+            ("the compiled equations' constraints", k, c.sizes().1),
+        ])?;
+    }
+    evaluate_with_unchecked(model, compiled, ws, t, q, qd, need)
+}
+
+/// [`evaluate_with`] without the check of the sizes, for callers that made `ws`, `q`, `q̇` and
+/// `compiled` for `model` themselves (the integrator's right-hand side).
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn evaluate_with_unchecked<'w, M, T>(
+    model: &M,
+    compiled: Option<&Compiled>,
+    ws: &'w mut Workspace<T>,
+    t: T,
+    q: &[T],
+    qd: &[T],
+    need: Need,
+) -> Result<(&'w Dynamics<T>, bool), SaddleFailure>
+where
+    M: Model + ?Sized,
+    T: Real,
+{
     let Some(c) = compiled else {
-        return evaluate(model, ws, t, q, qd).map(|d| (d, false));
+        return evaluate_unchecked(model, ws, t, q, qd).map(|d| (d, false));
     };
     if let Some(result) = model.evaluate_planned(c, ws, t, q, qd, need) {
         return result.map(|()| (&ws.dynamics, false));
     }
     let cws = ws.compiled.get_or_insert_with(|| CompiledWorkspace::new(c));
-    match c.evaluate(cws, &mut ws.dynamics, t, q, qd, need) {
+    match c.evaluate_unchecked(cws, &mut ws.dynamics, t, q, qd, need) {
         Ok(()) => Ok((&ws.dynamics, false)),
         Err(CompiledFailure::Saddle(e)) => Err(e),
-        Err(CompiledFailure::Guard(_)) => evaluate(model, ws, t, q, qd).map(|d| (d, true)),
+        Err(CompiledFailure::Guard(_)) => {
+            evaluate_unchecked(model, ws, t, q, qd).map(|d| (d, true))
+        }
     }
 }
 
@@ -231,7 +293,7 @@ pub(crate) fn evaluate_compiled<'w, T: Real>(
         .compiled
         .get_or_insert_with(|| CompiledWorkspace::new(compiled));
     cws.params.copy_from_slice(params);
-    compiled.evaluate(cws, &mut ws.dynamics, t, q, qd, need)?;
+    compiled.evaluate_unchecked(cws, &mut ws.dynamics, t, q, qd, need)?;
     Ok(&ws.dynamics)
 }
 

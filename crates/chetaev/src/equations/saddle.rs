@@ -39,6 +39,33 @@ pub enum SaddleFailure {
         /// Smallest over largest pivot magnitude.
         pivot_ratio: f64,
     },
+    /// An argument's size does not fit the model: `q` or `q̇` not of length `n`, or a workspace
+    /// (or [`Dynamics`](crate::equations::Dynamics)) made for other sizes. Nothing was evaluated.
+    SizeMismatch {
+        /// Which argument, and which of its sizes.
+        what: &'static str,
+        /// The size the model calls for.
+        expected: usize,
+        /// The size given.
+        got: usize,
+    },
+}
+
+/// `Err(SizeMismatch)` for the first of `(what, expected, got)` whose sizes differ.
+pub(crate) fn check_sizes<const M: usize>(
+    sizes: [(&'static str, usize, usize); M],
+) -> Result<(), SaddleFailure> {
+    match sizes
+        .into_iter()
+        .find(|&(_, expected, got)| expected != got)
+    {
+        Some((what, expected, got)) => Err(SaddleFailure::SizeMismatch {
+            what,
+            expected,
+            got,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Scratch storage for the elimination, reused across calls so the hot path never allocates.

@@ -8,7 +8,7 @@
 use num_dual::Dual64;
 
 use crate::equations::compiled::Compiled;
-use crate::equations::{evaluate_with, saddle::SaddleFailure, Dynamics, Need, Workspace};
+use crate::equations::{evaluate_with_unchecked, saddle::SaddleFailure, Dynamics, Need, Workspace};
 use crate::error::Error;
 use crate::model::Model;
 use crate::sensitivity::Variational;
@@ -97,6 +97,16 @@ pub(crate) fn locate(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
             pivot_ratio,
             q,
             qd,
+        },
+        SaddleFailure::SizeMismatch {
+            what,
+            expected,
+            got,
+        } => Error::InvalidModel {
+            what: format!(
+                "{what} is {got} where the model calls for {expected}; give q and q̇ one entry per \
+                 coordinate, and a workspace made for this model (Workspace::for_model)"
+            ),
         },
     }
 }
@@ -314,7 +324,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     pub fn evaluate(&mut self, t: f64, q: &[f64], qd: &[f64]) -> Result<&Dynamics<f64>, Error> {
         self.stats.output_evaluations += 1;
         let (d, fell_back) =
-            evaluate_with(self.model, self.compiled, &mut self.ws, t, q, qd, Need::All)
+            evaluate_with_unchecked(self.model, self.compiled, &mut self.ws, t, q, qd, Need::All)
                 .map_err(|e| locate(e, t, q, qd))?;
         self.stats.graph_fallbacks += usize::from(fell_back);
         Ok(d)
@@ -355,8 +365,9 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         // The right-hand side needs q̈, and the rates of the quadratures (q̇·Φ, ∂L/∂t, q̇·Q) only
         // when they are recorded; never E.
         let need = self.need();
-        let (d, fell_back) = evaluate_with(self.model, self.compiled, &mut self.ws, t, q, qd, need)
-            .map_err(|e| locate(e, t, q, qd))?;
+        let (d, fell_back) =
+            evaluate_with_unchecked(self.model, self.compiled, &mut self.ws, t, q, qd, need)
+                .map_err(|e| locate(e, t, q, qd))?;
         self.stats.graph_fallbacks += usize::from(fell_back);
         self.last_t = t;
         // Element by element: `copy_from_slice` calls `memcpy`, which costs more for a few words.
@@ -415,7 +426,7 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 qd[i] = Dual64::new(y[n + i], seed(n + i));
             }
             let td = Dual64::new(t, seed(2 * n));
-            let (d, fell_back) = evaluate_with(model, self.compiled, ws, td, q, qd, need)
+            let (d, fell_back) = evaluate_with_unchecked(model, self.compiled, ws, td, q, qd, need)
                 .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
             self.stats.graph_fallbacks += usize::from(fell_back);
             let mut put = |row: usize, v: f64| {

@@ -146,9 +146,14 @@ impl Tape {
         }
     }
 
+    /// The number of slots of [`Tape::slots`].
+    pub fn slot_count(&self) -> usize {
+        self.inputs + self.constants.len() + self.operations
+    }
+
     /// Fresh slots for this tape, with the constants in place.
     pub fn slots<T: Real>(&self) -> Vec<T> {
-        let mut s = vec![T::zero(); self.inputs + self.constants.len() + self.operations];
+        let mut s = vec![T::zero(); self.slot_count()];
         for (dst, &c) in s[self.inputs..].iter_mut().zip(&self.constants) {
             *dst = T::from(c);
         }
