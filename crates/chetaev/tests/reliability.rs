@@ -518,3 +518,51 @@ fn the_equations_refuse_arguments_of_the_wrong_size_with_a_typed_error() {
     unwrap(dc.evaluate(&mut cws, &mut d, 0.5, &q, &qd, Need::All)).expect("the right sizes");
     ok(&d);
 }
+
+#[test]
+fn compiling_at_a_state_of_the_wrong_length_is_refused() {
+    use chetaev::equations::compiled::Compiled;
+    let fixed = Problem::new(
+        Uniform,
+        0.0,
+        SVector::from([0.0, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )
+    .expect("consistent");
+    let model = fixed.model();
+    assert!(Compiled::new(model, 0.0, &[0.0, 5.0], &[10.0, 0.0]).is_some());
+    assert!(Compiled::new(model, 0.0, &[0.0], &[10.0, 0.0]).is_none());
+    assert!(Compiled::new(&DynUniform, 0.0, &[0.0, 5.0], &[10.0, 0.0, 1.0]).is_none());
+    match Compiled::with_parameters(model, 0.0, &[0.0, 5.0], &[10.0]) {
+        Err(Error::InvalidModel { what }) => {
+            assert!(
+                what.contains("q̇ has 1 entries") && what.contains("N = 2"),
+                "{what}"
+            );
+        }
+        other => panic!("{:?}", other.map(|_| ())),
+    }
+}
+
+#[test]
+fn the_integrators_system_refuses_a_state_of_the_wrong_length_with_a_message() {
+    use chetaev::integrate::system::ReducedOde;
+    let problem = Problem::new(
+        Uniform,
+        0.0,
+        SVector::from([0.0, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )
+    .expect("consistent");
+    let mut ode = ReducedOde::for_problem(&problem, false);
+    assert!(ode.evaluate(0.5, &[3.0, 4.0], &[8.0, -6.0]).is_ok());
+    match ode.evaluate(0.5, &[3.0, 4.0], &[8.0]) {
+        Err(Error::InvalidModel { what }) => {
+            assert!(
+                what.contains("q̇") && what.contains("is 1 where the model calls for 2"),
+                "{what}"
+            );
+        }
+        other => panic!("{:?}", other.map(|_| ())),
+    }
+}

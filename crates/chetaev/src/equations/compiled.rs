@@ -189,8 +189,12 @@ fn dependence(graph: &Graph, ids: &[u32]) -> Dependence {
 impl Compiled {
     /// Records `model` at `(t, q, q̇)` and derives its equations; `None` where the model does not
     /// offer its functions ([`Model::functions`]) or its recording cannot be trusted (a value
-    /// taken out of the graph).
+    /// taken out of the graph), and where `q` or `q̇` is not of the model's length `n`.
     pub fn new<M: Model + ?Sized>(model: &M, t: f64, q: &[f64], qd: &[f64]) -> Option<Self> {
+        let n = model.sizes().0;
+        if q.len() != n || qd.len() != n {
+            return None;
+        }
         Self::build(model, t, q, qd, false).ok()
     }
 
@@ -200,13 +204,27 @@ impl Compiled {
     /// parameter are not constant here.
     ///
     /// Fails where the model cannot be recorded (as [`Compiled::new`]) or reads one parameter
-    /// name with two values, with an [`Error::Sensitivity`] that says so.
+    /// name with two values, with an [`Error::Sensitivity`] that says so, and where `q` or `q̇` is
+    /// not of the model's length, with [`Error::InvalidModel`].
     pub fn with_parameters<M: Model + ?Sized>(
         model: &M,
         t: f64,
         q: &[f64],
         qd: &[f64],
     ) -> Result<Self, Error> {
+        let n = model.sizes().0;
+        if let Some((name, v)) = [("q", q), ("q̇", qd)]
+            .into_iter()
+            .find(|(_, v)| v.len() != n)
+        {
+            return Err(Error::InvalidModel {
+                what: format!(
+                    "{name} has {} entries, the model has N = {n} coordinates; give one per \
+                     coordinate",
+                    v.len()
+                ),
+            });
+        }
         Self::build(model, t, q, qd, true).map_err(|conflict| Error::Sensitivity {
             what: match conflict {
                 Some(c) => format!(

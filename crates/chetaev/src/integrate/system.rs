@@ -8,7 +8,9 @@
 use num_dual::Dual64;
 
 use crate::equations::compiled::Compiled;
-use crate::equations::{evaluate_with_unchecked, saddle::SaddleFailure, Dynamics, Need, Workspace};
+use crate::equations::{
+    evaluate_with, evaluate_with_unchecked, saddle::SaddleFailure, Dynamics, Need, Workspace,
+};
 use crate::error::Error;
 use crate::model::Model;
 use crate::sensitivity::Variational;
@@ -324,7 +326,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     pub fn evaluate(&mut self, t: f64, q: &[f64], qd: &[f64]) -> Result<&Dynamics<f64>, Error> {
         self.stats.output_evaluations += 1;
         let (d, fell_back) =
-            evaluate_with_unchecked(self.model, self.compiled, &mut self.ws, t, q, qd, Need::All)
+            evaluate_with(self.model, self.compiled, &mut self.ws, t, q, qd, Need::All)
                 .map_err(|e| locate(e, t, q, qd))?;
         self.stats.graph_fallbacks += usize::from(fell_back);
         Ok(d)
