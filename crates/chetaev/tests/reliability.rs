@@ -262,26 +262,27 @@ fn a_solution_writes_itself_as_csv_with_one_column_per_quantity() {
     assert!((last[1] - 1f64.sin()).abs() < 1e-6);
 }
 
+/// A free particle in the plane at unit speed: `L = ½ |q̇|²`, `f = |q̇|² − 1`.
+struct Speed;
+impl Lagrangian<2> for Speed {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5
+    }
+}
+impl Constraints<2, 1> for Speed {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        SVector::from([qd.dot(qd) - 1.0])
+    }
+}
+
+/// [`Speed`] moving along `x` from the origin.
+fn speed() -> Problem<chetaev::model::Fixed<Speed, 2, 1>> {
+    Problem::new(Speed, 0.0, SVector::zeros(), SVector::from([1.0, 0.0])).expect("valid")
+}
+
 #[test]
 fn the_equations_at_a_state_report_failures_with_the_state() {
-    struct Speed;
-    impl Lagrangian<2> for Speed {
-        fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
-            qd.dot(qd) * 0.5
-        }
-    }
-    impl Constraints<2, 1> for Speed {
-        fn constraints<R: Real>(
-            &self,
-            _t: R,
-            _q: &SVector<R, 2>,
-            qd: &SVector<R, 2>,
-        ) -> SVector<R, 1> {
-            SVector::from([qd.dot(qd) - 1.0])
-        }
-    }
-    let problem =
-        Problem::new(Speed, 0.0, SVector::zeros(), SVector::from([1.0, 0.0])).expect("valid");
+    let problem = speed();
     // At rest the constraint's gradient 2q̇ vanishes: constraint 1 is degenerate there.
     let err = problem
         .equations_at(2.0, &[1.0, 1.0], &[0.0, 0.0])
@@ -378,28 +379,17 @@ fn a_singular_point_of_the_constraint_stops_the_run_where_it_is() {
     assert!(!matches!(sol.error(), Some(Error::SingularPoint { .. })));
 }
 
-/// The paper's uniform motion, with static sizes and with run-time sizes.
-struct Uniform;
-impl Lagrangian<2> for Uniform {
-    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
-        qd.dot(qd) * 0.5 - q[1] * 10.0
-    }
-}
-impl Constraints<2, 1> for Uniform {
-    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
-        SVector::from([qd.dot(qd) - 100.0])
-    }
-}
-struct DynUniform;
-impl DynModel for DynUniform {
+/// [`Speed`] with run-time sizes.
+struct DynSpeed;
+impl DynModel for DynSpeed {
     fn sizes(&self) -> (usize, usize) {
         (2, 1)
     }
-    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
-        (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5 - q[1] * 10.0
+    fn lagrangian<R: Real>(&self, _t: R, _q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5
     }
     fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
-        f[0] = qd[0] * qd[0] + qd[1] * qd[1] - 100.0;
+        f[0] = qd[0] * qd[0] + qd[1] * qd[1] - 1.0;
     }
 }
 
@@ -421,22 +411,12 @@ fn the_equations_refuse_arguments_of_the_wrong_size_with_a_typed_error() {
         }
         other => panic!("{what}: {other:?} where a size mismatch was expected"),
     };
-    let fixed = Problem::new(
-        Uniform,
-        0.0,
-        SVector::from([0.0, 5.0]),
-        SVector::from([10.0, 0.0]),
-    )
-    .expect("consistent");
-    let dynamic =
-        Problem::dynamic(DynUniform, 0.0, vec![0.0, 5.0], vec![10.0, 0.0]).expect("consistent");
-    let (q, qd) = ([3.0, 4.0], [8.0, -6.0]);
+    let fixed = speed();
+    let dynamic = Problem::dynamic(DynSpeed, 0.0, vec![0.0, 0.0], vec![1.0, 0.0]).expect("valid");
+    let (q, qd) = ([3.0, 4.0], [0.6, -0.8]);
+    // A free particle at unit speed moves straight: q̈ = 0, μ = 0.
     let ok = |d: &chetaev::equations::Dynamics<f64>| {
-        // g − (g·v) v / |v|² with g = (0, −10), v = (8, −6).
-        assert!(
-            (d.qdd[0] + 4.8).abs() < 1e-12 && (d.qdd[1] + 6.4).abs() < 1e-12,
-            "{d:?}"
-        );
+        assert!(d.qdd.iter().chain(&d.mu).all(|v| v.abs() < 1e-15), "{d:?}");
     };
 
     // Static sizes: both entry points, every argument, with and without compiled equations.
@@ -448,7 +428,7 @@ fn the_equations_refuse_arguments_of_the_wrong_size_with_a_typed_error() {
             evaluate_with(model, plan, ws, 0.5, q, qd, Need::Motion).map(|(d, _)| ok(d))
         };
         mismatch(with(&mut ws, &q[..1], &qd), "q", 2, 1);
-        mismatch(with(&mut ws, &q, &[8.0, -6.0, 0.0]), "q̇", 2, 3);
+        mismatch(with(&mut ws, &q, &[0.6, -0.8, 0.0]), "q̇", 2, 3);
         mismatch(with(&mut other, &q, &qd), "coordinates", 2, 3);
         with(&mut ws, &q, &qd).expect("the right sizes evaluate");
     }
@@ -522,18 +502,12 @@ fn the_equations_refuse_arguments_of_the_wrong_size_with_a_typed_error() {
 #[test]
 fn compiling_at_a_state_of_the_wrong_length_is_refused() {
     use chetaev::equations::compiled::Compiled;
-    let fixed = Problem::new(
-        Uniform,
-        0.0,
-        SVector::from([0.0, 5.0]),
-        SVector::from([10.0, 0.0]),
-    )
-    .expect("consistent");
+    let fixed = speed();
     let model = fixed.model();
-    assert!(Compiled::new(model, 0.0, &[0.0, 5.0], &[10.0, 0.0]).is_some());
-    assert!(Compiled::new(model, 0.0, &[0.0], &[10.0, 0.0]).is_none());
-    assert!(Compiled::new(&DynUniform, 0.0, &[0.0, 5.0], &[10.0, 0.0, 1.0]).is_none());
-    match Compiled::with_parameters(model, 0.0, &[0.0, 5.0], &[10.0]) {
+    assert!(Compiled::new(model, 0.0, &[0.0, 5.0], &[0.6, 0.8]).is_some());
+    assert!(Compiled::new(model, 0.0, &[0.0], &[0.6, 0.8]).is_none());
+    assert!(Compiled::new(&DynSpeed, 0.0, &[0.0, 5.0], &[0.6, 0.8, 1.0]).is_none());
+    match Compiled::with_parameters(model, 0.0, &[0.0, 5.0], &[1.0]) {
         Err(Error::InvalidModel { what }) => {
             assert!(
                 what.contains("q̇ has 1 entries") && what.contains("N = 2"),
@@ -542,21 +516,10 @@ fn compiling_at_a_state_of_the_wrong_length_is_refused() {
         }
         other => panic!("{:?}", other.map(|_| ())),
     }
-}
-
-#[test]
-fn the_integrators_system_refuses_a_state_of_the_wrong_length_with_a_message() {
-    use chetaev::integrate::system::ReducedOde;
-    let problem = Problem::new(
-        Uniform,
-        0.0,
-        SVector::from([0.0, 5.0]),
-        SVector::from([10.0, 0.0]),
-    )
-    .expect("consistent");
-    let mut ode = ReducedOde::for_problem(&problem, false);
-    assert!(ode.evaluate(0.5, &[3.0, 4.0], &[8.0, -6.0]).is_ok());
-    match ode.evaluate(0.5, &[3.0, 4.0], &[8.0]) {
+    // The integrator's system says what was wrong.
+    let mut ode = chetaev::integrate::system::ReducedOde::for_problem(&fixed, false);
+    assert!(ode.evaluate(0.5, &[3.0, 4.0], &[0.6, -0.8]).is_ok());
+    match ode.evaluate(0.5, &[3.0, 4.0], &[0.6]) {
         Err(Error::InvalidModel { what }) => {
             assert!(
                 what.contains("q̇") && what.contains("is 1 where the model calls for 2"),

@@ -578,32 +578,43 @@ impl Compiled {
     ) -> Result<(), CompiledFailure> {
         let (n, k) = (self.n, self.k);
         let slots = |tape: &Tape| tape.slot_count();
-        saddle::check_sizes([
-            ("the length of q", n, q.len()),
-            ("the length of q̇", n, qd.len()),
-            (
-                "the workspace's right-hand-side slots",
-                slots(self.core()),
-                ws.core.len(),
-            ),
-            ("the workspace's slots", slots(self.full()), ws.full.len()),
-            (
-                "the workspace's parameters",
-                self.parameters.len(),
-                ws.params.len(),
-            ),
-            ("the workspace's coordinates", n, ws.a.len()),
-            ("the workspace's constraints", k, ws.mu.len()),
-            ("the workspace's metric", ws.w.len(), ws.wf.len()),
-            ("the dynamics' coordinates", n, d.qdd.len()),
-            ("the dynamics' forces", n, d.forces.len()),
-            ("the dynamics' Chetaev forces", n, d.phi.len()),
-            ("the dynamics' constraints", k, d.mu.len()),
-            ("the dynamics' residual", k, d.f.len()),
-            ("the dynamics' J", k * n, d.j.len()),
-        ])?;
+        const NAMES: [&str; 14] = [
+            "the length of q",
+            "the length of q̇",
+            "the workspace's right-hand-side slots",
+            "the workspace's slots",
+            "the workspace's parameters",
+            "the workspace's coordinates",
+            "the workspace's constraints",
+            "the workspace's metric",
+            "the dynamics' coordinates",
+            "the dynamics' forces",
+            "the dynamics' Chetaev forces",
+            "the dynamics' constraints",
+            "the dynamics' residual",
+            "the dynamics' J",
+        ];
+        saddle::check_sizes(
+            &NAMES,
+            [
+                (n, q.len()),
+                (n, qd.len()),
+                (slots(self.core()), ws.core.len()),
+                (slots(self.full()), ws.full.len()),
+                (self.parameters.len(), ws.params.len()),
+                (n, ws.a.len()),
+                (k, ws.mu.len()),
+                (ws.w.len(), ws.wf.len()),
+                (n, d.qdd.len()),
+                (n, d.forces.len()),
+                (n, d.phi.len()),
+                (k, d.mu.len()),
+                (k, d.f.len()),
+                (k * n, d.j.len()),
+            ],
+        )?;
         if matches!(self.metric, Metric::Varying) {
-            saddle::check_sizes([("the workspace's metric", n * n, ws.w.len())])?;
+            saddle::check_sizes(&["the workspace's metric"], [(n * n, ws.w.len())])?;
         }
         self.evaluate_unchecked(ws, d, t, q, qd, need)
     }

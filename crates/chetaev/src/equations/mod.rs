@@ -152,12 +152,15 @@ impl<T: Real> Workspace<T> {
     /// Whether this workspace, `q` and `q̇` have `model`'s sizes.
     fn fits<M: Model + ?Sized>(&self, model: &M, q: &[T], qd: &[T]) -> Result<(), SaddleFailure> {
         let (n, k) = model.sizes();
-        saddle::check_sizes([
-            ("the length of q", n, q.len()),
-            ("the length of q̇", n, qd.len()),
-            ("the workspace's coordinates", n, self.n),
-            ("the workspace's constraints", k, self.k),
-        ])
+        saddle::check_sizes(
+            &[
+                "the length of q",
+                "the length of q̇",
+                "the workspace's coordinates",
+                "the workspace's constraints",
+            ],
+            [(n, q.len()), (n, qd.len()), (n, self.n), (k, self.k)],
+        )
     }
 
     pub(crate) fn saddle(&mut self) -> &mut SaddleWorkspace<T> {
@@ -237,10 +240,13 @@ where
     ws.fits(model, q, qd)?;
     if let Some(c) = compiled {
         let (n, k) = model.sizes();
-        saddle::check_sizes([
-            ("the compiled equations' coordinates", n, c.sizes().0),
-            ("the compiled equations' constraints", k, c.sizes().1),
-        ])?;
+        saddle::check_sizes(
+            &[
+                "the compiled equations' coordinates",
+                "the compiled equations' constraints",
+            ],
+            [(n, c.sizes().0), (k, c.sizes().1)],
+        )?;
     }
     evaluate_with_unchecked(model, compiled, ws, t, q, qd, need)
 }

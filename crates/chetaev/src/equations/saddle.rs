@@ -51,20 +51,26 @@ pub enum SaddleFailure {
     },
 }
 
-/// `Err(SizeMismatch)` for the first of `(what, expected, got)` whose sizes differ.
+/// `Err(SizeMismatch)` for the first `(expected, got)` of `sizes` that differ, named by the same
+/// entry of `names`. The comparisons are all the work when the sizes fit, so that callers on a
+/// hot path can afford it.
+#[inline(always)]
 pub(crate) fn check_sizes<const M: usize>(
-    sizes: [(&'static str, usize, usize); M],
+    names: &[&'static str; M],
+    sizes: [(usize, usize); M],
 ) -> Result<(), SaddleFailure> {
-    match sizes
-        .into_iter()
-        .find(|&(_, expected, got)| expected != got)
-    {
-        Some((what, expected, got)) => Err(SaddleFailure::SizeMismatch {
-            what,
-            expected,
-            got,
-        }),
+    match sizes.iter().position(|&(expected, got)| expected != got) {
         None => Ok(()),
+        Some(i) => Err(size_mismatch(names[i], sizes[i])),
+    }
+}
+
+#[cold]
+fn size_mismatch(what: &'static str, (expected, got): (usize, usize)) -> SaddleFailure {
+    SaddleFailure::SizeMismatch {
+        what,
+        expected,
+        got,
     }
 }
 
