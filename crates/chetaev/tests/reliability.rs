@@ -489,12 +489,18 @@ fn the_equations_refuse_arguments_of_the_wrong_size_with_a_typed_error() {
         1,
         2,
     );
-    assert!(matches!(
-        dc.evaluate(&mut wrong_cws, &mut d, 0.5, &q, &qd, Need::All),
-        Err(chetaev::equations::compiled::CompiledFailure::Saddle(
-            SaddleFailure::SizeMismatch { .. }
-        ))
-    ));
+    // A workspace of other equations is refused, even one of the same sizes (its slots hold the
+    // other recording's constants); one of a clone of these equations is theirs.
+    let again = Problem::dynamic(DynSpeed, 0.0, vec![0.0, 0.0], vec![1.0, 0.0]).expect("valid");
+    let mut same_sizes = CompiledWorkspace::<f64>::new(again.compiled().expect("compiles"));
+    for foreign in [&mut wrong_cws, &mut same_sizes] {
+        assert_eq!(
+            unwrap(dc.evaluate(foreign, &mut d, 0.5, &q, &qd, Need::All)),
+            Err(SaddleFailure::ForeignWorkspace)
+        );
+    }
+    let mut of_clone = CompiledWorkspace::<f64>::new(&dc.clone());
+    unwrap(dc.evaluate(&mut of_clone, &mut d, 0.5, &q, &qd, Need::All)).expect("a clone's");
     unwrap(dc.evaluate(&mut cws, &mut d, 0.5, &q, &qd, Need::All)).expect("the right sizes");
     ok(&d);
 }

@@ -29,6 +29,7 @@
 //! [`saddle`]: super::saddle
 
 use std::fmt;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::OnceLock;
 
 use super::graph::{
@@ -100,6 +101,9 @@ pub struct Compiled {
     /// `r` and `∂L/∂q`, where constant.
     r_const: Option<Vec<f64>>,
     dl_dq_const: Option<Vec<f64>>,
+    /// Which compilation these are (clones share it): a [`CompiledWorkspace`] carries the id of
+    /// the equations it was made for, whose tapes and constants its slots hold.
+    id: u64,
     /// The model's parameters that are inputs (after `t`, `q`, `q̇`), with their values: only in
     /// equations compiled for sensitivities ([`Compiled::with_parameters`]).
     parameters: Vec<(String, f64)>,
@@ -150,6 +154,8 @@ pub struct CompiledWorkspace<T> {
     mu: Vec<T>,
     /// The values of the parameters that are inputs (set by the caller to seed them).
     pub(crate) params: Vec<T>,
+    /// The id of the [`Compiled`] this was made for.
+    owner: u64,
     saddle: SaddleWorkspace<T>,
 }
 
@@ -171,6 +177,7 @@ impl<T: Real> CompiledWorkspace<T> {
             c: vec![T::zero(); k],
             mu: vec![T::zero(); k],
             params: compiled.parameters.iter().map(|p| T::from(p.1)).collect(),
+            owner: compiled.id,
             saddle: SaddleWorkspace::default(),
         }
     }
@@ -425,6 +432,10 @@ impl Compiled {
             r_const,
             dl_dq_const,
             parameters,
+            id: {
+                static NEXT: AtomicU64 = AtomicU64::new(0);
+                NEXT.fetch_add(1, Ordering::Relaxed)
+            },
         })
     }
 
@@ -562,9 +573,10 @@ impl Compiled {
     /// `∂L/∂t`, `q̇·Q`, `J` and the conditioning always; `Φ` and `q̇·Φ` from [`Need::Rates`]; `f`,
     /// `L`, `E` and `Q` with [`Need::All`] (otherwise those keep their last values).
     ///
-    /// `ws` must be made for these equations ([`CompiledWorkspace::new`]) and `d` for their sizes
-    /// ([`Workspace::new`](crate::equations::Workspace::new)); other sizes, or `q`, `q̇` of
-    /// another length than `n`, give [`SaddleFailure::SizeMismatch`] and evaluate nothing.
+    /// `ws` must be made for these equations or a clone of them ([`CompiledWorkspace::new`]),
+    /// else [`SaddleFailure::ForeignWorkspace`]; `d` must have their sizes
+    /// ([`Workspace::new`](crate::equations::Workspace::new)) and `q`, `q̇` the length `n`, else
+    /// [`SaddleFailure::SizeMismatch`]. Either way nothing is evaluated.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub fn evaluate<T: Real>(
@@ -577,16 +589,12 @@ impl Compiled {
         need: Need,
     ) -> Result<(), CompiledFailure> {
         let (n, k) = (self.n, self.k);
-        let slots = |tape: &Tape| tape.slot_count();
-        const NAMES: [&str; 14] = [
+        if ws.owner != self.id {
+            return Err(SaddleFailure::ForeignWorkspace.into());
+        }
+        const NAMES: [&str; 8] = [
             "the length of q",
             "the length of q̇",
-            "the workspace's right-hand-side slots",
-            "the workspace's slots",
-            "the workspace's parameters",
-            "the workspace's coordinates",
-            "the workspace's constraints",
-            "the workspace's metric",
             "the dynamics' coordinates",
             "the dynamics' forces",
             "the dynamics' Chetaev forces",
@@ -599,12 +607,6 @@ impl Compiled {
             [
                 (n, q.len()),
                 (n, qd.len()),
-                (slots(self.core()), ws.core.len()),
-                (slots(self.full()), ws.full.len()),
-                (self.parameters.len(), ws.params.len()),
-                (n, ws.a.len()),
-                (k, ws.mu.len()),
-                (ws.w.len(), ws.wf.len()),
                 (n, d.qdd.len()),
                 (n, d.forces.len()),
                 (n, d.phi.len()),
@@ -613,9 +615,6 @@ impl Compiled {
                 (k * n, d.j.len()),
             ],
         )?;
-        if matches!(self.metric, Metric::Varying) {
-            saddle::check_sizes(&["the workspace's metric"], [(n * n, ws.w.len())])?;
-        }
         self.evaluate_unchecked(ws, d, t, q, qd, need)
     }
 

@@ -194,23 +194,6 @@ where
     T: Real,
 {
     ws.fits(model, q, qd)?;
-    evaluate_unchecked(model, ws, t, q, qd)
-}
-
-/// [`evaluate`] without the check of the sizes, for callers that made `ws`, `q` and `q̇` for
-/// `model` themselves.
-#[inline]
-pub(crate) fn evaluate_unchecked<'w, M, T>(
-    model: &M,
-    ws: &'w mut Workspace<T>,
-    t: T,
-    q: &[T],
-    qd: &[T],
-) -> Result<&'w Dynamics<T>, SaddleFailure>
-where
-    M: Model + ?Sized,
-    T: Real,
-{
     model.evaluate_into(ws, t, q, qd)?;
     Ok(&ws.dynamics)
 }
@@ -239,13 +222,13 @@ where
 {
     ws.fits(model, q, qd)?;
     if let Some(c) = compiled {
-        let (n, k) = model.sizes();
+        // `ws` has the model's sizes now.
         saddle::check_sizes(
             &[
                 "the compiled equations' coordinates",
                 "the compiled equations' constraints",
             ],
-            [(n, c.sizes().0), (k, c.sizes().1)],
+            [(ws.n, c.sizes().0), (ws.k, c.sizes().1)],
         )?;
     }
     evaluate_with_unchecked(model, compiled, ws, t, q, qd, need)
@@ -269,7 +252,8 @@ where
     T: Real,
 {
     let Some(c) = compiled else {
-        return evaluate_unchecked(model, ws, t, q, qd).map(|d| (d, false));
+        model.evaluate_into(ws, t, q, qd)?;
+        return Ok((&ws.dynamics, false));
     };
     if let Some(result) = model.evaluate_planned(c, ws, t, q, qd, need) {
         return result.map(|()| (&ws.dynamics, false));
@@ -279,7 +263,8 @@ where
         Ok(()) => Ok((&ws.dynamics, false)),
         Err(CompiledFailure::Saddle(e)) => Err(e),
         Err(CompiledFailure::Guard(_)) => {
-            evaluate_unchecked(model, ws, t, q, qd).map(|d| (d, true))
+            model.evaluate_into(ws, t, q, qd)?;
+            Ok((&ws.dynamics, true))
         }
     }
 }

@@ -41,6 +41,8 @@ pub enum SaddleFailure {
     },
     /// An argument's size does not fit the model: `q` or `q̇` not of length `n`, or a workspace
     /// (or [`Dynamics`](crate::equations::Dynamics)) made for other sizes. Nothing was evaluated.
+    ///
+    /// (A compiled workspace made for other compiled equations is [`SaddleFailure::ForeignWorkspace`].)
     SizeMismatch {
         /// Which argument, and which of its sizes.
         what: &'static str,
@@ -49,6 +51,9 @@ pub enum SaddleFailure {
         /// The size given.
         got: usize,
     },
+    /// A [`CompiledWorkspace`](crate::equations::compiled::CompiledWorkspace) made for other
+    /// compiled equations, whose slots hold another tape's constants. Nothing was evaluated.
+    ForeignWorkspace,
 }
 
 /// `Err(SizeMismatch)` for the first `(expected, got)` of `sizes` that differ, named by the same

@@ -110,6 +110,11 @@ pub(crate) fn locate(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
                  coordinate, and a workspace made for this model (Workspace::for_model)"
             ),
         },
+        SaddleFailure::ForeignWorkspace => Error::InvalidModel {
+            what: "the compiled workspace was made for other compiled equations; make it with \
+                   CompiledWorkspace::new for these"
+                .to_string(),
+        },
     }
 }
 
