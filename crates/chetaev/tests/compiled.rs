@@ -159,8 +159,80 @@ fn compare_at_states<M: Model + Clone>(problem: &Problem<M>) {
     }
 }
 
+/// A particle in a constant, coupled metric (`W` constant, positive definite, not diagonal: factorised
+/// once) at constant speed, in gravity.
+#[derive(Clone)]
+struct Coupled;
+impl DynModel for Coupled {
+    fn sizes(&self) -> (usize, usize) {
+        (3, 1)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] * 2.0 + qd[1] * qd[1] + qd[2] * qd[2] * 3.0) * 0.5
+            + qd[0] * qd[1] * 0.4
+            + qd[1] * qd[2] * 0.3
+            - q[2] * 9.81
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2] - 4.0;
+    }
+}
+
+fn coupled() -> Problem<Coupled> {
+    Problem::dynamic(Coupled, 0.0, vec![0.0, 0.0, 1.0], vec![2.0, 0.0, 0.0]).expect("consistent")
+}
+
+/// The integrator's right-hand side by machine code (the graph route's) against the dual-number
+/// route's, with the energy quadratures and without, at states around the initial one.
+fn compare_right_hand_sides<M: Model + Clone>(problem: &Problem<M>) {
+    use chetaev::integrate::system::{OdeSystem, ReducedOde};
+    let compiled = problem.compiled().expect("the model should compile");
+    let native = compiled.native_operations();
+    if cfg!(any(target_arch = "x86_64", target_arch = "aarch64")) {
+        assert!(native.is_some(), "this host has machine code");
+    }
+    let dual = problem.clone().with_route(Route::Dual);
+    let (q0, qd0) = (problem.q0().to_vec(), problem.qd0().to_vec());
+    for energy in [false, true] {
+        let mut a = ReducedOde::for_problem(problem, energy);
+        let mut b = ReducedOde::for_problem(&dual, energy);
+        for s in 0..6 {
+            let shift = |x: &[f64], k: usize| -> Vec<f64> {
+                x.iter()
+                    .enumerate()
+                    .map(|(i, v)| v + 0.1 * ((s * 7 + i * 3 + k) % 5) as f64 - 0.2)
+                    .collect()
+            };
+            let t = 0.3 * s as f64;
+            let mut y = [shift(&q0, 1), shift(&qd0, 2)].concat();
+            y.resize(a.dim(), 0.0);
+            let (mut dya, mut dyb) = (vec![f64::NAN; a.dim()], vec![f64::NAN; b.dim()]);
+            a.rhs(t, &y, &mut dya).expect("regular");
+            b.rhs(t, &y, &mut dyb).expect("regular");
+            let scale = dyb.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            for (u, v) in dya.iter().zip(&dyb) {
+                assert!(
+                    (u - v).abs() <= 1e-11 * scale,
+                    "energy {energy}, t = {t}: {dya:?} against {dyb:?}"
+                );
+            }
+        }
+        assert_eq!(a.stats.graph_fallbacks, 0);
+    }
+}
+
+#[test]
+fn the_machine_code_right_hand_side_equals_the_dual_number_one() {
+    compare_right_hand_sides(&uniform());
+    compare_right_hand_sides(&pendulum());
+    compare_right_hand_sides(&dyn_pendulum());
+    compare_right_hand_sides(&sphere());
+    compare_right_hand_sides(&coupled());
+}
+
 #[test]
 fn compiled_equations_equal_the_dual_number_equations_at_any_state() {
+    compare_at_states(&coupled());
     compare_at_states(&uniform());
     compare_at_states(&pendulum());
     compare_at_states(&sphere());
@@ -206,6 +278,7 @@ fn compiled_motions_equal_the_dual_number_motions_for_explicit_and_implicit_meth
     compare_motion(&dyn_pendulum(), Rodas4, 3.0);
     compare_motion(&sphere(), Dopri5::default(), 2.0);
     compare_motion(&sphere(), Rodas4, 2.0);
+    compare_motion(&coupled(), Dop853::default(), 1.0);
 }
 
 /// `∂F/∂y` and `∂F/∂t` of the reduced equations (with the energy quadratures) at `(t, q, q̇)`.

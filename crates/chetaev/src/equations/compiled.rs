@@ -30,12 +30,13 @@
 
 use std::fmt;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use super::graph::{
     record, record_with_parameters, Deps, Graph, GuardFlip, ParameterConflict, Sym, Tape, DEP_Q,
     DEP_QD, DEP_T,
 };
+use super::native::NativeEquations;
 use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
 use super::structure::{Dependence, Structure};
 use super::{Dynamics, Need};
@@ -107,6 +108,25 @@ pub struct Compiled {
     /// The model's parameters that are inputs (after `t`, `q`, `q̇`), with their values: only in
     /// equations compiled for sensitivities ([`Compiled::with_parameters`]).
     parameters: Vec<(String, f64)>,
+    /// The right-hand side as machine code, without and with the rates of the energy balance,
+    /// made on first use ([`NativeEquations`]).
+    native: [OnceLock<Option<Arc<NativeEquations>>>; 2],
+}
+
+/// What [`NativeEquations::new`] reads of compiled equations.
+pub(crate) struct NativeParts<'a> {
+    pub(crate) n: usize,
+    pub(crate) k: usize,
+    pub(crate) graph: &'a Graph,
+    /// The core tape's outputs (node ids): `r`, `J` entries, `c`, `W` entries, `∂L/∂t`, `q̇·Q`.
+    pub(crate) outputs: &'a [u32],
+    pub(crate) j_entries: &'a [(usize, usize)],
+    pub(crate) w_entries: &'a [(usize, usize)],
+    pub(crate) metric: &'a Metric,
+    pub(crate) w_ratio: f64,
+    pub(crate) w_scale: f64,
+    /// No parameters are inputs.
+    pub(crate) parameter_free: bool,
 }
 
 impl fmt::Debug for Compiled {
@@ -432,6 +452,7 @@ impl Compiled {
             r_const,
             dl_dq_const,
             parameters,
+            native: Default::default(),
             id: {
                 static NEXT: AtomicU64 = AtomicU64::new(0);
                 NEXT.fetch_add(1, Ordering::Relaxed)
@@ -456,6 +477,45 @@ impl Compiled {
     /// `∂L/∂q` where it is constant.
     pub(crate) fn dl_dq_constant(&self) -> Option<&[f64]> {
         self.dl_dq_const.as_deref()
+    }
+
+    /// The parts of these equations [`NativeEquations::new`] builds its program from.
+    pub(crate) fn native_parts(&self) -> NativeParts<'_> {
+        NativeParts {
+            n: self.n,
+            k: self.k,
+            graph: &self.graph,
+            outputs: &self.core_out,
+            j_entries: &self.j_entries,
+            w_entries: &self.w_entries,
+            metric: &self.metric,
+            w_ratio: self.w_ratio,
+            w_scale: self.w_scale,
+            parameter_free: self.parameters.is_empty(),
+        }
+    }
+
+    /// The integrator's right-hand side as machine code for `need` ([`Need::Motion`] or
+    /// [`Need::Rates`]), compiled on the first call; `None` for [`Need::All`] and where there is
+    /// none (see [`NativeEquations::new`]).
+    pub(crate) fn native(&self, need: Need) -> Option<&NativeEquations> {
+        let rates = match need {
+            Need::Motion => false,
+            Need::Rates => true,
+            Need::All => return None,
+        };
+        self.native[usize::from(rates)]
+            .get_or_init(|| NativeEquations::new(self, rates).map(Arc::new))
+            .as_deref()
+    }
+
+    /// The number of operations of the right-hand side compiled to machine code (the motion, without
+    /// the energy balance), compiling it if it was not yet; `None` where there is none: a constant
+    /// metric that is not positive definite (solved by pivoted elimination), equations with
+    /// parameters as inputs, or a host the code generator does not support. The integrator's
+    /// right-hand side takes it where it exists ([`equations::native`](super::native)).
+    pub fn native_operations(&self) -> Option<usize> {
+        self.native(Need::Motion).map(NativeEquations::operations)
     }
 
     /// The right-hand side's tape, made on first use.

@@ -16,6 +16,7 @@
 pub mod compiled;
 pub mod derivatives;
 pub(crate) mod graph;
+pub(crate) mod native;
 pub mod saddle;
 pub mod structure;
 
@@ -147,6 +148,11 @@ impl<T: Real> Workspace<T> {
     /// The result of the last successful [`evaluate`].
     pub fn dynamics(&self) -> &Dynamics<T> {
         &self.dynamics
+    }
+
+    /// The dynamics, for a route that writes them itself.
+    pub(crate) fn dynamics_mut(&mut self) -> &mut Dynamics<T> {
+        &mut self.dynamics
     }
 
     /// Whether this workspace, `q` and `q̇` have `model`'s sizes.

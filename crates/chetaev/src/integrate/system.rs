@@ -8,6 +8,7 @@
 use num_dual::Dual64;
 
 use crate::equations::compiled::Compiled;
+use crate::equations::native::{NativeBuffers, NativeEquations};
 use crate::equations::{
     evaluate_with, evaluate_with_unchecked, saddle::SaddleFailure, Dynamics, Need, Workspace,
 };
@@ -125,6 +126,11 @@ pub struct ReducedOde<'a, M: ?Sized> {
     pub(crate) model: &'a M,
     /// The compiled equations, when the problem has them.
     compiled: Option<&'a Compiled>,
+    /// Their right-hand side as machine code and its scratch space, looked up on the first `rhs`
+    /// (`None` inside: there is none).
+    native: Option<Option<(&'a NativeEquations, NativeBuffers)>>,
+    /// The last `rhs` took the machine-code route, whose results are in its buffers, not in `ws`.
+    native_last: bool,
     pub(crate) n: usize,
     pub(crate) ws: Workspace<f64>,
     /// Scratch space for the dual evaluations of the Jacobian, made on first use: the workspace
@@ -253,6 +259,8 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         Self {
             model,
             compiled: None,
+            native: None,
+            native_last: false,
             n: model.sizes().0,
             ws: Workspace::for_model(model),
             jac_ws: None,
@@ -345,6 +353,11 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         }
         let n = self.n;
         let t = self.last_t;
+        if self.native_last {
+            if let Some(Some((native, buf))) = &self.native {
+                native.fill(buf, self.ws.dynamics_mut());
+            }
+        }
         self.check_singular(t, &y[..n], &y[n..2 * n])
     }
 
@@ -372,24 +385,48 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         // The right-hand side needs q̈, and the rates of the quadratures (q̇·Φ, ∂L/∂t, q̇·Q) only
         // when they are recorded; never E.
         let need = self.need();
-        let (d, fell_back) =
-            evaluate_with_unchecked(self.model, self.compiled, &mut self.ws, t, q, qd, need)
-                .map_err(|e| locate(e, t, q, qd))?;
-        self.stats.graph_fallbacks += usize::from(fell_back);
-        self.last_t = t;
+        let (compiled, energy) = (self.compiled, self.energy);
+        let native = self.native.get_or_insert_with(|| {
+            let need = if energy { Need::Rates } else { Need::Motion };
+            compiled
+                .and_then(|c| c.native(need))
+                .map(|native| (native, native.buffers()))
+        });
         // Element by element: `copy_from_slice` calls `memcpy`, which costs more for a few words.
         let (dq, dqd) = dy[..2 * n].split_at_mut(n);
-        for (((dq, dqd), &v), &a) in dq.iter_mut().zip(dqd).zip(qd).zip(&d.qdd) {
-            *dq = v;
-            *dqd = a;
-        }
-        if self.energy {
-            dy[e] = d.power;
-            dy[e + 1] = d.dl_dt;
-            if self.forces {
-                dy[e + 2] = d.power_forces;
+        let done = match native {
+            Some((native, buf)) => native.evaluate(buf, t, q, qd).then_some((*native, &*buf)),
+            None => None,
+        };
+        if let Some((native, buf)) = done {
+            for (((dq, dqd), &v), &a) in dq.iter_mut().zip(dqd).zip(qd).zip(native.qdd(buf)) {
+                *dq = v;
+                *dqd = a;
             }
+            if let Some(rates) = native.rates(buf) {
+                let k = if self.forces { 3 } else { 2 };
+                dy[e..e + k].iter_mut().zip(rates).for_each(|(x, r)| *x = r);
+            }
+            self.native_last = true;
+        } else {
+            let (d, fell_back) =
+                evaluate_with_unchecked(self.model, self.compiled, &mut self.ws, t, q, qd, need)
+                    .map_err(|e| locate(e, t, q, qd))?;
+            self.stats.graph_fallbacks += usize::from(fell_back);
+            for (((dq, dqd), &v), &a) in dq.iter_mut().zip(dqd).zip(qd).zip(&d.qdd) {
+                *dq = v;
+                *dqd = a;
+            }
+            if self.energy {
+                dy[e] = d.power;
+                dy[e + 1] = d.dl_dt;
+                if self.forces {
+                    dy[e + 2] = d.power_forces;
+                }
+            }
+            self.native_last = false;
         }
+        self.last_t = t;
         if let Some(sens) = &mut self.sens {
             sens.rhs(self.model, t, q, qd, &y[2 * n..e], &mut dy[2 * n..e])?;
         }

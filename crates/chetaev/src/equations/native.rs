@@ -1,0 +1,583 @@
+//! The integrator's right-hand side of compiled equations as machine code: the model's blocks and
+//! the block solve written out as one straight-line program for its structure, compiled by
+//! [`chetaev_native`].
+//!
+//! The interpreted route ([`Compiled::evaluate`]) runs the tape of `r`, `J`, `c` and `W`, then a
+//! general Schur-complement solve with loops over `n` and `k`. Here both become one program:
+//!
+//! ```text
+//! tape:   r (n), J (k × n), c (k), W (n × n, when it varies)
+//! W = L Lᵀ                 (a constant W: its factor or inverse diagonal, as constants)
+//! a = W⁻¹ r,   Y = W⁻¹ Jᵀ,   S = J Y (k × k),   S μ = −c − J a,   q̈ = a + Y μ
+//! Φ = Jᵀ μ,   q̇·Φ,   ∂L/∂t,   q̇·Q                        (only where the energy is recorded)
+//! ```
+//!
+//! with every entry the structure proves zero or one folded away (a zero of `W` or `J` costs
+//! nothing), so that the program of the paper's particle is a few dozen operations. The pivots of
+//! the two factorisations are outputs: where one is not positive, or below the singular ratio of
+//! [`saddle`](super::saddle), or a guard of the recording flips, or a result is not finite,
+//! [`NativeEquations::evaluate`] declines and the caller takes the interpreted route, which
+//! pivots, falls back to dual numbers, or reports the failure exactly as without this route.
+//!
+//! The program performs the interpreted route's operations in its order, except that additions of
+//! a structural zero and products with a structural one are left out; its results agree with the
+//! interpreted ones to rounding (tested).
+
+use std::cmp::Ordering;
+use std::collections::HashMap;
+
+use chetaev_native::{Guard, Native, Op, Program};
+
+use super::compiled::{Compiled, Metric};
+use super::graph::{Fun, Node};
+use super::saddle::SINGULAR_PIVOT_RATIO;
+use super::Dynamics;
+
+/// The model's functions the program calls, as the `f64` methods the interpreted route calls.
+mod calls {
+    macro_rules! unary {
+        ($($name:ident => $method:ident),* $(,)?) => {
+            $(pub(super) extern "C" fn $name(x: f64) -> f64 { x.$method() })*
+        };
+    }
+    unary!(cbrt => cbrt, exp => exp, exp2 => exp2, exp_m1 => exp_m1, ln => ln, log2 => log2,
+        log10 => log10, ln_1p => ln_1p, sin => sin, cos => cos, tan => tan, asin => asin,
+        acos => acos, atan => atan, sinh => sinh, cosh => cosh, tanh => tanh, asinh => asinh,
+        acosh => acosh, atanh => atanh, signum => signum);
+    pub(super) extern "C" fn powf(x: f64, p: f64) -> f64 {
+        x.powf(p)
+    }
+    pub(super) extern "C" fn atan2(y: f64, x: f64) -> f64 {
+        y.atan2(x)
+    }
+    pub(super) extern "C" fn powi(x: f64, n: i32) -> f64 {
+        x.powi(n)
+    }
+}
+
+/// A program under construction, folding what is known: constants, and sums and products with a
+/// structural zero or one.
+#[derive(Default)]
+struct Builder {
+    ops: Vec<Op>,
+    constants: HashMap<u64, u32>,
+}
+
+impl Builder {
+    fn push(&mut self, op: Op) -> u32 {
+        self.ops.push(op);
+        (self.ops.len() - 1) as u32
+    }
+
+    fn constant(&mut self, c: f64) -> u32 {
+        if let Some(&id) = self.constants.get(&c.to_bits()) {
+            return id;
+        }
+        let id = self.push(Op::Const(c));
+        self.constants.insert(c.to_bits(), id);
+        id
+    }
+
+    fn value(&self, id: u32) -> Option<f64> {
+        match self.ops[id as usize] {
+            Op::Const(c) => Some(c),
+            _ => None,
+        }
+    }
+
+    fn add(&mut self, a: u32, b: u32) -> u32 {
+        match (self.value(a), self.value(b)) {
+            (Some(x), Some(y)) => self.constant(x + y),
+            (Some(0.0), _) => b,
+            (_, Some(0.0)) => a,
+            _ => self.push(Op::Add(a, b)),
+        }
+    }
+
+    fn sub(&mut self, a: u32, b: u32) -> u32 {
+        match (self.value(a), self.value(b)) {
+            (Some(x), Some(y)) => self.constant(x - y),
+            (_, Some(0.0)) => a,
+            (Some(0.0), _) => self.push(Op::Neg(b)),
+            _ => self.push(Op::Sub(a, b)),
+        }
+    }
+
+    fn mul(&mut self, a: u32, b: u32) -> u32 {
+        match (self.value(a), self.value(b)) {
+            (Some(x), Some(y)) => self.constant(x * y),
+            (Some(0.0), _) | (_, Some(0.0)) => self.constant(0.0),
+            (Some(1.0), _) => b,
+            (_, Some(1.0)) => a,
+            _ => self.push(Op::Mul(a, b)),
+        }
+    }
+
+    fn div(&mut self, a: u32, b: u32) -> u32 {
+        match (self.value(a), self.value(b)) {
+            (Some(x), Some(y)) => self.constant(x / y),
+            (_, Some(1.0)) => a,
+            _ => self.push(Op::Div(a, b)),
+        }
+    }
+
+    fn neg(&mut self, a: u32) -> u32 {
+        match self.value(a) {
+            Some(x) => self.constant(-x),
+            None => self.push(Op::Neg(a)),
+        }
+    }
+
+    /// `Σ_i x_i y_i`, summed from zero in order (as the interpreted route's `dot`).
+    fn dot(&mut self, x: &[u32], y: &[u32]) -> u32 {
+        let mut s = self.constant(0.0);
+        for (&a, &b) in x.iter().zip(y) {
+            let p = self.mul(a, b);
+            s = self.add(s, p);
+        }
+        s
+    }
+
+    /// Solves `L Lᵀ x = b` in place, `l[i][m] = L_im` for `m ≤ i` (as `cholesky_solve`).
+    fn cholesky_solve(&mut self, l: &[Vec<u32>], b: &mut [u32]) {
+        let n = b.len();
+        for i in 0..n {
+            let mut s = b[i];
+            for m in 0..i {
+                let p = self.mul(l[i][m], b[m]);
+                s = self.sub(s, p);
+            }
+            b[i] = self.div(s, l[i][i]);
+        }
+        for i in (0..n).rev() {
+            let mut s = b[i];
+            for m in i + 1..n {
+                let p = self.mul(l[m][i], b[m]);
+                s = self.sub(s, p);
+            }
+            b[i] = self.div(s, l[i][i]);
+        }
+    }
+
+    /// The Cholesky factor of the symmetric `a` (as `cholesky`), with the pivots `(d_j, a_jj)`
+    /// (`d_j = L_jj²` before the root) for the caller to check.
+    #[allow(clippy::needless_range_loop)] // both triangles are indexed by (row, column)
+    fn cholesky(&mut self, a: &[Vec<u32>]) -> (Vec<Vec<u32>>, Vec<(u32, u32)>) {
+        let n = a.len();
+        let mut l = a.to_vec();
+        let mut pivots = Vec::with_capacity(n);
+        for j in 0..n {
+            let ajj = a[j][j];
+            let mut d = ajj;
+            for p in 0..j {
+                let sq = self.mul(l[j][p], l[j][p]);
+                d = self.sub(d, sq);
+            }
+            pivots.push((d, ajj));
+            let ljj = match self.value(d) {
+                Some(v) => self.constant(v.sqrt()),
+                None => self.push(Op::Sqrt(d)),
+            };
+            l[j][j] = ljj;
+            for i in j + 1..n {
+                let mut s = l[i][j];
+                for p in 0..j {
+                    let prod = self.mul(l[i][p], l[j][p]);
+                    s = self.sub(s, prod);
+                }
+                l[i][j] = self.div(s, ljj);
+            }
+        }
+        (l, pivots)
+    }
+}
+
+/// The operation of a graph node, on the program's ids of its operands.
+fn op(b: &mut Builder, node: Node, id: impl Fn(u32) -> u32) -> u32 {
+    use calls::*;
+    match node {
+        Node::Const(c) => b.constant(c),
+        Node::Input(i) => b.push(Op::Input(i)),
+        Node::Add(x, y) => b.push(Op::Add(id(x), id(y))),
+        Node::Sub(x, y) => b.push(Op::Sub(id(x), id(y))),
+        Node::Mul(x, y) => b.push(Op::Mul(id(x), id(y))),
+        Node::Div(x, y) => b.push(Op::Div(id(x), id(y))),
+        Node::Neg(x) => b.push(Op::Neg(id(x))),
+        Node::Powi(x, n) => b.push(Op::WithInt(powi, id(x), n)),
+        Node::Powf(x, p) => {
+            let p = b.constant(p);
+            b.push(Op::Binary(powf, id(x), p))
+        }
+        Node::Atan2(y, x) => b.push(Op::Binary(atan2, id(y), id(x))),
+        Node::Fun(f, x) => {
+            let x = id(x);
+            let f: chetaev_native::Unary = match f {
+                Fun::Sqrt => return b.push(Op::Sqrt(x)),
+                Fun::Abs => return b.push(Op::Abs(x)),
+                Fun::Recip => {
+                    let one = b.constant(1.0);
+                    return b.push(Op::Div(one, x));
+                }
+                Fun::Cbrt => cbrt,
+                Fun::Exp => exp,
+                Fun::Exp2 => exp2,
+                Fun::ExpM1 => exp_m1,
+                Fun::Ln => ln,
+                Fun::Log2 => log2,
+                Fun::Log10 => log10,
+                Fun::Ln1p => ln_1p,
+                Fun::Sin => sin,
+                Fun::Cos => cos,
+                Fun::Tan => tan,
+                Fun::Asin => asin,
+                Fun::Acos => acos,
+                Fun::Atan => atan,
+                Fun::Sinh => sinh,
+                Fun::Cosh => cosh,
+                Fun::Tanh => tanh,
+                Fun::Asinh => asinh,
+                Fun::Acosh => acosh,
+                Fun::Atanh => atanh,
+                Fun::Signum => signum,
+            };
+            b.push(Op::Unary(f, x))
+        }
+    }
+}
+
+/// Where each part of the program's outputs starts: `q̈` (n), with the rates `q̇·Φ`, `∂L/∂t`,
+/// `q̇·Q`; then `μ` (k), `J` (k × n), the pivots of a varying metric (`n` pairs `d_j`, `W_jj`),
+/// those of `S` (one value for `k = 1`, `k` pairs beyond), the entries of a varying metric on
+/// and above the diagonal, and with the rates `Φ` (n).
+#[derive(Clone, Copy, Debug)]
+struct Layout {
+    n: usize,
+    k: usize,
+    varying: bool,
+    w_entries: usize,
+    rates: bool,
+}
+
+impl Layout {
+    fn mu(&self) -> usize {
+        self.n + if self.rates { 3 } else { 0 }
+    }
+    fn j(&self) -> usize {
+        self.mu() + self.k
+    }
+    fn w_pivots(&self) -> usize {
+        self.j() + self.k * self.n
+    }
+    fn s_pivots(&self) -> usize {
+        self.w_pivots() + if self.varying { 2 * self.n } else { 0 }
+    }
+    fn w(&self) -> usize {
+        self.s_pivots()
+            + match self.k {
+                0 => 0,
+                1 => 1,
+                k => 2 * k,
+            }
+    }
+    fn phi(&self) -> usize {
+        self.w() + self.w_entries
+    }
+    fn len(&self) -> usize {
+        self.phi() + if self.rates { self.n } else { 0 }
+    }
+}
+
+/// The right-hand side of compiled equations as machine code; see the module docs.
+#[derive(Debug)]
+pub(crate) struct NativeEquations {
+    native: Native,
+    layout: Layout,
+    /// The pivot ratio and `max |W_ij|` of a constant metric.
+    w_ratio: f64,
+    w_scale: f64,
+}
+
+/// Scratch space for [`NativeEquations::evaluate`]: the inputs `(t, q, q̇)` and the outputs.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct NativeBuffers {
+    inputs: Vec<f64>,
+    outputs: Vec<f64>,
+}
+
+/// The guards that keep the program to what it can decide alone: `d > 0`, `a > 0` and
+/// `d > ε a` for each pivot `(d, a)` (as `cholesky` checks them), `x − x = 0` (finite) for
+/// each `x` of `q̈` and `μ`.
+fn checks(b: &mut Builder, pivots: &[(u32, u32)], finite: &[u32]) -> Vec<Guard> {
+    let zero = b.constant(0.0);
+    let eps = b.constant(SINGULAR_PIVOT_RATIO);
+    let mut guards = Vec::new();
+    let mut holds = |a: u32, c: u32, outcome: Ordering| {
+        guards.push(Guard {
+            a,
+            b: c,
+            outcome: Some(outcome),
+        })
+    };
+    for &(d, a) in pivots {
+        let floor = b.mul(eps, a);
+        holds(d, zero, Ordering::Greater);
+        holds(a, zero, Ordering::Greater);
+        holds(d, floor, Ordering::Greater);
+    }
+    for &x in finite {
+        let diff = b.push(Op::Sub(x, x));
+        holds(diff, zero, Ordering::Equal);
+    }
+    guards
+}
+
+impl NativeEquations {
+    /// The program of `compiled`'s right-hand side, with the rates of the energy balance or
+    /// without, compiled; `None` where the metric is constant but not positive definite (the
+    /// pivoted elimination's case), where the equations have parameters as inputs, or where no
+    /// machine code can be made on this host.
+    pub(crate) fn new(compiled: &Compiled, rates: bool) -> Option<Self> {
+        let parts = compiled.native_parts();
+        if !parts.parameter_free || matches!(parts.metric, Metric::Indefinite(_)) {
+            return None;
+        }
+        let (n, k) = (parts.n, parts.k);
+        let graph = parts.graph;
+        let mut b = Builder::default();
+        // The graph's nodes the program needs, translated in their order.
+        let mut roots: Vec<u32> = parts.outputs.to_vec();
+        for g in graph.guards() {
+            roots.extend([g.a, g.b]);
+        }
+        let mut ids = vec![u32::MAX; graph.nodes().len()];
+        for id in graph.reachable(&roots) {
+            let node = graph.nodes()[id as usize];
+            ids[id as usize] = op(&mut b, node, |x| ids[x as usize]);
+        }
+        let mut guards: Vec<Guard> = graph
+            .guards()
+            .iter()
+            .map(|g| Guard {
+                a: ids[g.a as usize],
+                b: ids[g.b as usize],
+                outcome: g.outcome,
+            })
+            .collect();
+        // The core tape's outputs: r (n), J entries, c (k), W entries, ∂L/∂t, q̇·Q.
+        let out: Vec<u32> = parts.outputs.iter().map(|&o| ids[o as usize]).collect();
+        let zero = b.constant(0.0);
+        let r = &out[..n];
+        let mut j = vec![vec![zero; n]; k];
+        let mut o = n;
+        for &(a, i) in parts.j_entries {
+            j[a][i] = out[o];
+            o += 1;
+        }
+        let c = &out[o..o + k];
+        o += k;
+        let mut w = vec![vec![zero; n]; n];
+        let mut w_out = Vec::new();
+        for &(i, m) in parts.w_entries {
+            w[i][m] = out[o];
+            w[m][i] = out[o];
+            w_out.push(out[o]);
+            o += 1;
+        }
+        let (dl_dt, power_forces) = (out[o], out[o + 1]);
+
+        // a = W⁻¹ r and the rows of Y = (W⁻¹ Jᵀ)ᵀ.
+        let mut a = r.to_vec();
+        let mut y = j.clone();
+        let mut w_pivots = Vec::new();
+        match parts.metric {
+            Metric::Diagonal(inv) => {
+                for (i, &di) in inv.iter().enumerate() {
+                    let di = b.constant(di);
+                    a[i] = b.mul(a[i], di);
+                    for row in &mut y {
+                        row[i] = b.mul(row[i], di);
+                    }
+                }
+            }
+            Metric::Factor(lf) => {
+                let l: Vec<Vec<u32>> = (0..n)
+                    .map(|i| (0..n).map(|m| b.constant(lf[i * n + m])).collect())
+                    .collect();
+                b.cholesky_solve(&l, &mut a);
+                for row in &mut y {
+                    b.cholesky_solve(&l, row);
+                }
+            }
+            Metric::Varying => {
+                let (l, pivots) = b.cholesky(&w);
+                w_pivots = pivots;
+                b.cholesky_solve(&l, &mut a);
+                for row in &mut y {
+                    b.cholesky_solve(&l, row);
+                }
+            }
+            Metric::Indefinite(_) => return None,
+        }
+        // S = J Y, S μ = −c − J a, q̈ = a + Y μ.
+        let mut mu: Vec<u32> = (0..k)
+            .map(|x| {
+                let ja = b.dot(&j[x], &a);
+                let nc = b.neg(c[x]);
+                b.sub(nc, ja)
+            })
+            .collect();
+        // The pivots of S; with one constraint S itself, which need only be positive (as in the
+        // interpreted route): the pair (S, S) checks just that.
+        let mut s_pivots = Vec::new();
+        if k == 1 {
+            let s0 = b.dot(&j[0], &y[0]);
+            mu[0] = b.div(mu[0], s0);
+            s_pivots.push((s0, s0));
+        } else if k > 1 {
+            let s: Vec<Vec<u32>> = (0..k)
+                .map(|x| (0..k).map(|z| b.dot(&j[x], &y[z])).collect())
+                .collect();
+            let (l, pivots) = b.cholesky(&s);
+            s_pivots = pivots;
+            b.cholesky_solve(&l, &mut mu);
+        }
+        for (x, &m) in mu.iter().enumerate() {
+            for i in 0..n {
+                let p = b.mul(y[x][i], m);
+                a[i] = b.add(a[i], p);
+            }
+        }
+        let layout = Layout {
+            n,
+            k,
+            varying: matches!(parts.metric, Metric::Varying),
+            w_entries: w_out.len(),
+            rates,
+        };
+        let (mut outputs, mut phi) = (a.clone(), Vec::new());
+        if rates {
+            // Φ = Jᵀ μ and q̇·Φ, summed as the interpreted route sums them.
+            phi = (0..n)
+                .map(|i| {
+                    let col: Vec<u32> = j.iter().map(|row| row[i]).collect();
+                    b.dot(&col, &mu)
+                })
+                .collect();
+            let qd: Vec<u32> = (0..n)
+                .map(|i| b.push(Op::Input((1 + n + i) as u32)))
+                .collect();
+            let power = b.dot(&qd, &phi);
+            outputs.extend([power, dl_dt, power_forces]);
+        }
+        outputs.extend(&mu);
+        outputs.extend(j.iter().flatten());
+        outputs.extend(w_pivots.iter().flat_map(|&(d, a)| [d, a]));
+        outputs.extend(s_pivots.iter().flat_map(|&(d, a)| [d, a]));
+        if k == 1 {
+            outputs.pop();
+        }
+        outputs.extend(&w_out);
+        outputs.extend(&phi);
+        let pivots: Vec<(u32, u32)> = w_pivots.iter().chain(&s_pivots).copied().collect();
+        let finite: Vec<u32> = a.iter().chain(&mu).copied().collect();
+        guards.extend(checks(&mut b, &pivots, &finite));
+        debug_assert_eq!(outputs.len(), layout.len());
+        let program = Program {
+            inputs: 1 + 2 * n,
+            ops: b.ops,
+            outputs,
+            guards,
+        };
+        let native = Native::compile(&program).ok()?;
+        Some(Self {
+            native,
+            layout,
+            w_ratio: parts.w_ratio,
+            w_scale: parts.w_scale,
+        })
+    }
+
+    /// The number of operations of the program.
+    pub(crate) fn operations(&self) -> usize {
+        self.native.operations()
+    }
+
+    /// Scratch space for [`NativeEquations::evaluate`].
+    pub(crate) fn buffers(&self) -> NativeBuffers {
+        NativeBuffers {
+            inputs: vec![0.0; self.native.inputs()],
+            outputs: vec![0.0; self.native.outputs()],
+        }
+    }
+
+    /// Runs the program at `(t, q, q̇)` (`buf` made by [`NativeEquations::buffers`], `q` and `q̇`
+    /// of length `n`); returns `false` where the interpreted route must decide (see the module
+    /// docs). The results stay in `buf`: [`NativeEquations::qdd`] and [`NativeEquations::rates`]
+    /// read them, [`NativeEquations::fill`] writes the rest into a [`Dynamics`].
+    #[inline]
+    pub(crate) fn evaluate(&self, buf: &mut NativeBuffers, t: f64, q: &[f64], qd: &[f64]) -> bool {
+        let n = self.layout.n;
+        if q.len() != n || qd.len() != n || buf.inputs.len() != 1 + 2 * n {
+            return false;
+        }
+        buf.inputs[0] = t;
+        let (qs, qds) = buf.inputs[1..].split_at_mut(n);
+        for ((x, v), (&a, &b)) in qs.iter_mut().zip(qds).zip(q.iter().zip(qd)) {
+            *x = a;
+            *v = b;
+        }
+        self.native.call(&buf.inputs, &mut buf.outputs) == Ok(true)
+    }
+
+    /// `q̈` of the last [`NativeEquations::evaluate`] that returned `true`.
+    #[inline]
+    pub(crate) fn qdd<'b>(&self, buf: &'b NativeBuffers) -> &'b [f64] {
+        &buf.outputs[..self.layout.n]
+    }
+
+    /// `(q̇·Φ, ∂L/∂t, q̇·Q)` of the last evaluation, with the rates compiled in.
+    #[inline]
+    pub(crate) fn rates(&self, buf: &NativeBuffers) -> Option<[f64; 3]> {
+        let n = self.layout.n;
+        self.layout
+            .rates
+            .then(|| [buf.outputs[n], buf.outputs[n + 1], buf.outputs[n + 2]])
+    }
+
+    /// Writes the last evaluation into `d` (of the model's sizes): `q̈`, `μ`, `J`, the pivot ratio
+    /// and `max |W_ij|`, and with the rates `Φ`, `q̇·Φ`, `∂L/∂t`, `q̇·Q`.
+    pub(crate) fn fill(&self, buf: &NativeBuffers, d: &mut Dynamics<f64>) {
+        let l = &self.layout;
+        let o = &buf.outputs;
+        let ratio = |pairs: &[f64]| {
+            pairs
+                .chunks_exact(2)
+                .fold(1.0f64, |r, p| r.min(p[0] / p[1]))
+        };
+        let w_ratio = if l.varying {
+            ratio(&o[l.w_pivots()..l.s_pivots()])
+        } else {
+            self.w_ratio
+        };
+        let s_ratio = if l.k > 1 {
+            ratio(&o[l.s_pivots()..l.w()])
+        } else {
+            1.0
+        };
+        d.qdd.copy_from_slice(&o[..l.n]);
+        d.mu.copy_from_slice(&o[l.mu()..l.j()]);
+        d.j.copy_from_slice(&o[l.j()..l.w_pivots()]);
+        d.pivot_ratio = w_ratio.min(s_ratio);
+        d.w_scale = if l.varying {
+            o[l.w()..l.phi()].iter().fold(0.0f64, |m, v| m.max(v.abs()))
+        } else {
+            self.w_scale
+        };
+        if let Some([power, dl_dt, power_forces]) = self.rates(buf) {
+            d.power = power;
+            d.dl_dt = dl_dt;
+            d.power_forces = power_forces;
+            d.phi.copy_from_slice(&o[l.phi()..l.len()]);
+        }
+    }
+}
