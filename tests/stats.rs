@@ -51,21 +51,30 @@ fn problem_on(route: Route) -> Problem<Fixed<Counting, 2, 1>> {
 
 #[test]
 fn rhs_and_output_evaluations_match_model_calls() {
-    // (route, passes over L per right-hand side, per output evaluation, passes over f per
-    // right-hand side, per output evaluation). The graph route's right-hand side is machine code
-    // made from the recording, which calls the model not at all, where the host has it.
+    // (route, machine code made before the solve, passes over L per right-hand side, per output
+    // evaluation, passes over f per right-hand side, per output evaluation). The graph route's
+    // right-hand side becomes machine code made from the recording, which calls the model not at
+    // all, where the host has it: after NATIVE_AFTER interpreted right-hand sides of the problem
+    // (many more than this short solve's), or at once when asked for (`native_operations`).
     let native = problem()
         .compiled()
         .and_then(|c| c.native_operations())
         .is_some();
-    let f_rhs = if native { 0 } else { 1 };
-    let routes = [(Route::Graph, 0, 1, f_rhs, 1), (Route::Dual, 3, 3, 2, 2)];
-    for (record, (route, l_rhs, l_output, f_rhs, f_output)) in
+    let f_native = if native { 0 } else { 1 };
+    let routes = [
+        (Route::Graph, true, 0, 1, f_native, 1),
+        (Route::Graph, false, 0, 1, 1, 1),
+        (Route::Dual, false, 3, 3, 2, 2),
+    ];
+    for (record, (route, made, l_rhs, l_output, f_rhs, f_output)) in
         [Record::State, Record::Dynamics, Record::Energy]
             .into_iter()
             .flat_map(|r| routes.map(|route| (r, route)))
     {
         let p = problem_on(route);
+        if made {
+            p.compiled().map(|c| c.native_operations());
+        }
         let sol = solve(
             &p,
             Dopri5::default(),
@@ -82,12 +91,12 @@ fn rhs_and_output_evaluations_match_model_calls() {
         assert_eq!(
             p.model().l_calls.get(),
             l_rhs * s.rhs_evaluations + l_output * s.output_evaluations,
-            "{record:?} {route:?}"
+            "{record:?} {route:?} machine code made first: {made}"
         );
         assert_eq!(
             p.model().f_calls.get(),
             f_rhs * s.rhs_evaluations + f_output * s.output_evaluations,
-            "{record:?} {route:?}"
+            "{record:?} {route:?} machine code made first: {made}"
         );
         // Dopri5 is FSAL: 6 new stages per step, plus 1 at the start and 2 for the initial step size.
         assert_eq!(
@@ -108,6 +117,8 @@ fn rhs_and_output_evaluations_match_model_calls() {
 #[test]
 fn projection_work_is_counted() {
     let p = problem();
+    // Machine code for the right-hand side from the first step, where the host has it.
+    let native = p.compiled().and_then(|c| c.native_operations()).is_some();
     let sol = solve(
         &p,
         Rk4::new(0.05),
@@ -122,7 +133,6 @@ fn projection_work_is_counted() {
     // Per projection: f evaluated at the start and after each iteration; W once per iteration;
     // and the stepper restarts (one right-hand side) after each projection that moved the
     // state. Per right-hand side one pass over f (J; c is zero), unless it is machine code.
-    let native = p.compiled().and_then(|c| c.native_operations()).is_some();
     let per_rhs = if native { 0 } else { s.rhs_evaluations };
     assert!(p.model().f_calls.get() >= per_rhs + s.projections + s.projection_iterations);
 }
@@ -159,4 +169,38 @@ fn dop853_pays_for_its_dense_output_only_when_something_interpolates() {
         dense.last().map(|l| l.1),
         "the motion does not change"
     );
+}
+
+#[test]
+fn many_short_solves_of_one_problem_reach_machine_code_after_native_after_right_hand_sides() {
+    use chetaev::equations::compiled::NATIVE_AFTER;
+    let native = problem()
+        .compiled()
+        .and_then(|c| c.native_operations())
+        .is_some();
+    let p = problem();
+    let o = Options::until(1.0)
+        .tolerances(1e-8, 1e-8)
+        .record(Record::State);
+    // Right-hand sides evaluated by the interpreted route (each calls f once), solve by solve.
+    let (mut interpreted, mut per_solve, mut last_calls) = (0, 0, usize::MAX);
+    for _ in 0..2 * NATIVE_AFTER / 80 {
+        p.model().f_calls.set(0);
+        let sol = solve(&p, Dopri5::default(), &o).expect("valid");
+        assert!(sol.is_success());
+        per_solve = sol.stats.rhs_evaluations;
+        last_calls = p.model().f_calls.get();
+        interpreted += last_calls;
+    }
+    if native {
+        assert_eq!(last_calls, 0, "the last solves run as machine code");
+        // Counted across solves (each shorter than NATIVE_AFTER), and switched at the first
+        // solve that starts past it.
+        assert!(
+            (NATIVE_AFTER..NATIVE_AFTER + per_solve).contains(&interpreted),
+            "{interpreted} interpreted right-hand sides, {per_solve} per solve"
+        );
+    } else {
+        assert_eq!(last_calls, per_solve);
+    }
 }

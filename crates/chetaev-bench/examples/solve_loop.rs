@@ -1,4 +1,5 @@
-//! A loop of whole solves of the paper's scene for a profiler: Dopri5 at `rtol = atol = 1e-12` to
+//! A loop of whole solves of the paper's scene for a profiler: Dopri5 (or Dop853, with a third
+//! argument `dop853`) at `rtol = atol = 1e-12` to
 //! the closed-form impact time, output at the end only, through chetaev or through the
 //! hand-written full system and the same driver (`solve_ode`).
 //!
@@ -26,11 +27,22 @@ fn main() -> ExitCode {
     let (which, count) = (args.next(), args.next().map(|s| s.parse::<usize>()));
     let (hand, count) = match (which.as_deref(), count) {
         (Some(w @ ("chetaev" | "hand")), Some(Ok(count))) if count > 0 => (w == "hand", count),
-        _ => {
-            eprintln!("usage: solve_loop chetaev|hand <number of solves, at least 1>");
-            return ExitCode::from(2);
-        }
+        _ => return usage(),
     };
+    match args.next().as_deref() {
+        None | Some("dopri5") => run(hand, count, Dopri5::default()),
+        Some("dop853") => run(hand, count, Dop853::default()),
+        Some(_) => usage(),
+    }
+}
+
+fn usage() -> ExitCode {
+    eprintln!("usage: solve_loop chetaev|hand <number of solves, at least 1> [dopri5|dop853]");
+    ExitCode::from(2)
+}
+
+/// `count` solves by `method`, through chetaev or by hand.
+fn run(hand: bool, count: usize, method: impl Method + Copy) -> ExitCode {
     let scene = match uniform_scene() {
         Ok(scene) => scene,
         Err(e) => {
@@ -47,7 +59,7 @@ fn main() -> ExitCode {
     for _ in 0..count {
         let result = if hand {
             let mut sys = Full::new(uniform_projectile::closed_form::Params::PAPER.g);
-            let sol = solve_ode(&mut sys, Dopri5::default(), 0.0, &y0, &ode_options);
+            let sol = solve_ode(&mut sys, method, 0.0, &y0, &ode_options);
             rhs = sys.counts.rhs;
             match sol {
                 Ok(s) => match s.error {
@@ -57,7 +69,7 @@ fn main() -> ExitCode {
                 Err(e) => Err(e.to_string()),
             }
         } else {
-            let sol = solve(&scene.problem, Dopri5::default(), &options);
+            let sol = solve(&scene.problem, method, &options);
             match sol {
                 Ok(s) if s.is_success() => {
                     rhs = s.stats.rhs_evaluations;

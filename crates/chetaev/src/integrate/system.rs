@@ -119,6 +119,37 @@ pub(crate) fn locate(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
     }
 }
 
+/// Right-hand sides evaluated by the interpreted route between two reports to the compiled
+/// equations' count ([`Compiled::native_after`]).
+const NATIVE_REPORT: usize = 256;
+
+/// Whether the right-hand side runs as machine code ([`crate::equations::native`]).
+enum NativeState<'a> {
+    /// Not yet.
+    Pending(Unreported<'a>),
+    /// Never, for this system.
+    Off,
+    /// Yes, with its scratch space.
+    On(&'a NativeEquations, NativeBuffers),
+}
+
+/// Right-hand sides evaluated by the interpreted route and not yet counted towards the machine
+/// code ([`Compiled::native_after`]); reported when dropped too, so that many short solves of one
+/// problem reach it as a long one does.
+struct Unreported<'a> {
+    compiled: &'a Compiled,
+    need: Need,
+    count: usize,
+}
+
+impl Drop for Unreported<'_> {
+    fn drop(&mut self) {
+        if self.count > 0 {
+            self.compiled.count_interpreted(self.need, self.count);
+        }
+    }
+}
+
 /// The reduced Chetaev equations of one model as a first-order system on `y = [q, q̇]` (and, with
 /// `energy`, the two quadratures `[W_Φ, ∫∂L/∂t dt]`), with scratch space and counters: what the
 /// driver integrates, and what another integrator (a backend) can integrate.
@@ -126,9 +157,8 @@ pub struct ReducedOde<'a, M: ?Sized> {
     pub(crate) model: &'a M,
     /// The compiled equations, when the problem has them.
     compiled: Option<&'a Compiled>,
-    /// Their right-hand side as machine code and its scratch space, looked up on the first `rhs`
-    /// (`None` inside: there is none).
-    native: Option<Option<(&'a NativeEquations, NativeBuffers)>>,
+    /// Their right-hand side as machine code, once there is some.
+    native: NativeState<'a>,
     /// The last `rhs` took the machine-code route, whose results are in its buffers, not in `ws`.
     native_last: bool,
     pub(crate) n: usize,
@@ -259,7 +289,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         Self {
             model,
             compiled: None,
-            native: None,
+            native: NativeState::Off,
             native_last: false,
             n: model.sizes().0,
             ws: Workspace::for_model(model),
@@ -286,9 +316,21 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         let model = problem.model();
         let mut buf = vec![0.0; problem.q0().len()];
         let forces = model.force_blocks(problem.t0(), problem.q0(), problem.qd0(), &mut buf);
+        let compiled = problem.compiled();
+        let need = if energy { Need::Rates } else { Need::Motion };
+        let native = match compiled.map(|c| (c, c.native_after(need, 0))) {
+            Some((compiled, None)) => NativeState::Pending(Unreported {
+                compiled,
+                need,
+                count: 0,
+            }),
+            Some((_, Some(Some(native)))) => NativeState::On(native, native.buffers()),
+            _ => NativeState::Off,
+        };
         Self {
             forces,
-            compiled: problem.compiled(),
+            compiled,
+            native,
             ..Self::new(model, energy)
         }
     }
@@ -354,7 +396,7 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         let n = self.n;
         let t = self.last_t;
         if self.native_last {
-            if let Some(Some((native, buf))) = &self.native {
+            if let NativeState::On(native, buf) = &self.native {
                 native.fill(buf, self.ws.dynamics_mut());
             }
         }
@@ -385,18 +427,24 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         // The right-hand side needs q̈, and the rates of the quadratures (q̇·Φ, ∂L/∂t, q̇·Q) only
         // when they are recorded; never E.
         let need = self.need();
-        let (compiled, energy) = (self.compiled, self.energy);
-        let native = self.native.get_or_insert_with(|| {
-            let need = if energy { Need::Rates } else { Need::Motion };
-            compiled
-                .and_then(|c| c.native(need))
-                .map(|native| (native, native.buffers()))
-        });
+        if let NativeState::Pending(u) = &mut self.native {
+            u.count += 1;
+            if u.count >= NATIVE_REPORT {
+                let evaluations = std::mem::take(&mut u.count);
+                match u.compiled.native_after(u.need, evaluations) {
+                    Some(Some(native)) => self.native = NativeState::On(native, native.buffers()),
+                    Some(None) => self.native = NativeState::Off,
+                    None => {}
+                }
+            }
+        }
         // Element by element: `copy_from_slice` calls `memcpy`, which costs more for a few words.
         let (dq, dqd) = dy[..2 * n].split_at_mut(n);
-        let done = match native {
-            Some((native, buf)) => native.evaluate(buf, t, q, qd).then_some((*native, &*buf)),
-            None => None,
+        let done = match &mut self.native {
+            NativeState::On(native, buf) => {
+                native.evaluate(buf, t, q, qd).then_some((*native, &*buf))
+            }
+            _ => None,
         };
         if let Some((native, buf)) = done {
             for (((dq, dqd), &v), &a) in dq.iter_mut().zip(dqd).zip(qd).zip(native.qdd(buf)) {
