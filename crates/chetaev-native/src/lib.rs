@@ -1,13 +1,14 @@
 //! Straight-line programs over `f64`, compiled to machine code by Cranelift, behind a safe
 //! interface.
 //!
-//! A [`Program`] is a list of operations in dependency order, each on earlier ones: inputs,
+//! A [`Program`] is a list of operations in dependency order, each on earlier ones: inputs (from
+//! two arrays, so that a caller can pass two slices it already has without copying them into one),
 //! constants, the four arithmetic operations, negation, square root and absolute value, and calls
 //! of plain functions (`extern "C" fn(f64) -> f64` and the like) for everything else (`sin`,
-//! `exp`, `powi`, ...). Some operations are outputs; some pairs are *guards*, comparisons whose
+//! `exp`, `powi`, ...). Some operations are outputs, written to two arrays; some pairs are *guards*, comparisons whose
 //! outcome was known when the program was made. [`Native::compile`] turns a program into one
-//! function of the host machine; [`Native::call`] runs it on an input slice, writes the outputs
-//! and says whether every guard still holds.
+//! function of the host machine; [`Native::call`] runs it on two input slices, writes the two
+//! output slices and says whether every guard still holds.
 //!
 //! The generated code performs the same IEEE operations as [`Program::eval`], in the same order
 //! and without fusing or reassociating any, and calls the same functions: its outputs equal the
@@ -24,23 +25,23 @@
 //! extern "C" fn sin(x: f64) -> f64 {
 //!     x.sin()
 //! }
-//! // y = sin(x0) · x1 + 2
+//! // y = sin(x0) · x1 + 2, with x0 in the first array and x1 in the second
 //! let p = Program {
-//!     inputs: 2,
+//!     inputs: [1, 1],
 //!     ops: vec![
-//!         Op::Input(0),
-//!         Op::Input(1),
+//!         Op::Input(0, 0),
+//!         Op::Input(1, 0),
 //!         Op::Unary(sin, 0),
 //!         Op::Mul(2, 1),
 //!         Op::Const(2.0),
 //!         Op::Add(3, 4),
 //!     ],
-//!     outputs: vec![5],
+//!     outputs: [vec![5], vec![]],
 //!     guards: vec![],
 //! };
 //! let native = Native::compile(&p).expect("a supported host");
 //! let mut y = [0.0];
-//! assert!(native.call(&[0.5, 3.0], &mut y).expect("lengths fit"));
+//! assert!(native.call([&[0.5], &[3.0]], [&mut y, &mut []]).expect("lengths fit"));
 //! assert_eq!(y[0], 0.5f64.sin() * 3.0 + 2.0);
 //! ```
 
@@ -63,8 +64,8 @@ pub type WithInt = extern "C" fn(f64, i32) -> f64;
 /// One operation of a [`Program`]; operands are indices of earlier operations.
 #[derive(Clone, Copy, Debug)]
 pub enum Op {
-    /// Input number `i`.
-    Input(u32),
+    /// Entry `i` of input array `a` (0 or 1).
+    Input(u8, u32),
     /// A constant.
     Const(f64),
     /// `a + b`.
@@ -93,7 +94,7 @@ impl Op {
     /// The operations this one reads.
     fn operands(&self) -> ([u32; 2], usize) {
         match *self {
-            Op::Input(_) | Op::Const(_) => ([0, 0], 0),
+            Op::Input(..) | Op::Const(_) => ([0, 0], 0),
             Op::Neg(a) | Op::Sqrt(a) | Op::Abs(a) | Op::Unary(_, a) | Op::WithInt(_, a, _) => {
                 ([a, 0], 1)
             }
@@ -119,12 +120,12 @@ pub struct Guard {
 /// A straight-line program; see the crate docs.
 #[derive(Clone, Debug, Default)]
 pub struct Program {
-    /// The number of inputs.
-    pub inputs: usize,
+    /// The lengths of the two input arrays.
+    pub inputs: [usize; 2],
     /// The operations, each on earlier ones.
     pub ops: Vec<Op>,
-    /// The operations written out, in order.
-    pub outputs: Vec<u32>,
+    /// The operations written out to each of the two output arrays, in order.
+    pub outputs: [Vec<u32>; 2],
     /// The guards.
     pub guards: Vec<Guard>,
 }
@@ -141,15 +142,17 @@ pub enum ProgramError {
         /// What it reads.
         operand: u32,
     },
-    /// An input index is out of range.
-    #[error("operation {op} reads input {input} of a program with {inputs} inputs")]
+    /// An input array or index is out of range.
+    #[error("operation {op} reads entry {input} of input array {array}, of length {len}")]
     Input {
         /// The operation.
         op: usize,
-        /// The input read.
+        /// The array read (0 or 1).
+        array: u8,
+        /// The entry read.
         input: u32,
-        /// The program's inputs.
-        inputs: usize,
+        /// The array's length (0 for an array beyond the two).
+        len: usize,
     },
     /// An output or a guard names an operation that does not exist.
     #[error("an output or guard names operation {0}, beyond the program's end")]
@@ -161,28 +164,49 @@ pub enum ProgramError {
 
 /// Slices of the wrong length given to [`Native::call`] or [`Program::eval`].
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
-#[error("the program takes {inputs} inputs and writes {outputs} outputs; got slices of {got_inputs} and {got_outputs}")]
+#[error("the program takes input arrays of {inputs:?} entries and writes output arrays of {outputs:?}; got slices of {got_inputs:?} and {got_outputs:?}")]
 pub struct LengthError {
-    /// The program's inputs.
-    pub inputs: usize,
-    /// The program's outputs.
-    pub outputs: usize,
-    /// The length of the input slice.
-    pub got_inputs: usize,
-    /// The length of the output slice.
-    pub got_outputs: usize,
+    /// The lengths of the program's input arrays.
+    pub inputs: [usize; 2],
+    /// The lengths of its output arrays.
+    pub outputs: [usize; 2],
+    /// The lengths of the input slices given.
+    pub got_inputs: [usize; 2],
+    /// The lengths of the output slices given.
+    pub got_outputs: [usize; 2],
+}
+
+/// The lengths of the slices given against the program's, as an error where they differ.
+fn lengths(
+    inputs: [usize; 2],
+    outputs: [usize; 2],
+    got_inputs: [usize; 2],
+    got_outputs: [usize; 2],
+) -> Result<(), LengthError> {
+    if inputs == got_inputs && outputs == got_outputs {
+        Ok(())
+    } else {
+        Err(LengthError {
+            inputs,
+            outputs,
+            got_inputs,
+            got_outputs,
+        })
+    }
 }
 
 impl Program {
     /// Checks that every operand, input, output and guard refers to something that exists.
     pub fn check(&self) -> Result<(), ProgramError> {
         for (i, op) in self.ops.iter().enumerate() {
-            if let Op::Input(input) = *op {
-                if input as usize >= self.inputs {
+            if let Op::Input(array, input) = *op {
+                let len = self.inputs.get(usize::from(array)).copied().unwrap_or(0);
+                if input as usize >= len {
                     return Err(ProgramError::Input {
                         op: i,
+                        array,
                         input,
-                        inputs: self.inputs,
+                        len,
                     });
                 }
             }
@@ -192,9 +216,9 @@ impl Program {
             }
         }
         let len = self.ops.len();
-        let names = self
-            .outputs
+        let names = self.outputs[0]
             .iter()
+            .chain(&self.outputs[1])
             .chain(self.guards.iter().flat_map(|g| [&g.a, &g.b]));
         match names.copied().find(|&o| o as usize >= len) {
             Some(o) => Err(ProgramError::Reference(o)),
@@ -202,29 +226,25 @@ impl Program {
         }
     }
 
-    fn lengths(&self, inputs: &[f64], outputs: &[f64]) -> Result<(), LengthError> {
-        if inputs.len() == self.inputs && outputs.len() == self.outputs.len() {
-            Ok(())
-        } else {
-            Err(LengthError {
-                inputs: self.inputs,
-                outputs: self.outputs.len(),
-                got_inputs: inputs.len(),
-                got_outputs: outputs.len(),
-            })
-        }
+    fn output_lengths(&self) -> [usize; 2] {
+        [self.outputs[0].len(), self.outputs[1].len()]
     }
 
     /// Evaluates the program by interpretation (the reference the compiled code equals): writes
     /// the outputs, and returns whether every guard holds. The program must pass
     /// [`Program::check`] (an operand out of range panics).
-    pub fn eval(&self, inputs: &[f64], outputs: &mut [f64]) -> Result<bool, LengthError> {
-        self.lengths(inputs, outputs)?;
+    pub fn eval(&self, inputs: [&[f64]; 2], outputs: [&mut [f64]; 2]) -> Result<bool, LengthError> {
+        lengths(
+            self.inputs,
+            self.output_lengths(),
+            inputs.map(<[f64]>::len),
+            [outputs[0].len(), outputs[1].len()],
+        )?;
         let mut v: Vec<f64> = Vec::with_capacity(self.ops.len());
         for op in &self.ops {
             let x = |i: u32| v[i as usize];
             let value = match *op {
-                Op::Input(i) => inputs[i as usize],
+                Op::Input(a, i) => inputs[usize::from(a)][i as usize],
                 Op::Const(c) => c,
                 Op::Add(a, b) => x(a) + x(b),
                 Op::Sub(a, b) => x(a) - x(b),
@@ -239,8 +259,10 @@ impl Program {
             };
             v.push(value);
         }
-        for (dst, &o) in outputs.iter_mut().zip(&self.outputs) {
-            *dst = v[o as usize];
+        for (out, ids) in outputs.into_iter().zip(&self.outputs) {
+            for (dst, &o) in out.iter_mut().zip(ids) {
+                *dst = v[o as usize];
+            }
         }
         Ok(self
             .guards
@@ -249,17 +271,17 @@ impl Program {
     }
 }
 
-/// The signature of every generated function: the inputs, the outputs; returns 1 where every
-/// guard holds and 0 otherwise.
-type Entry = extern "C" fn(*const f64, *mut f64) -> u32;
+/// The signature of every generated function: the two input arrays, the two output arrays;
+/// returns 1 where every guard holds and 0 otherwise.
+type Entry = extern "C" fn(*const f64, *const f64, *mut f64, *mut f64) -> u32;
 
 /// A [`Program`] compiled to machine code; see the crate docs.
 pub struct Native {
     /// Owns the code's memory, released on drop.
     module: Option<JITModule>,
     entry: Entry,
-    inputs: usize,
-    outputs: usize,
+    inputs: [usize; 2],
+    outputs: [usize; 2],
     operations: usize,
 }
 
@@ -321,8 +343,9 @@ impl Native {
         let config = module.target_config();
         let ptr = config.pointer_type();
         let mut ctx = module.make_context();
-        ctx.func.signature.params.push(AbiParam::new(ptr));
-        ctx.func.signature.params.push(AbiParam::new(ptr));
+        for _ in 0..4 {
+            ctx.func.signature.params.push(AbiParam::new(ptr));
+        }
         ctx.func.signature.returns.push(AbiParam::new(types::I32));
         let unary = {
             let mut s = module.make_signature();
@@ -352,13 +375,17 @@ impl Native {
             b.append_block_params_for_function_params(block);
             b.switch_to_block(block);
             b.seal_block(block);
-            let (input, output) = (b.block_params(block)[0], b.block_params(block)[1]);
+            let params = b.block_params(block);
+            let (input, output) = ([params[0], params[1]], [params[2], params[3]]);
             let mem = MemFlagsData::trusted();
             let mut v: Vec<Value> = Vec::with_capacity(program.ops.len());
             for op in &program.ops {
                 let x = |i: u32| v[i as usize];
                 let value = match *op {
-                    Op::Input(i) => b.ins().load(types::F64, mem, input, 8 * i as i32),
+                    Op::Input(a, i) => {
+                        b.ins()
+                            .load(types::F64, mem, input[usize::from(a)], 8 * i as i32)
+                    }
                     Op::Const(c) => b.ins().f64const(c),
                     Op::Add(a, c) => b.ins().fadd(x(a), x(c)),
                     Op::Sub(a, c) => b.ins().fsub(x(a), x(c)),
@@ -386,8 +413,10 @@ impl Native {
                 };
                 v.push(value);
             }
-            for (j, &o) in program.outputs.iter().enumerate() {
-                b.ins().store(mem, v[o as usize], output, 8 * j as i32);
+            for (&out, ids) in output.iter().zip(&program.outputs) {
+                for (j, &o) in ids.iter().enumerate() {
+                    b.ins().store(mem, v[o as usize], out, 8 * j as i32);
+                }
             }
             let mut held = b.ins().iconst(types::I8, 1);
             for g in &program.guards {
@@ -413,7 +442,7 @@ impl Native {
         module.finalize_definitions().map_err(backend)?;
         let code = module.get_finalized_function(id);
         // SAFETY: `code` is the finalised function just defined with the signature `Entry`
-        // (two pointers in, a 32-bit integer out, the host's default calling convention, which
+        // (four pointers in, a 32-bit integer out, the host's default calling convention, which
         // is `extern "C"`'s).
         #[allow(unsafe_code)]
         let entry = unsafe { std::mem::transmute::<*const u8, Entry>(code) };
@@ -421,36 +450,43 @@ impl Native {
             module: Some(module),
             entry,
             inputs: program.inputs,
-            outputs: program.outputs.len(),
+            outputs: program.output_lengths(),
             operations: program.ops.len(),
         })
     }
 
-    /// Runs the compiled program: writes its outputs and returns whether every guard holds.
-    /// Slices of other lengths than the program's give a [`LengthError`].
+    /// Runs the compiled program on the two input arrays: writes the two output arrays and
+    /// returns whether every guard holds. Slices of other lengths than the program's give a
+    /// [`LengthError`].
     #[inline]
-    pub fn call(&self, inputs: &[f64], outputs: &mut [f64]) -> Result<bool, LengthError> {
-        if inputs.len() != self.inputs || outputs.len() != self.outputs {
-            return Err(LengthError {
-                inputs: self.inputs,
-                outputs: self.outputs,
-                got_inputs: inputs.len(),
-                got_outputs: outputs.len(),
-            });
-        }
-        // The generated function reads `inputs[i]` only for the `Op::Input(i)` of the program,
-        // each below `self.inputs` (checked by `compile`), and writes `outputs[j]` for `j` below
-        // `self.outputs`; the lengths were just checked. It keeps no pointer after returning.
-        Ok((self.entry)(inputs.as_ptr(), outputs.as_mut_ptr()) != 0)
+    pub fn call(&self, inputs: [&[f64]; 2], outputs: [&mut [f64]; 2]) -> Result<bool, LengthError> {
+        let [out0, out1] = outputs;
+        lengths(
+            self.inputs,
+            self.outputs,
+            [inputs[0].len(), inputs[1].len()],
+            [out0.len(), out1.len()],
+        )?;
+        // The generated function reads `inputs[a][i]` only for the `Op::Input(a, i)` of the
+        // program, each within the program's lengths (checked by `compile`), and writes
+        // `outputs[a][j]` for `j` below the program's output lengths; the lengths were just
+        // checked. It keeps no pointer after returning.
+        let held = (self.entry)(
+            inputs[0].as_ptr(),
+            inputs[1].as_ptr(),
+            out0.as_mut_ptr(),
+            out1.as_mut_ptr(),
+        );
+        Ok(held != 0)
     }
 
-    /// The number of inputs.
-    pub fn inputs(&self) -> usize {
+    /// The lengths of the two input arrays.
+    pub fn inputs(&self) -> [usize; 2] {
         self.inputs
     }
 
-    /// The number of outputs.
-    pub fn outputs(&self) -> usize {
+    /// The lengths of the two output arrays.
+    pub fn outputs(&self) -> [usize; 2] {
         self.outputs
     }
 
@@ -477,10 +513,10 @@ mod tests {
     /// Every kind of operation, two outputs and a guard `x0 < x1`.
     fn every_op() -> Program {
         Program {
-            inputs: 2,
+            inputs: [1, 1],
             ops: vec![
-                Op::Input(0),
-                Op::Input(1),
+                Op::Input(0, 0),
+                Op::Input(1, 0),
                 Op::Const(0.25),
                 Op::Add(0, 1),
                 Op::Sub(3, 2),
@@ -493,7 +529,7 @@ mod tests {
                 Op::Binary(atan2, 10, 1),
                 Op::WithInt(powi, 11, -3),
             ],
-            outputs: vec![12, 7],
+            outputs: [vec![12], vec![7]],
             guards: vec![Guard {
                 a: 0,
                 b: 1,
@@ -513,9 +549,11 @@ mod tests {
             [1e-300, 7e10],
             [f64::NAN, 1.0],
         ] {
-            let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
-            let held_a = native.call(&x, &mut a).expect("lengths");
-            let held_b = p.eval(&x, &mut b).expect("lengths");
+            let (mut a, mut b) = ([0.0f64; 2], [0.0f64; 2]);
+            let (a0, a1) = a.split_at_mut(1);
+            let held_a = native.call([&x[..1], &x[1..]], [a0, a1]).expect("lengths");
+            let (b0, b1) = b.split_at_mut(1);
+            let held_b = p.eval([&x[..1], &x[1..]], [b0, b1]).expect("lengths");
             assert_eq!(held_a, held_b, "guard at {x:?}");
             assert_eq!(held_a, x[0] < x[1]);
             for (u, v) in a.iter().zip(&b) {
@@ -535,9 +573,9 @@ mod tests {
             (None, [1.0, 2.0], false),
         ] {
             let p = Program {
-                inputs: 2,
-                ops: vec![Op::Input(0), Op::Input(1)],
-                outputs: vec![],
+                inputs: [2, 0],
+                ops: vec![Op::Input(0, 0), Op::Input(0, 1)],
+                outputs: [vec![], vec![]],
                 guards: vec![Guard {
                     a: 0,
                     b: 1,
@@ -545,7 +583,11 @@ mod tests {
                 }],
             };
             let native = Native::compile(&p).expect("compiles");
-            assert_eq!(native.call(&x, &mut []), Ok(holds), "{outcome:?} at {x:?}");
+            assert_eq!(
+                native.call([&x, &[]], [&mut [], &mut []]),
+                Ok(holds),
+                "{outcome:?} at {x:?}"
+            );
         }
     }
 
@@ -558,22 +600,36 @@ mod tests {
             Some(ProgramError::Operand { op: 3, operand: 3 })
         );
         let mut p = every_op();
-        p.ops[1] = Op::Input(2);
+        p.ops[1] = Op::Input(1, 1);
         assert!(matches!(
             Native::compile(&p).err(),
-            Some(ProgramError::Input { input: 2, .. })
+            Some(ProgramError::Input { input: 1, .. })
         ));
         let mut p = every_op();
-        p.outputs.push(13);
+        p.ops[1] = Op::Input(2, 0);
+        assert!(matches!(
+            Native::compile(&p).err(),
+            Some(ProgramError::Input {
+                array: 2,
+                len: 0,
+                ..
+            })
+        ));
+        let mut p = every_op();
+        p.outputs[1].push(13);
         assert_eq!(Native::compile(&p).err(), Some(ProgramError::Reference(13)));
     }
 
     #[test]
     fn slices_of_the_wrong_length_are_refused() {
         let native = Native::compile(&every_op()).expect("compiles");
-        let e = native.call(&[1.0], &mut [0.0; 2]).expect_err("short input");
-        assert_eq!((e.inputs, e.got_inputs), (2, 1));
-        assert!(native.call(&[1.0, 2.0], &mut [0.0; 3]).is_err());
+        let e = native
+            .call([&[1.0], &[]], [&mut [0.0], &mut [0.0]])
+            .expect_err("short input");
+        assert_eq!((e.inputs, e.got_inputs), ([1, 1], [1, 0]));
+        assert!(native
+            .call([&[1.0], &[2.0]], [&mut [0.0; 2], &mut [0.0]])
+            .is_err());
     }
 
     #[test]
@@ -583,17 +639,19 @@ mod tests {
             .map(|i| {
                 let native = native.clone();
                 std::thread::spawn(move || {
-                    let mut y = [0.0; 2];
-                    native.call(&[f64::from(i), 2.5], &mut y).map(|_| y)
+                    let (mut y0, mut y1) = ([0.0], [0.0]);
+                    native
+                        .call([&[f64::from(i)], &[2.5]], [&mut y0, &mut y1])
+                        .map(|_| [y0[0], y1[0]])
                 })
             })
             .collect();
         for (i, h) in handles.into_iter().enumerate() {
-            let mut want = [0.0; 2];
+            let (mut w0, mut w1) = ([0.0], [0.0]);
             every_op()
-                .eval(&[i as f64, 2.5], &mut want)
+                .eval([&[i as f64], &[2.5]], [&mut w0, &mut w1])
                 .expect("lengths");
-            assert_eq!(h.join().expect("no panic"), Ok(want));
+            assert_eq!(h.join().expect("no panic"), Ok([w0[0], w1[0]]));
         }
     }
 }

@@ -203,7 +203,9 @@ fn op(b: &mut Builder, node: Node, id: impl Fn(u32) -> u32) -> u32 {
     use calls::*;
     match node {
         Node::Const(c) => b.constant(c),
-        Node::Input(i) => b.push(Op::Input(i)),
+        // t alone in the first input array, (q, q̇) in the second: the integrator's state as it is.
+        Node::Input(0) => b.push(Op::Input(0, 0)),
+        Node::Input(i) => b.push(Op::Input(1, i - 1)),
         Node::Add(x, y) => b.push(Op::Add(id(x), id(y))),
         Node::Sub(x, y) => b.push(Op::Sub(id(x), id(y))),
         Node::Mul(x, y) => b.push(Op::Mul(id(x), id(y))),
@@ -251,10 +253,11 @@ fn op(b: &mut Builder, node: Node, id: impl Fn(u32) -> u32) -> u32 {
     }
 }
 
-/// Where each part of the program's outputs starts: `q̈` (n), with the rates `q̇·Φ`, `∂L/∂t`,
-/// `q̇·Q`; then `μ` (k), `J` (k × n), the pivots of a varying metric (`n` pairs `d_j`, `W_jj`),
-/// those of `S` (one value for `k = 1`, `k` pairs beyond), the entries of a varying metric on
-/// and above the diagonal, and with the rates `Φ` (n).
+/// The program writes `(q̇, q̈)` (2n), the state's derivative, to its first output array; and to
+/// the second, where each part starts here: with the rates `q̇·Φ`, `∂L/∂t`, `q̇·Q`; then `μ` (k),
+/// `J` (k × n), the pivots of a varying metric (`n` pairs `d_j`, `W_jj`), those of `S` (one value
+/// for `k = 1`, `k` pairs beyond), the entries of a varying metric on and above the diagonal, and
+/// with the rates `Φ` (n).
 #[derive(Clone, Copy, Debug)]
 struct Layout {
     n: usize,
@@ -266,7 +269,11 @@ struct Layout {
 
 impl Layout {
     fn mu(&self) -> usize {
-        self.n + if self.rates { 3 } else { 0 }
+        if self.rates {
+            3
+        } else {
+            0
+        }
     }
     fn j(&self) -> usize {
         self.mu() + self.k
@@ -302,10 +309,9 @@ pub(crate) struct NativeEquations {
     w_scale: f64,
 }
 
-/// Scratch space for [`NativeEquations::evaluate`]: the inputs `(t, q, q̇)` and the outputs.
+/// Scratch space for [`NativeEquations::evaluate`]: its second output array.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct NativeBuffers {
-    inputs: Vec<f64>,
     outputs: Vec<f64>,
 }
 
@@ -459,7 +465,11 @@ impl NativeEquations {
             w_entries: w_out.len(),
             rates,
         };
-        let (mut outputs, mut phi) = (a.clone(), Vec::new());
+        let qd: Vec<u32> = (0..n)
+            .map(|i| b.push(Op::Input(1, (n + i) as u32)))
+            .collect();
+        let derivative: Vec<u32> = qd.iter().chain(&a).copied().collect();
+        let (mut outputs, mut phi) = (Vec::new(), Vec::new());
         if rates {
             // Φ = Jᵀ μ and q̇·Φ, summed as the interpreted route sums them.
             phi = (0..n)
@@ -467,9 +477,6 @@ impl NativeEquations {
                     let col: Vec<u32> = j.iter().map(|row| row[i]).collect();
                     b.dot(&col, &mu)
                 })
-                .collect();
-            let qd: Vec<u32> = (0..n)
-                .map(|i| b.push(Op::Input((1 + n + i) as u32)))
                 .collect();
             let power = b.dot(&qd, &phi);
             outputs.extend([power, dl_dt, power_forces]);
@@ -491,9 +498,9 @@ impl NativeEquations {
             return None;
         }
         let program = Program {
-            inputs: 1 + 2 * n,
+            inputs: [1, 2 * n],
             ops: b.ops,
-            outputs,
+            outputs: [derivative, outputs],
             guards,
         };
         let native = Native::compile(&program).ok()?;
@@ -512,43 +519,33 @@ impl NativeEquations {
     /// Scratch space for [`NativeEquations::evaluate`].
     pub(crate) fn buffers(&self) -> NativeBuffers {
         NativeBuffers {
-            inputs: vec![0.0; self.native.inputs()],
-            outputs: vec![0.0; self.native.outputs()],
+            outputs: vec![0.0; self.native.outputs()[1]],
         }
     }
 
-    /// Runs the program at `(t, q, q̇)` (`buf` made by [`NativeEquations::buffers`], `q` and `q̇`
-    /// of length `n`); returns `false` where the interpreted route must decide (see the module
-    /// docs). The results stay in `buf`: [`NativeEquations::qdd`] and [`NativeEquations::rates`]
-    /// read them, [`NativeEquations::fill`] writes the rest into a [`Dynamics`].
+    /// Runs the program at `t` and the state `y = (q, q̇)` (length `2n`), writing the state's
+    /// derivative `(q̇, q̈)` to `dy` (length `2n`) and the rest to `buf` (made by
+    /// [`NativeEquations::buffers`]): [`NativeEquations::rates`] and [`NativeEquations::fill`]
+    /// read it. Returns `false` where the interpreted route must decide (see the module docs),
+    /// with `dy` partly written, and where a length is not the equations'.
     #[inline]
-    pub(crate) fn evaluate(&self, buf: &mut NativeBuffers, t: f64, q: &[f64], qd: &[f64]) -> bool {
-        let n = self.layout.n;
-        if q.len() != n || qd.len() != n || buf.inputs.len() != 1 + 2 * n {
-            return false;
-        }
-        buf.inputs[0] = t;
-        let (qs, qds) = buf.inputs[1..].split_at_mut(n);
-        for ((x, v), (&a, &b)) in qs.iter_mut().zip(qds).zip(q.iter().zip(qd)) {
-            *x = a;
-            *v = b;
-        }
-        self.native.call(&buf.inputs, &mut buf.outputs) == Ok(true)
-    }
-
-    /// `q̈` of the last [`NativeEquations::evaluate`] that returned `true`.
-    #[inline]
-    pub(crate) fn qdd<'b>(&self, buf: &'b NativeBuffers) -> &'b [f64] {
-        &buf.outputs[..self.layout.n]
+    pub(crate) fn evaluate(
+        &self,
+        buf: &mut NativeBuffers,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+    ) -> bool {
+        self.native
+            .call([std::slice::from_ref(&t), y], [dy, &mut buf.outputs])
+            == Ok(true)
     }
 
     /// `(q̇·Φ, ∂L/∂t, q̇·Q)` of the last evaluation, with the rates compiled in.
     #[inline]
     pub(crate) fn rates(&self, buf: &NativeBuffers) -> Option<[f64; 3]> {
-        let n = self.layout.n;
-        self.layout
-            .rates
-            .then(|| [buf.outputs[n], buf.outputs[n + 1], buf.outputs[n + 2]])
+        let o = &buf.outputs;
+        self.layout.rates.then(|| [o[0], o[1], o[2]])
     }
 
     /// Writes what the singular-point check reads of the last evaluation into `d` (of the model's

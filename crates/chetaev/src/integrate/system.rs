@@ -438,19 +438,13 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 }
             }
         }
-        // Element by element: `copy_from_slice` calls `memcpy`, which costs more for a few words.
-        let (dq, dqd) = dy[..2 * n].split_at_mut(n);
         let done = match &mut self.native {
-            NativeState::On(native, buf) => {
-                native.evaluate(buf, t, q, qd).then_some((*native, &*buf))
-            }
+            NativeState::On(native, buf) => native
+                .evaluate(buf, t, &y[..2 * n], &mut dy[..2 * n])
+                .then_some((*native, &*buf)),
             _ => None,
         };
         if let Some((native, buf)) = done {
-            for (((dq, dqd), &v), &a) in dq.iter_mut().zip(dqd).zip(qd).zip(native.qdd(buf)) {
-                *dq = v;
-                *dqd = a;
-            }
             if let Some(rates) = native.rates(buf) {
                 let k = if self.forces { 3 } else { 2 };
                 dy[e..e + k].iter_mut().zip(rates).for_each(|(x, r)| *x = r);
@@ -461,6 +455,9 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 evaluate_with_unchecked(self.model, self.compiled, &mut self.ws, t, q, qd, need)
                     .map_err(|e| locate(e, t, q, qd))?;
             self.stats.graph_fallbacks += usize::from(fell_back);
+            // Element by element: `copy_from_slice` calls `memcpy`, which costs more for a few
+            // words.
+            let (dq, dqd) = dy[..2 * n].split_at_mut(n);
             for (((dq, dqd), &v), &a) in dq.iter_mut().zip(dqd).zip(qd).zip(&d.qdd) {
                 *dq = v;
                 *dqd = a;
