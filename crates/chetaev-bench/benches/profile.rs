@@ -1,6 +1,7 @@
 //! Where the time of one right-hand side of the paper's model goes: the three autodiff passes
 //! over `L`, the two over `f`, the block solve, the whole right-hand side
-//! (`chetaev::equations::evaluate`, named `dynamics` in the results), one dual-number evaluation
+//! (`chetaev::equations::evaluate`, named `dynamics` in the results), the integrator's right-hand
+//! side as machine code and interpreted, one dual-number evaluation
 //! (a Rodas4 Jacobian takes `2·dim + 1 = 5` of them), and the hand-written right-hand sides and
 //! Jacobians for comparison.
 //!
@@ -17,7 +18,7 @@ use chetaev::equations::derivatives::{
 use chetaev::equations::{
     evaluate, evaluate_with, saddle, saddle::SaddleWorkspace, Need, Workspace,
 };
-use chetaev::integrate::system::OdeSystem;
+use chetaev::integrate::system::{OdeSystem, ReducedOde};
 use chetaev::prelude::*;
 use chetaev_bench::handwritten::{Full, Reduced};
 use criterion::Criterion;
@@ -85,6 +86,21 @@ fn profile(c: &mut Criterion) {
                 )
                 .map(|(d, _)| d.qdd[0])
             })
+        });
+    }
+    // The integrator's right-hand side, `ReducedOde::rhs` on the state `(q, q̇)`, as machine code
+    // where the host has it (made at once here, as after `NATIVE_AFTER` right-hand sides in a
+    // run); before that it is `compiled dynamics (right-hand side)` above and a few ns of glue.
+    if problem
+        .compiled()
+        .and_then(|c| c.native_operations())
+        .is_some()
+    {
+        let y_state = [q[0], q[1], qd[0], qd[1]];
+        let mut sys = ReducedOde::for_problem(&problem, false);
+        let mut dy = [0.0; 4];
+        g.bench_function("integrator's rhs (machine code)", |b| {
+            b.iter(|| sys.rhs(t, black_box(&y_state), &mut dy).map(|()| dy[3]))
         });
     }
     g.bench_function("lagrangian_derivatives (passes A, B, C)", |b| {

@@ -254,49 +254,31 @@ fn op(b: &mut Builder, node: Node, id: impl Fn(u32) -> u32) -> u32 {
 }
 
 /// The program writes `(q̇, q̈)` (2n), the state's derivative, to its first output array; and to
-/// the second, where each part starts here: with the rates `q̇·Φ`, `∂L/∂t`, `q̇·Q`; then `μ` (k),
-/// `J` (k × n), the pivots of a varying metric (`n` pairs `d_j`, `W_jj`), those of `S` (one value
-/// for `k = 1`, `k` pairs beyond), the entries of a varying metric on and above the diagonal, and
-/// with the rates `Φ` (n).
+/// the second what the integrator reads besides: with the rates `q̇·Φ`, `∂L/∂t`, `q̇·Q` first,
+/// then `J` (k × n) and the entries of a varying metric on and above the diagonal, for the
+/// singular-point check ([`NativeEquations::fill`]). The multipliers and the pivots stay inside.
 #[derive(Clone, Copy, Debug)]
 struct Layout {
     n: usize,
     k: usize,
-    varying: bool,
     w_entries: usize,
+    varying: bool,
     rates: bool,
 }
 
 impl Layout {
-    fn mu(&self) -> usize {
+    fn j(&self) -> usize {
         if self.rates {
             3
         } else {
             0
         }
     }
-    fn j(&self) -> usize {
-        self.mu() + self.k
-    }
-    fn w_pivots(&self) -> usize {
+    fn w(&self) -> usize {
         self.j() + self.k * self.n
     }
-    fn s_pivots(&self) -> usize {
-        self.w_pivots() + if self.varying { 2 * self.n } else { 0 }
-    }
-    fn w(&self) -> usize {
-        self.s_pivots()
-            + match self.k {
-                0 => 0,
-                1 => 1,
-                k => 2 * k,
-            }
-    }
-    fn phi(&self) -> usize {
-        self.w() + self.w_entries
-    }
     fn len(&self) -> usize {
-        self.phi() + if self.rates { self.n } else { 0 }
+        self.w() + self.w_entries
     }
 }
 
@@ -315,31 +297,39 @@ pub(crate) struct NativeBuffers {
     outputs: Vec<f64>,
 }
 
-/// The guards that keep the program to what it can decide alone: `d > 0`, `a > 0` and
-/// `d > ε a` for each pivot `(d, a)` (as `cholesky` checks them), `x − x = 0` (finite) for
-/// each `x` of `q̈` and `μ`.
-fn checks(b: &mut Builder, pivots: &[(u32, u32)], finite: &[u32]) -> Vec<Guard> {
+/// The guards that keep the program to what it can decide alone: `a > 0` and `d > ε a` for each
+/// pivot `(d, a)` (as `cholesky` checks them; together they give `d > 0`), and that `q̈` and `μ`
+/// are finite, as one test: `Σ (x − x) = 0`, which a single infinite or NaN entry breaks. A guard
+/// whose operands are constants is decided here: dropped where it holds, and `None` (no program)
+/// where it does not.
+fn checks(b: &mut Builder, pivots: &[(u32, u32)], finite: &[u32]) -> Option<Vec<Guard>> {
     let zero = b.constant(0.0);
     let eps = b.constant(SINGULAR_PIVOT_RATIO);
-    let mut guards = Vec::new();
-    let mut holds = |a: u32, c: u32, outcome: Ordering| {
-        guards.push(Guard {
-            a,
-            b: c,
-            outcome: Some(outcome),
-        })
-    };
+    let mut conditions = Vec::new();
     for &(d, a) in pivots {
         let floor = b.mul(eps, a);
-        holds(d, zero, Ordering::Greater);
-        holds(a, zero, Ordering::Greater);
-        holds(d, floor, Ordering::Greater);
+        conditions.push((a, zero, Ordering::Greater));
+        conditions.push((d, floor, Ordering::Greater));
     }
+    let mut sum = zero;
     for &x in finite {
         let diff = b.push(Op::Sub(x, x));
-        holds(diff, zero, Ordering::Equal);
+        sum = b.add(sum, diff);
     }
-    guards
+    conditions.push((sum, zero, Ordering::Equal));
+    let mut guards = Vec::new();
+    for (x, y, outcome) in conditions {
+        match (b.value(x), b.value(y)) {
+            (Some(u), Some(v)) if u.partial_cmp(&v) == Some(outcome) => {}
+            (Some(_), Some(_)) => return None,
+            _ => guards.push(Guard {
+                a: x,
+                b: y,
+                outcome: Some(outcome),
+            }),
+        }
+    }
+    Some(guards)
 }
 
 impl NativeEquations {
@@ -469,10 +459,10 @@ impl NativeEquations {
             .map(|i| b.push(Op::Input(1, (n + i) as u32)))
             .collect();
         let derivative: Vec<u32> = qd.iter().chain(&a).copied().collect();
-        let (mut outputs, mut phi) = (Vec::new(), Vec::new());
+        let mut outputs = Vec::new();
         if rates {
             // Φ = Jᵀ μ and q̇·Φ, summed as the interpreted route sums them.
-            phi = (0..n)
+            let phi: Vec<u32> = (0..n)
                 .map(|i| {
                     let col: Vec<u32> = j.iter().map(|row| row[i]).collect();
                     b.dot(&col, &mu)
@@ -481,18 +471,11 @@ impl NativeEquations {
             let power = b.dot(&qd, &phi);
             outputs.extend([power, dl_dt, power_forces]);
         }
-        outputs.extend(&mu);
         outputs.extend(j.iter().flatten());
-        outputs.extend(w_pivots.iter().flat_map(|&(d, a)| [d, a]));
-        outputs.extend(s_pivots.iter().flat_map(|&(d, a)| [d, a]));
-        if k == 1 {
-            outputs.pop();
-        }
         outputs.extend(&w_out);
-        outputs.extend(&phi);
         let pivots: Vec<(u32, u32)> = w_pivots.iter().chain(&s_pivots).copied().collect();
         let finite: Vec<u32> = a.iter().chain(&mu).copied().collect();
-        guards.extend(checks(&mut b, &pivots, &finite));
+        guards.extend(checks(&mut b, &pivots, &finite)?);
         debug_assert_eq!(outputs.len(), layout.len());
         if b.ops.len() > MAX_OPERATIONS {
             return None;
@@ -554,11 +537,11 @@ impl NativeEquations {
         let l = &self.layout;
         let o = &buf.outputs;
         // Element by element: `copy_from_slice` calls `memcpy`, which costs more for a few words.
-        for (x, &v) in d.j.iter_mut().zip(&o[l.j()..l.w_pivots()]) {
+        for (x, &v) in d.j.iter_mut().zip(&o[l.j()..l.w()]) {
             *x = v;
         }
         d.w_scale = if l.varying {
-            o[l.w()..l.phi()].iter().fold(0.0f64, |m, v| m.max(v.abs()))
+            o[l.w()..l.len()].iter().fold(0.0f64, |m, v| m.max(v.abs()))
         } else {
             self.w_scale
         };
