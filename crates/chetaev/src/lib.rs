@@ -12,6 +12,7 @@
 //! | problem | [`Problem`] | the model with a consistent initial state, validated; [`Problem::new`] or [`Problem::dynamic`], one type |
 //! | derivatives | [`equations::derivatives`] | `∂L/∂q`, `W = ∂²L/∂q̇²`, `(∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t`, `J = ∂f/∂q̇`, `(∂f/∂q) q̇ + ∂f/∂t` by num-dual, in the way that suits the model's flavour |
 //! | block solve | [`equations::saddle`] | `[W −Jᵀ; J 0][q̈; μ] = [∂L/∂q − g; −c]`, complete pivoting, conditioning reported; one engine for every model ([`equations::evaluate`]) |
+//! | structure | [`equations::compiled`] | the model recorded once as an expression graph: zero and constant blocks proved, a constant `W` factorised once, only what varies evaluated; once a problem has run `10⁴` right-hand sides, its right-hand side with the block solve written out for its structure, as machine code |
 //! | method | [`integrate`] | [`Dopri5`](integrate::Dopri5), [`Dop853`](integrate::Dop853), [`Tsit5`](integrate::Tsit5), [`Rk4`](integrate::Rk4), [`Rodas4`](integrate::Rodas4), [`Rodas5P`](integrate::Rodas5P): a recipe of facts ([`MethodInfo`](integrate::MethodInfo)), a trial step, its error, dense output |
 //! | driver | [`solve`] | step control, output, events, projection, statistics |
 //! | solution | [`Solution`] | `t, q, q̇, q̈, μ, Φ, f, E, W_Φ`, events, [`Stats`](integrate::system::Stats), [`Status`] |

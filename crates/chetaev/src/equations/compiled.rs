@@ -117,7 +117,7 @@ pub struct Compiled {
 
 /// Right-hand sides a problem evaluates by the interpreted route before its machine code is made:
 /// making it costs about as much as 10⁴ evaluations save (5–10 µs per operation against a gain of
-/// 0.3–2 ns per operation and evaluation), so a problem solved once, briefly, never pays for it.
+/// 0.2–2 ns per operation and evaluation), so a problem solved once, briefly, never pays for it.
 pub const NATIVE_AFTER: usize = 10_000;
 
 /// What [`NativeEquations::new`] reads of compiled equations.
@@ -531,23 +531,23 @@ impl Compiled {
         if let Some(made) = slot.get() {
             return Some(made.as_deref());
         }
-        let total = self.count_interpreted(need, evaluations);
+        let total = self.count_interpreted(evaluations);
         (total >= NATIVE_AFTER).then(|| self.native(need))
     }
 
-    /// Adds `evaluations` right-hand sides by the interpreted route for `need` to the count of
-    /// [`Compiled::native_after`], and returns the new count.
-    pub(crate) fn count_interpreted(&self, need: Need, evaluations: usize) -> usize {
-        let _ = need;
+    /// Adds `evaluations` right-hand sides by the interpreted route (with or without the rates) to
+    /// the count of [`Compiled::native_after`], and returns the new count.
+    pub(crate) fn count_interpreted(&self, evaluations: usize) -> usize {
         self.interpreted.fetch_add(evaluations, Ordering::Relaxed) + evaluations
     }
 
     /// The number of operations of the right-hand side compiled to machine code (the motion, without
     /// the energy balance), compiling it (with and without the energy balance) if it was not yet,
-    /// so that solves use it from their first right-hand side rather than after [`NATIVE_AFTER`]; `None` where there is none: a constant
-    /// metric that is not positive definite (solved by pivoted elimination), equations with
+    /// so that solves use it from their first right-hand side rather than after [`NATIVE_AFTER`];
+    /// `None` where there is none: a constant metric that is not positive definite (solved by pivoted elimination), equations with
     /// parameters as inputs, or a host the code generator does not support. The integrator's
-    /// right-hand side takes it where it exists ([`equations::native`](super::native)).
+    /// right-hand side takes it where it exists (`docs/formulation.md`, "The right-hand side as
+    /// machine code").
     pub fn native_operations(&self) -> Option<usize> {
         self.native(Need::Rates);
         self.native(Need::Motion).map(NativeEquations::operations)

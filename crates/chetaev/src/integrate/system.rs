@@ -145,7 +145,7 @@ struct Unreported<'a> {
 impl Drop for Unreported<'_> {
     fn drop(&mut self) {
         if self.count > 0 {
-            self.compiled.count_interpreted(self.need, self.count);
+            self.compiled.count_interpreted(self.count);
         }
     }
 }
