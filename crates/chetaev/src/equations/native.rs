@@ -13,11 +13,16 @@
 //! ```
 //!
 //! with every entry the structure proves zero or one folded away (a zero of `W` or `J` costs
-//! nothing), so that the program of the paper's particle is a few dozen operations. The pivots of
-//! the two factorisations are outputs: where one is not positive, or below the singular ratio of
-//! [`saddle`](super::saddle), or a guard of the recording flips, or a result is not finite,
-//! [`NativeEquations::evaluate`] declines and the caller takes the interpreted route, which
-//! pivots, falls back to dual numbers, or reports the failure exactly as without this route.
+//! nothing), so that the program of the paper's particle is 26 operations. The program checks the
+//! pivots of the two factorisations as the interpreted route does (positive, and above the singular
+//! ratio of [`saddle`](super::saddle)), the guards of the recording, and that `q̈` and `μ` are
+//! finite: where a check fails, [`NativeEquations::evaluate`] declines and the caller takes the
+//! interpreted route, which pivots, falls back to dual numbers, or reports the failure exactly as
+//! without this route. The program reads `t` and `(q, q̇)` where the integrator keeps them and
+//! writes `(q̇, q̈)` in place. It is made once a problem has run [`NATIVE_AFTER`] right-hand sides
+//! (compiling costs milliseconds), and not at all beyond [`MAX_OPERATIONS`].
+//!
+//! [`NATIVE_AFTER`]: super::compiled::NATIVE_AFTER
 //!
 //! The program performs the interpreted route's operations in its order, except that additions of
 //! a structural zero and products with a structural one are left out; its results agree with the
