@@ -122,19 +122,30 @@ fn sphere() -> Problem<Sphere> {
 
 /// Compares the compiled and the dual-number equations of `problem` at states around
 /// `(q0, q̇0)` (not on the constraints: the equations hold anywhere).
+/// Six states `(t, q, q̇)` around `problem`'s initial one, by fixed irregular shifts.
+fn states_around<M: Model>(problem: &Problem<M>) -> Vec<(f64, Vec<f64>, Vec<f64>)> {
+    (0..6)
+        .map(|s| {
+            let shift = |x: &[f64], k: usize| -> Vec<f64> {
+                x.iter()
+                    .enumerate()
+                    .map(|(i, v)| v + 0.1 * ((s * 7 + i * 3 + k) % 5) as f64 - 0.2)
+                    .collect()
+            };
+            (
+                0.3 * s as f64,
+                shift(problem.q0(), 1),
+                shift(problem.qd0(), 2),
+            )
+        })
+        .collect()
+}
+
 fn compare_at_states<M: Model + Clone>(problem: &Problem<M>) {
     assert!(problem.compiled().is_some(), "the model should compile");
     let dual = problem.clone().with_route(Route::Dual);
     assert!(dual.compiled().is_none());
-    let (q0, qd0) = (problem.q0().to_vec(), problem.qd0().to_vec());
-    for s in 0..6 {
-        let shift = |x: &[f64], k: usize| -> Vec<f64> {
-            x.iter()
-                .enumerate()
-                .map(|(i, v)| v + 0.1 * ((s * 7 + i * 3 + k) % 5) as f64 - 0.2)
-                .collect()
-        };
-        let (t, q, qd) = (0.3 * s as f64, shift(&q0, 1), shift(&qd0, 2));
+    for (t, q, qd) in states_around(problem) {
         let a = problem.equations_at(t, &q, &qd).expect("regular");
         let b = dual.equations_at(t, &q, &qd).expect("regular");
         let close = |x: &[f64], y: &[f64], what: &str| {
@@ -192,19 +203,11 @@ fn compare_right_hand_sides<M: Model + Clone>(problem: &Problem<M>) {
         assert!(native.is_some(), "this host has machine code");
     }
     let dual = problem.clone().with_route(Route::Dual);
-    let (q0, qd0) = (problem.q0().to_vec(), problem.qd0().to_vec());
     for energy in [false, true] {
         let mut a = ReducedOde::for_problem(problem, energy);
         let mut b = ReducedOde::for_problem(&dual, energy);
-        for s in 0..6 {
-            let shift = |x: &[f64], k: usize| -> Vec<f64> {
-                x.iter()
-                    .enumerate()
-                    .map(|(i, v)| v + 0.1 * ((s * 7 + i * 3 + k) % 5) as f64 - 0.2)
-                    .collect()
-            };
-            let t = 0.3 * s as f64;
-            let mut y = [shift(&q0, 1), shift(&qd0, 2)].concat();
+        for (t, q, qd) in states_around(problem) {
+            let mut y = [q, qd].concat();
             y.resize(a.dim(), 0.0);
             let (mut dya, mut dyb) = (vec![f64::NAN; a.dim()], vec![f64::NAN; b.dim()]);
             a.rhs(t, &y, &mut dya).expect("regular");
