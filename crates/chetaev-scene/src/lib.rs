@@ -58,5 +58,6 @@ pub mod scene;
 pub mod source;
 
 pub use error::Error;
+pub use model::ExprModel;
 pub use run::Outcome;
 pub use scene::Scene;

@@ -6,20 +6,21 @@ use chetaev::prelude::Real;
 use crate::expr::{Env, Expr};
 
 /// `L` and `f` as expressions on `n` coordinates, resolved against the scene's coordinate names.
+/// Made by [`Scene::problem`](crate::Scene::problem).
 #[derive(Clone, Debug)]
-pub(crate) struct ExprModel {
+pub struct ExprModel {
     /// `N`, the number of coordinates the expressions were resolved with.
-    pub n: usize,
+    pub(crate) n: usize,
     /// `L(t, q, q̇)`.
-    pub lagrangian: Expr,
+    pub(crate) lagrangian: Expr,
     /// `f_a(t, q, q̇)`, `a = 1..K`.
-    pub constraints: Vec<Expr>,
+    pub(crate) constraints: Vec<Expr>,
     /// `h_b(t, q)`, the holonomic constraints.
-    pub holonomic: Vec<Expr>,
+    pub(crate) holonomic: Vec<Expr>,
     /// `Q_i(t, q, q̇)`, one per coordinate, or none.
-    pub forces: Vec<Expr>,
+    pub(crate) forces: Vec<Expr>,
     /// `D(t, q, q̇)`, or none.
-    pub dissipation: Option<Expr>,
+    pub(crate) dissipation: Option<Expr>,
 }
 
 impl DynModel for ExprModel {

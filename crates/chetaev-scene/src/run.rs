@@ -218,7 +218,10 @@ impl Scene {
         Ok(())
     }
 
-    fn problem(&self) -> Result<Problem<ExprModel>, Error> {
+    /// The scene's problem: its expressions as a [`DynModel`](chetaev::model::DynModel), with its
+    /// initial state (made consistent where the scene asks for it). A scene's equations take the
+    /// library's routes as any model does: recorded and compiled, then machine code.
+    pub fn problem(&self) -> Result<Problem<ExprModel>, Error> {
         let model = ExprModel {
             n: self.n(),
             lagrangian: self.lagrangian.clone(),

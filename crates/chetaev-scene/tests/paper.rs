@@ -148,3 +148,32 @@ fn the_output_grid_ends_exactly_at_the_impact() {
     assert_eq!(*o.t.last().expect("points"), o.events[0].t);
     assert!(o.t.windows(2).all(|w| w[1] > w[0]));
 }
+
+#[test]
+fn a_scenes_right_hand_side_becomes_machine_code_equal_to_the_dual_number_one() {
+    use chetaev::integrate::system::{OdeSystem, ReducedOde};
+    for name in ["uniform-projectile.toml", "cartesian-pendulum.toml"] {
+        let path = format!("{}/../../scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+        let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let problem = scene.problem().unwrap_or_else(|e| panic!("{e}"));
+        let ops = problem.compiled().and_then(|c| c.native_operations());
+        if cfg!(any(target_arch = "x86_64", target_arch = "aarch64")) {
+            assert!(ops.is_some(), "{name}: this host has machine code");
+        }
+        let dual = problem.clone().with_route(Route::Dual);
+        let (mut a, mut b) = (
+            ReducedOde::for_problem(&problem, false),
+            ReducedOde::for_problem(&dual, false),
+        );
+        let y: Vec<f64> = problem.q0().iter().chain(problem.qd0()).copied().collect();
+        let (mut dya, mut dyb) = (vec![f64::NAN; y.len()], vec![f64::NAN; y.len()]);
+        a.rhs(0.1, &y, &mut dya).expect("regular");
+        b.rhs(0.1, &y, &mut dyb).expect("regular");
+        for (u, v) in dya.iter().zip(&dyb) {
+            assert!(
+                (u - v).abs() <= 1e-12 * v.abs().max(1.0),
+                "{name}: {dya:?} {dyb:?}"
+            );
+        }
+    }
+}
