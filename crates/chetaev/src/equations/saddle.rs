@@ -266,10 +266,10 @@ fn eliminate<T: Real>(a: &mut [T], b: &mut [T], col: &mut [usize], m: usize) -> 
         }
         let pivot = a[k * m + k];
         for i in k + 1..m {
+            // No skip where `l` is zero: a dual number whose value is zero may still carry a
+            // derivative (a constraint gradient `2q̇` with `q̇_i = 0`, seeded along `q̇_i`), and
+            // `==` compares values only.
             let l = a[i * m + k] / pivot;
-            if l.re() == 0.0 && l == T::zero() {
-                continue;
-            }
             for c in k + 1..m {
                 let u = a[k * m + c];
                 a[i * m + c] -= l * u;
@@ -298,6 +298,43 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
     use nalgebra::{Matrix3, Vector3};
+
+    /// `q̈` and `μ` of `W = [[2, 0.4, 0], [0.4, 1, 0.3], [0, 0.3, 3]]`, `J = 2 q̇ᵀ`,
+    /// `r = (0, 0, −9.81)`, `s = 0`, at `q̇ = (u, v, 0.3)`.
+    fn coupled<T: Real>(u: T, v: T) -> Vec<T> {
+        let w = [[2.0, 0.4, 0.0], [0.4, 1.0, 0.3], [0.0, 0.3, 3.0]];
+        let (j, r) = ([u * 2.0, v * 2.0, T::from(0.6)], [0.0, 0.0, -9.81]);
+        let mut ws = SaddleWorkspace::default();
+        solve_blocks(
+            &mut ws,
+            3,
+            1,
+            |i, k| T::from(w[i][k]),
+            |_, i| j[i],
+            |i| T::from(r[i]),
+            |_| T::zero(),
+        )
+        .expect("regular");
+        ws.solution().to_vec()
+    }
+
+    #[test]
+    fn derivatives_pass_through_an_entry_whose_value_is_zero() {
+        // At v = 0 the entry J_2 = 2v is zero in value but not in its derivative along v: the
+        // elimination must not skip it. Against central differences of the f64 solve.
+        use num_dual::Dual64;
+        let (u, h) = (2.2, 1e-6);
+        let x = coupled(Dual64::from_re(u), Dual64::new(0.0, 1.0));
+        let (p, m) = (coupled(u, h), coupled(u, -h));
+        for (i, xi) in x.iter().enumerate() {
+            let fd = (p[i] - m[i]) / (2.0 * h);
+            assert!(
+                (xi.eps - fd).abs() < 1e-7 * fd.abs().max(1.0),
+                "{i}: {} against {fd}",
+                xi.eps
+            );
+        }
+    }
 
     /// The failure of the block solve with `W` and `J` (and zero right-hand sides).
     fn failure<const N: usize, const K: usize>(
