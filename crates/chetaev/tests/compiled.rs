@@ -546,3 +546,46 @@ fn the_machine_code_of_the_papers_particle_is_the_reduced_formula_with_its_check
         assert!(ops <= 30, "{ops} operations");
     }
 }
+
+/// The Jacobian of the integrator's right-hand side by machine code (forward derivatives of its
+/// program) against the dual-number route's, with the energy quadratures and without.
+fn compare_jacobians<M: Model + Clone>(problem: &Problem<M>) {
+    use chetaev::integrate::system::{OdeSystem, ReducedOde};
+    let native = problem.compiled().and_then(|c| c.native_operations());
+    if cfg!(any(target_arch = "x86_64", target_arch = "aarch64")) {
+        assert!(native.is_some(), "this host has machine code");
+    }
+    let dual = problem.clone().with_route(Route::Dual);
+    for energy in [false, true] {
+        let mut a = ReducedOde::for_problem(problem, energy);
+        let mut b = ReducedOde::for_problem(&dual, energy);
+        let dim = a.dim();
+        for (t, q, qd) in states_around(problem) {
+            let mut y = [q, qd].concat();
+            y.resize(dim, 0.0);
+            // The machine code is taken once the right-hand side is.
+            let mut dy = vec![0.0; dim];
+            a.rhs(t, &y, &mut dy).expect("regular");
+            let (mut ja, mut ta) = (vec![f64::NAN; dim * dim], vec![f64::NAN; dim]);
+            let (mut jb, mut tb) = (vec![f64::NAN; dim * dim], vec![f64::NAN; dim]);
+            a.jacobian(t, &y, &mut ja, &mut ta).expect("regular");
+            b.jacobian(t, &y, &mut jb, &mut tb).expect("regular");
+            let scale = jb.iter().chain(&tb).fold(1.0f64, |m, v| m.max(v.abs()));
+            for (i, (u, v)) in ja.iter().chain(&ta).zip(jb.iter().chain(&tb)).enumerate() {
+                assert!(
+                    (u - v).abs() <= 1e-10 * scale,
+                    "energy {energy}, t = {t}, entry {i} (of {dim} × {dim}, then ∂F/∂t): {u} against {v}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_machine_code_jacobian_equals_the_dual_number_one() {
+    compare_jacobians(&uniform());
+    compare_jacobians(&pendulum());
+    compare_jacobians(&dyn_pendulum());
+    compare_jacobians(&sphere());
+    compare_jacobians(&coupled());
+}

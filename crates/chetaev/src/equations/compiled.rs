@@ -36,7 +36,7 @@ use super::graph::{
     record, record_with_parameters, Deps, Graph, GuardFlip, ParameterConflict, Sym, Tape, DEP_Q,
     DEP_QD, DEP_T,
 };
-use super::native::NativeEquations;
+use super::native::{NativeEquations, NativeJacobian};
 use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
 use super::structure::{Dependence, Structure};
 use super::{Dynamics, Need};
@@ -111,6 +111,8 @@ pub struct Compiled {
     /// The right-hand side as machine code, without and with the rates of the energy balance,
     /// made on first use ([`NativeEquations`]).
     native: [OnceLock<Option<Arc<NativeEquations>>>; 2],
+    /// The Jacobian of the right-hand side as machine code, the same two ways.
+    native_jacobian: [OnceLock<Option<Arc<NativeJacobian>>>; 2],
     /// Right-hand sides evaluated by the interpreted route, as reported ([`Compiled::native_after`]).
     interpreted: Arc<AtomicUsize>,
 }
@@ -459,6 +461,7 @@ impl Compiled {
             dl_dq_const,
             parameters,
             native: Default::default(),
+            native_jacobian: Default::default(),
             interpreted: Arc::default(),
             id: {
                 static NEXT: AtomicU64 = AtomicU64::new(0);
@@ -512,6 +515,20 @@ impl Compiled {
         };
         self.native[usize::from(rates)]
             .get_or_init(|| NativeEquations::new(self, rates).map(Arc::new))
+            .as_deref()
+    }
+
+    /// The Jacobian of the integrator's right-hand side as machine code for `need`, made on the
+    /// first call; `None` for [`Need::All`] and where there is none. The integrator asks for it
+    /// only once its right-hand side runs as machine code ([`Compiled::native_after`]).
+    pub(crate) fn native_jacobian(&self, need: Need) -> Option<&NativeJacobian> {
+        let rates = match need {
+            Need::Motion => false,
+            Need::Rates => true,
+            Need::All => return None,
+        };
+        self.native_jacobian[usize::from(rates)]
+            .get_or_init(|| NativeJacobian::new(self, rates).map(Arc::new))
             .as_deref()
     }
 

@@ -72,6 +72,16 @@ mod calls {
 struct Builder {
     ops: Vec<Op>,
     constants: HashMap<u64, u32>,
+    /// Which function each call computes, for its derivative ([`tangents`]).
+    kinds: HashMap<u32, Kind>,
+}
+
+/// The function an [`Op::Unary`] or [`Op::Binary`] calls.
+#[derive(Clone, Copy, Debug)]
+enum Kind {
+    Fun(Fun),
+    Powf,
+    Atan2,
 }
 
 impl Builder {
@@ -219,12 +229,18 @@ fn op(b: &mut Builder, node: Node, id: impl Fn(u32) -> u32) -> u32 {
         Node::Powi(x, n) => b.push(Op::WithInt(powi, id(x), n)),
         Node::Powf(x, p) => {
             let p = b.constant(p);
-            b.push(Op::Binary(powf, id(x), p))
+            let v = b.push(Op::Binary(powf, id(x), p));
+            b.kinds.insert(v, Kind::Powf);
+            v
         }
-        Node::Atan2(y, x) => b.push(Op::Binary(atan2, id(y), id(x))),
-        Node::Fun(f, x) => {
+        Node::Atan2(y, x) => {
+            let v = b.push(Op::Binary(atan2, id(y), id(x)));
+            b.kinds.insert(v, Kind::Atan2);
+            v
+        }
+        Node::Fun(fun, x) => {
             let x = id(x);
-            let f: chetaev_native::Unary = match f {
+            let f: chetaev_native::Unary = match fun {
                 Fun::Sqrt => return b.push(Op::Sqrt(x)),
                 Fun::Abs => return b.push(Op::Abs(x)),
                 Fun::Recip => {
@@ -253,7 +269,9 @@ fn op(b: &mut Builder, node: Node, id: impl Fn(u32) -> u32) -> u32 {
                 Fun::Atanh => atanh,
                 Fun::Signum => signum,
             };
-            b.push(Op::Unary(f, x))
+            let v = b.push(Op::Unary(f, x));
+            b.kinds.insert(v, Kind::Fun(fun));
+            v
         }
     }
 }
@@ -337,165 +355,436 @@ fn checks(b: &mut Builder, pivots: &[(u32, u32)], finite: &[u32]) -> Option<Vec<
     Some(guards)
 }
 
-impl NativeEquations {
-    /// The program of `compiled`'s right-hand side, with the rates of the energy balance or
-    /// without, compiled; `None` where the metric is constant but not positive definite (the
-    /// pivoted elimination's case), where the equations have parameters as inputs, or where no
-    /// machine code can be made on this host.
-    pub(crate) fn new(compiled: &Compiled, rates: bool) -> Option<Self> {
-        let parts = compiled.native_parts();
-        if !parts.parameter_free || matches!(parts.metric, Metric::Indefinite(_)) {
-            return None;
-        }
-        let (n, k) = (parts.n, parts.k);
-        let graph = parts.graph;
-        let mut b = Builder::default();
-        // The graph's nodes the program needs, translated in their order.
-        let mut roots: Vec<u32> = parts.outputs.to_vec();
-        for g in graph.guards() {
-            roots.extend([g.a, g.b]);
-        }
-        let mut ids = vec![u32::MAX; graph.nodes().len()];
-        for id in graph.reachable(&roots) {
-            let node = graph.nodes()[id as usize];
-            ids[id as usize] = op(&mut b, node, |x| ids[x as usize]);
-        }
-        let mut guards: Vec<Guard> = graph
-            .guards()
-            .iter()
-            .map(|g| Guard {
-                a: ids[g.a as usize],
-                b: ids[g.b as usize],
-                outcome: g.outcome,
-            })
-            .collect();
-        // The core tape's outputs: r (n), J entries, c (k), W entries, ∂L/∂t, q̇·Q.
-        let out: Vec<u32> = parts.outputs.iter().map(|&o| ids[o as usize]).collect();
-        let zero = b.constant(0.0);
-        let r = &out[..n];
-        let mut j = vec![vec![zero; n]; k];
-        let mut o = n;
-        for &(a, i) in parts.j_entries {
-            j[a][i] = out[o];
-            o += 1;
-        }
-        let c = &out[o..o + k];
-        o += k;
-        let mut w = vec![vec![zero; n]; n];
-        let mut w_out = Vec::new();
-        for &(i, m) in parts.w_entries {
-            w[i][m] = out[o];
-            w[m][i] = out[o];
-            w_out.push(out[o]);
-            o += 1;
-        }
-        let (dl_dt, power_forces) = (out[o], out[o + 1]);
+/// A right-hand side's program before it is compiled.
+struct Built {
+    b: Builder,
+    guards: Vec<Guard>,
+    layout: Layout,
+    /// `(q̇, q̈)`.
+    derivative: Vec<u32>,
+    /// The second output array (see [`Layout`]); the rates first, where there are some.
+    outputs: Vec<u32>,
+}
 
-        // a = W⁻¹ r and the rows of Y = (W⁻¹ Jᵀ)ᵀ.
-        let mut a = r.to_vec();
-        let mut y = j.clone();
-        let mut w_pivots = Vec::new();
-        match parts.metric {
-            Metric::Diagonal(inv) => {
-                for (i, &di) in inv.iter().enumerate() {
-                    let di = b.constant(di);
-                    a[i] = b.mul(a[i], di);
-                    for row in &mut y {
-                        row[i] = b.mul(row[i], di);
-                    }
-                }
-            }
-            Metric::Factor(lf) => {
-                let l: Vec<Vec<u32>> = (0..n)
-                    .map(|i| (0..n).map(|m| b.constant(lf[i * n + m])).collect())
-                    .collect();
-                b.cholesky_solve(&l, &mut a);
+/// The program of `compiled`'s right-hand side, with the rates of the energy balance or without;
+/// `None` where the metric is constant but not positive definite (the pivoted elimination's
+/// case), where the equations have parameters as inputs, or where a check on constants fails.
+fn build(compiled: &Compiled, rates: bool) -> Option<Built> {
+    let parts = compiled.native_parts();
+    if !parts.parameter_free || matches!(parts.metric, Metric::Indefinite(_)) {
+        return None;
+    }
+    let (n, k) = (parts.n, parts.k);
+    let graph = parts.graph;
+    let mut b = Builder::default();
+    // The graph's nodes the program needs, translated in their order.
+    let mut roots: Vec<u32> = parts.outputs.to_vec();
+    for g in graph.guards() {
+        roots.extend([g.a, g.b]);
+    }
+    let mut ids = vec![u32::MAX; graph.nodes().len()];
+    for id in graph.reachable(&roots) {
+        let node = graph.nodes()[id as usize];
+        ids[id as usize] = op(&mut b, node, |x| ids[x as usize]);
+    }
+    let mut guards: Vec<Guard> = graph
+        .guards()
+        .iter()
+        .map(|g| Guard {
+            a: ids[g.a as usize],
+            b: ids[g.b as usize],
+            outcome: g.outcome,
+        })
+        .collect();
+    // The core tape's outputs: r (n), J entries, c (k), W entries, ∂L/∂t, q̇·Q.
+    let out: Vec<u32> = parts.outputs.iter().map(|&o| ids[o as usize]).collect();
+    let zero = b.constant(0.0);
+    let r = &out[..n];
+    let mut j = vec![vec![zero; n]; k];
+    let mut o = n;
+    for &(a, i) in parts.j_entries {
+        j[a][i] = out[o];
+        o += 1;
+    }
+    let c = &out[o..o + k];
+    o += k;
+    let mut w = vec![vec![zero; n]; n];
+    let mut w_out = Vec::new();
+    for &(i, m) in parts.w_entries {
+        w[i][m] = out[o];
+        w[m][i] = out[o];
+        w_out.push(out[o]);
+        o += 1;
+    }
+    let (dl_dt, power_forces) = (out[o], out[o + 1]);
+
+    // a = W⁻¹ r and the rows of Y = (W⁻¹ Jᵀ)ᵀ.
+    let mut a = r.to_vec();
+    let mut y = j.clone();
+    let mut w_pivots = Vec::new();
+    match parts.metric {
+        Metric::Diagonal(inv) => {
+            for (i, &di) in inv.iter().enumerate() {
+                let di = b.constant(di);
+                a[i] = b.mul(a[i], di);
                 for row in &mut y {
-                    b.cholesky_solve(&l, row);
+                    row[i] = b.mul(row[i], di);
                 }
             }
-            Metric::Varying => {
-                let (l, pivots) = b.cholesky(&w);
-                w_pivots = pivots;
-                b.cholesky_solve(&l, &mut a);
-                for row in &mut y {
-                    b.cholesky_solve(&l, row);
-                }
-            }
-            Metric::Indefinite(_) => return None,
         }
-        // S = J Y, S μ = −c − J a, q̈ = a + Y μ.
-        let mut mu: Vec<u32> = (0..k)
-            .map(|x| {
-                let ja = b.dot(&j[x], &a);
-                let nc = b.neg(c[x]);
-                b.sub(nc, ja)
+        Metric::Factor(lf) => {
+            let l: Vec<Vec<u32>> = (0..n)
+                .map(|i| (0..n).map(|m| b.constant(lf[i * n + m])).collect())
+                .collect();
+            b.cholesky_solve(&l, &mut a);
+            for row in &mut y {
+                b.cholesky_solve(&l, row);
+            }
+        }
+        Metric::Varying => {
+            let (l, pivots) = b.cholesky(&w);
+            w_pivots = pivots;
+            b.cholesky_solve(&l, &mut a);
+            for row in &mut y {
+                b.cholesky_solve(&l, row);
+            }
+        }
+        Metric::Indefinite(_) => return None,
+    }
+    // S = J Y, S μ = −c − J a, q̈ = a + Y μ.
+    let mut mu: Vec<u32> = (0..k)
+        .map(|x| {
+            let ja = b.dot(&j[x], &a);
+            let nc = b.neg(c[x]);
+            b.sub(nc, ja)
+        })
+        .collect();
+    // The pivots of S; with one constraint S itself, which need only be positive (as in the
+    // interpreted route): the pair (S, S) checks just that.
+    let mut s_pivots = Vec::new();
+    if k == 1 {
+        let s0 = b.dot(&j[0], &y[0]);
+        mu[0] = b.div(mu[0], s0);
+        s_pivots.push((s0, s0));
+    } else if k > 1 {
+        let s: Vec<Vec<u32>> = (0..k)
+            .map(|x| (0..k).map(|z| b.dot(&j[x], &y[z])).collect())
+            .collect();
+        let (l, pivots) = b.cholesky(&s);
+        s_pivots = pivots;
+        b.cholesky_solve(&l, &mut mu);
+    }
+    for (x, &m) in mu.iter().enumerate() {
+        for i in 0..n {
+            let p = b.mul(y[x][i], m);
+            a[i] = b.add(a[i], p);
+        }
+    }
+    let layout = Layout {
+        n,
+        k,
+        varying: matches!(parts.metric, Metric::Varying),
+        w_entries: w_out.len(),
+        rates,
+    };
+    let qd: Vec<u32> = (0..n)
+        .map(|i| b.push(Op::Input(1, (n + i) as u32)))
+        .collect();
+    let derivative: Vec<u32> = qd.iter().chain(&a).copied().collect();
+    let mut outputs = Vec::new();
+    if rates {
+        // Φ = Jᵀ μ and q̇·Φ, summed as the interpreted route sums them.
+        let phi: Vec<u32> = (0..n)
+            .map(|i| {
+                let col: Vec<u32> = j.iter().map(|row| row[i]).collect();
+                b.dot(&col, &mu)
             })
             .collect();
-        // The pivots of S; with one constraint S itself, which need only be positive (as in the
-        // interpreted route): the pair (S, S) checks just that.
-        let mut s_pivots = Vec::new();
-        if k == 1 {
-            let s0 = b.dot(&j[0], &y[0]);
-            mu[0] = b.div(mu[0], s0);
-            s_pivots.push((s0, s0));
-        } else if k > 1 {
-            let s: Vec<Vec<u32>> = (0..k)
-                .map(|x| (0..k).map(|z| b.dot(&j[x], &y[z])).collect())
-                .collect();
-            let (l, pivots) = b.cholesky(&s);
-            s_pivots = pivots;
-            b.cholesky_solve(&l, &mut mu);
+        let power = b.dot(&qd, &phi);
+        outputs.extend([power, dl_dt, power_forces]);
+    }
+    outputs.extend(j.iter().flatten());
+    outputs.extend(&w_out);
+    let pivots: Vec<(u32, u32)> = w_pivots.iter().chain(&s_pivots).copied().collect();
+    let finite: Vec<u32> = a.iter().chain(&mu).copied().collect();
+    guards.extend(checks(&mut b, &pivots, &finite)?);
+    debug_assert_eq!(outputs.len(), layout.len());
+    Some(Built {
+        b,
+        guards,
+        layout,
+        derivative,
+        outputs,
+    })
+}
+
+/// The derivatives of every operation of `b` (those there now) along the `2n + 1` directions `q`,
+/// `q̇`, `t`, by forward differentiation written out as operations: `tangents[op][d]`. A zero
+/// folds away, so an operation that does not depend on an input costs nothing in its direction.
+fn tangents(b: &mut Builder, n: usize) -> Option<Vec<Vec<u32>>> {
+    use calls::*;
+    let dirs = 2 * n + 1;
+    let (zero, one) = (b.constant(0.0), b.constant(1.0));
+    let len = b.ops.len();
+    let mut tan: Vec<Vec<u32>> = Vec::with_capacity(len);
+    for v in 0..len as u32 {
+        let op = b.ops[v as usize];
+        let t = |x: u32, d: usize, tan: &Vec<Vec<u32>>| tan[x as usize][d];
+        // `factor · t(x)` in every direction, the factor made only where some direction needs it.
+        let chain =
+            |b: &mut Builder, x: u32, tan: &Vec<Vec<u32>>, factor: &dyn Fn(&mut Builder) -> u32| {
+                if tan[x as usize].iter().all(|&id| b.value(id) == Some(0.0)) {
+                    return vec![zero; dirs];
+                }
+                let f = factor(b);
+                (0..dirs)
+                    .map(|d| b.mul(tan[x as usize][d], f))
+                    .collect::<Vec<u32>>()
+            };
+        let row: Vec<u32> = match op {
+            Op::Input(0, _) => (0..dirs)
+                .map(|d| if d == 2 * n { one } else { zero })
+                .collect(),
+            Op::Input(_, i) => (0..dirs)
+                .map(|d| if d == i as usize { one } else { zero })
+                .collect(),
+            Op::Const(_) => vec![zero; dirs],
+            Op::Add(x, y) => (0..dirs)
+                .map(|d| b.add(t(x, d, &tan), t(y, d, &tan)))
+                .collect(),
+            Op::Sub(x, y) => (0..dirs)
+                .map(|d| b.sub(t(x, d, &tan), t(y, d, &tan)))
+                .collect(),
+            Op::Neg(x) => (0..dirs).map(|d| b.neg(t(x, d, &tan))).collect(),
+            Op::Mul(x, y) => (0..dirs)
+                .map(|d| {
+                    let p = b.mul(t(x, d, &tan), y);
+                    let q = b.mul(x, t(y, d, &tan));
+                    b.add(p, q)
+                })
+                .collect(),
+            Op::Div(x, y) => (0..dirs)
+                .map(|d| {
+                    let p = b.mul(v, t(y, d, &tan));
+                    let q = b.sub(t(x, d, &tan), p);
+                    b.div(q, y)
+                })
+                .collect(),
+            Op::Sqrt(x) => chain(b, x, &tan, &|b| {
+                let two = b.constant(2.0);
+                let tv = b.mul(two, v);
+                b.div(one, tv)
+            }),
+            Op::Abs(x) => chain(b, x, &tan, &|b| b.push(Op::Unary(signum, x))),
+            Op::WithInt(_, x, k) => chain(b, x, &tan, &|b| {
+                let c = b.constant(f64::from(k));
+                if k == 0 {
+                    return b.constant(0.0);
+                }
+                let p = b.push(Op::WithInt(powi, x, k - 1));
+                b.mul(c, p)
+            }),
+            Op::Binary(_, x, y) => match b.kinds.get(&v).copied() {
+                Some(Kind::Powf) => chain(b, x, &tan, &|b| {
+                    let p = b.value(y).unwrap_or(f64::NAN);
+                    let c = b.constant(p);
+                    let pm = b.constant(p - 1.0);
+                    let q = b.push(Op::Binary(powf, x, pm));
+                    b.mul(c, q)
+                }),
+                // atan2(x, y) = θ of the point (y, x): dθ = (y dx − x dy) / (x² + y²).
+                _ => {
+                    let xx = b.mul(x, x);
+                    let yy = b.mul(y, y);
+                    let r2 = b.add(xx, yy);
+                    (0..dirs)
+                        .map(|d| {
+                            let p = b.mul(y, t(x, d, &tan));
+                            let q = b.mul(x, t(y, d, &tan));
+                            let num = b.sub(p, q);
+                            b.div(num, r2)
+                        })
+                        .collect()
+                }
+            },
+            Op::Unary(_, x) => {
+                let Some(Kind::Fun(f)) = b.kinds.get(&v).copied() else {
+                    return None;
+                };
+                chain(b, x, &tan, &|b| derivative(b, f, x, v))
+            }
+        };
+        tan.push(row);
+    }
+    Some(tan)
+}
+
+/// `f′(x)` as operations, `v = f(x)` already computed.
+fn derivative(b: &mut Builder, f: Fun, x: u32, v: u32) -> u32 {
+    use calls::*;
+    let one = b.constant(1.0);
+    let sq = |b: &mut Builder, a: u32| b.mul(a, a);
+    let inv_sqrt = |b: &mut Builder, a: u32| {
+        let r = b.push(Op::Sqrt(a));
+        b.div(one, r)
+    };
+    match f {
+        Fun::Sin => b.push(Op::Unary(cos, x)),
+        Fun::Cos => {
+            let s = b.push(Op::Unary(sin, x));
+            b.neg(s)
         }
-        for (x, &m) in mu.iter().enumerate() {
-            for i in 0..n {
-                let p = b.mul(y[x][i], m);
-                a[i] = b.add(a[i], p);
+        Fun::Tan => {
+            let v2 = sq(b, v);
+            b.add(one, v2)
+        }
+        Fun::Exp => v,
+        Fun::Exp2 => {
+            let c = b.constant(std::f64::consts::LN_2);
+            b.mul(v, c)
+        }
+        Fun::ExpM1 => b.add(v, one),
+        Fun::Ln => b.div(one, x),
+        Fun::Log2 | Fun::Log10 => {
+            let c = b.constant(if matches!(f, Fun::Log2) {
+                std::f64::consts::LN_2
+            } else {
+                std::f64::consts::LN_10
+            });
+            let xc = b.mul(x, c);
+            b.div(one, xc)
+        }
+        Fun::Ln1p => {
+            let a = b.add(one, x);
+            b.div(one, a)
+        }
+        Fun::Cbrt => {
+            let three = b.constant(3.0);
+            let v2 = sq(b, v);
+            let d = b.mul(three, v2);
+            b.div(one, d)
+        }
+        Fun::Asin | Fun::Acos => {
+            let x2 = sq(b, x);
+            let a = b.sub(one, x2);
+            let r = inv_sqrt(b, a);
+            if matches!(f, Fun::Asin) {
+                r
+            } else {
+                b.neg(r)
             }
         }
-        let layout = Layout {
-            n,
-            k,
-            varying: matches!(parts.metric, Metric::Varying),
-            w_entries: w_out.len(),
-            rates,
-        };
-        let qd: Vec<u32> = (0..n)
-            .map(|i| b.push(Op::Input(1, (n + i) as u32)))
-            .collect();
-        let derivative: Vec<u32> = qd.iter().chain(&a).copied().collect();
-        let mut outputs = Vec::new();
-        if rates {
-            // Φ = Jᵀ μ and q̇·Φ, summed as the interpreted route sums them.
-            let phi: Vec<u32> = (0..n)
-                .map(|i| {
-                    let col: Vec<u32> = j.iter().map(|row| row[i]).collect();
-                    b.dot(&col, &mu)
-                })
-                .collect();
-            let power = b.dot(&qd, &phi);
-            outputs.extend([power, dl_dt, power_forces]);
+        Fun::Atan => {
+            let x2 = sq(b, x);
+            let a = b.add(one, x2);
+            b.div(one, a)
         }
-        outputs.extend(j.iter().flatten());
-        outputs.extend(&w_out);
-        let pivots: Vec<(u32, u32)> = w_pivots.iter().chain(&s_pivots).copied().collect();
-        let finite: Vec<u32> = a.iter().chain(&mu).copied().collect();
-        guards.extend(checks(&mut b, &pivots, &finite)?);
-        debug_assert_eq!(outputs.len(), layout.len());
+        Fun::Sinh => b.push(Op::Unary(cosh, x)),
+        Fun::Cosh => b.push(Op::Unary(sinh, x)),
+        Fun::Tanh => {
+            let v2 = sq(b, v);
+            b.sub(one, v2)
+        }
+        Fun::Asinh => {
+            let x2 = sq(b, x);
+            let a = b.add(x2, one);
+            inv_sqrt(b, a)
+        }
+        Fun::Acosh => {
+            let x2 = sq(b, x);
+            let a = b.sub(x2, one);
+            inv_sqrt(b, a)
+        }
+        Fun::Atanh => {
+            let x2 = sq(b, x);
+            let a = b.sub(one, x2);
+            b.div(one, a)
+        }
+        Fun::Signum => b.constant(0.0),
+        // Translated to operations of their own, never calls.
+        Fun::Sqrt | Fun::Abs | Fun::Recip => b.constant(f64::NAN),
+    }
+}
+
+/// The integrator's Jacobian `∂F/∂y` and `∂F/∂t` of compiled equations as machine code: the
+/// right-hand side's program differentiated forward along `q`, `q̇` and `t` ([`tangents`]), with
+/// its checks. Rows: `q̇` (n), `q̈` (n), then the rates where compiled with them; columns `q`,
+/// `q̇` (the quadratures do not feed back).
+#[derive(Debug)]
+pub(crate) struct NativeJacobian {
+    native: Native,
+    n: usize,
+    rates: bool,
+}
+
+impl NativeJacobian {
+    /// The Jacobian's program for `compiled` (see [`NativeEquations::new`] for when there is none).
+    pub(crate) fn new(compiled: &Compiled, rates: bool) -> Option<Self> {
+        let Built {
+            mut b,
+            guards,
+            layout,
+            derivative,
+            outputs,
+        } = build(compiled, rates)?;
+        let n = layout.n;
+        let tan = tangents(&mut b, n)?;
+        let mut rows: Vec<u32> = derivative;
+        if rates {
+            rows.extend(&outputs[..3]);
+        }
+        let jac: Vec<u32> = rows
+            .iter()
+            .flat_map(|&r| tan[r as usize][..2 * n].to_vec())
+            .collect();
+        let dfdt: Vec<u32> = rows.iter().map(|&r| tan[r as usize][2 * n]).collect();
         if b.ops.len() > MAX_OPERATIONS {
             return None;
         }
         let program = Program {
             inputs: [1, 2 * n],
             ops: b.ops,
-            outputs: [derivative, outputs],
+            outputs: [jac, dfdt],
             guards,
+        };
+        let native = Native::compile(&program).ok()?;
+        Some(Self { native, n, rates })
+    }
+
+    /// The rows: `2n`, and 3 with the rates.
+    pub(crate) fn rows(&self) -> usize {
+        2 * self.n + if self.rates { 3 } else { 0 }
+    }
+
+    /// `∂F/∂(q, q̇)` (row-major, [`NativeJacobian::rows`] × `2n`) into `jac` and `∂F/∂t` into `dfdt`
+    /// at `t` and `y = (q, q̇)`; `false` where the interpreted route must decide, or a length is
+    /// not the program's.
+    pub(crate) fn evaluate(&self, t: f64, y: &[f64], jac: &mut [f64], dfdt: &mut [f64]) -> bool {
+        self.native.call([std::slice::from_ref(&t), y], [jac, dfdt]) == Ok(true)
+    }
+}
+
+impl NativeEquations {
+    /// The program of `compiled`'s right-hand side, with the rates of the energy balance or
+    /// without, compiled; `None` where the metric is constant but not positive definite (the
+    /// pivoted elimination's case), where the equations have parameters as inputs, or where no
+    /// machine code can be made on this host.
+    pub(crate) fn new(compiled: &Compiled, rates: bool) -> Option<Self> {
+        let built = build(compiled, rates)?;
+        if built.b.ops.len() > MAX_OPERATIONS {
+            return None;
+        }
+        let program = Program {
+            inputs: [1, 2 * built.layout.n],
+            ops: built.b.ops,
+            outputs: [built.derivative, built.outputs],
+            guards: built.guards,
         };
         let native = Native::compile(&program).ok()?;
         Some(Self {
             native,
-            layout,
-            w_scale: parts.w_scale,
+            layout: built.layout,
+            w_scale: compiled.native_parts().w_scale,
         })
     }
 

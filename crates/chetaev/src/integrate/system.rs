@@ -161,6 +161,8 @@ pub struct ReducedOde<'a, M: ?Sized> {
     native: NativeState<'a>,
     /// The last `rhs` took the machine-code route, whose results are in its buffers, not in `ws`.
     native_last: bool,
+    /// Scratch for the Jacobian as machine code: `∂F/∂(q, q̇)` and `∂F/∂t` of its rows.
+    native_jac: (Vec<f64>, Vec<f64>),
     pub(crate) n: usize,
     pub(crate) ws: Workspace<f64>,
     /// Scratch space for the dual evaluations of the Jacobian, made on first use: the workspace
@@ -291,6 +293,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             compiled: None,
             native: NativeState::Off,
             native_last: false,
+            native_jac: (Vec::new(), Vec::new()),
             n: model.sizes().0,
             ws: Workspace::for_model(model),
             jac_ws: None,
@@ -496,6 +499,34 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
             dfdt.fill(0.0);
         }
         let (model, need) = (self.model, self.need());
+        // As machine code, once the right-hand side is (and without sensitivities).
+        if let (NativeState::On(..), None, Some(c)) = (&self.native, &self.sens, self.compiled) {
+            if let Some(nj) = c.native_jacobian(need) {
+                let rows = nj.rows();
+                let (jb, db) = &mut self.native_jac;
+                jb.resize(rows * 2 * n, 0.0);
+                db.resize(rows, 0.0);
+                if nj.evaluate(t, &y[..2 * n], jb, db)
+                    && jb.iter().chain(db.iter()).all(|v| v.is_finite())
+                {
+                    jac.fill(0.0);
+                    dfdt.fill(0.0);
+                    // Rows q̇, q̈, then the quadratures that are carried (W_Φ, ∫∂L/∂t, W_Q).
+                    let carried = if self.energy { dim - 2 * n } else { 0 };
+                    for row in 0..2 * n + carried.min(rows - 2 * n) {
+                        let (src, dst) = if row < 2 * n {
+                            (row, row)
+                        } else {
+                            (row, e + row - 2 * n)
+                        };
+                        jac[dst * dim..dst * dim + 2 * n]
+                            .copy_from_slice(&jb[src * 2 * n..(src + 1) * 2 * n]);
+                        dfdt[dst] = db[src];
+                    }
+                    return Ok(());
+                }
+            }
+        }
         let (ws, q, qd) = self.jac_ws.get_or_insert_with(|| {
             let zero = Dual64::from(0.0);
             (Workspace::for_model(model), vec![zero; n], vec![zero; n])
