@@ -193,9 +193,21 @@ fn coupled() -> Problem<Coupled> {
     Problem::dynamic(Coupled, 0.0, vec![0.0, 0.0, 1.0], vec![2.0, 0.0, 0.0]).expect("consistent")
 }
 
-/// The integrator's right-hand side by machine code (the graph route's) against the dual-number
+/// Asserts that `x` and `y` agree to `tol` relative to the largest entry of `y` (at least 1).
+fn agree(x: &[f64], y: &[f64], tol: f64, what: &str) {
+    let scale = y.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+    for (i, (u, v)) in x.iter().zip(y).enumerate() {
+        assert!(
+            (u - v).abs() <= tol * scale,
+            "{what}, entry {i}: {u} against {v}"
+        );
+    }
+}
+
+/// The integrator's right-hand side and its Jacobian by machine code (the graph route's; the
+/// Jacobian by forward derivatives of the right-hand side's program) against the dual-number
 /// route's, with the energy quadratures and without, at states around the initial one.
-fn compare_right_hand_sides<M: Model + Clone>(problem: &Problem<M>) {
+fn compare_integrator_functions<M: Model + Clone>(problem: &Problem<M>) {
     use chetaev::integrate::system::{OdeSystem, ReducedOde};
     let compiled = problem.compiled().expect("the model should compile");
     let native = compiled.native_operations();
@@ -206,31 +218,37 @@ fn compare_right_hand_sides<M: Model + Clone>(problem: &Problem<M>) {
     for energy in [false, true] {
         let mut a = ReducedOde::for_problem(problem, energy);
         let mut b = ReducedOde::for_problem(&dual, energy);
+        let dim = a.dim();
         for (t, q, qd) in states_around(problem) {
             let mut y = [q, qd].concat();
-            y.resize(a.dim(), 0.0);
-            let (mut dya, mut dyb) = (vec![f64::NAN; a.dim()], vec![f64::NAN; b.dim()]);
+            y.resize(dim, 0.0);
+            let what = format!("energy {energy}, t = {t}");
+            let (mut dya, mut dyb) = (vec![f64::NAN; dim], vec![f64::NAN; dim]);
             a.rhs(t, &y, &mut dya).expect("regular");
             b.rhs(t, &y, &mut dyb).expect("regular");
-            let scale = dyb.iter().fold(1.0f64, |m, v| m.max(v.abs()));
-            for (u, v) in dya.iter().zip(&dyb) {
-                assert!(
-                    (u - v).abs() <= 1e-11 * scale,
-                    "energy {energy}, t = {t}: {dya:?} against {dyb:?}"
-                );
-            }
+            agree(&dya, &dyb, 1e-11, &format!("F, {what}"));
+            let (mut ja, mut ta) = (vec![f64::NAN; dim * dim], vec![f64::NAN; dim]);
+            let (mut jb, mut tb) = (vec![f64::NAN; dim * dim], vec![f64::NAN; dim]);
+            a.jacobian(t, &y, &mut ja, &mut ta).expect("regular");
+            b.jacobian(t, &y, &mut jb, &mut tb).expect("regular");
+            agree(
+                &[ja, ta].concat(),
+                &[jb, tb].concat(),
+                1e-10,
+                &format!("∂F/∂y then ∂F/∂t, {what}"),
+            );
         }
         assert_eq!(a.stats.graph_fallbacks, 0);
     }
 }
 
 #[test]
-fn the_machine_code_right_hand_side_equals_the_dual_number_one() {
-    compare_right_hand_sides(&uniform());
-    compare_right_hand_sides(&pendulum());
-    compare_right_hand_sides(&dyn_pendulum());
-    compare_right_hand_sides(&sphere());
-    compare_right_hand_sides(&coupled());
+fn the_machine_code_right_hand_side_and_jacobian_equal_the_dual_number_ones() {
+    compare_integrator_functions(&uniform());
+    compare_integrator_functions(&pendulum());
+    compare_integrator_functions(&dyn_pendulum());
+    compare_integrator_functions(&sphere());
+    compare_integrator_functions(&coupled());
 }
 
 #[test]
@@ -545,47 +563,4 @@ fn the_machine_code_of_the_papers_particle_is_the_reduced_formula_with_its_check
         let ops = ops.expect("this host has machine code");
         assert!(ops <= 30, "{ops} operations");
     }
-}
-
-/// The Jacobian of the integrator's right-hand side by machine code (forward derivatives of its
-/// program) against the dual-number route's, with the energy quadratures and without.
-fn compare_jacobians<M: Model + Clone>(problem: &Problem<M>) {
-    use chetaev::integrate::system::{OdeSystem, ReducedOde};
-    let native = problem.compiled().and_then(|c| c.native_operations());
-    if cfg!(any(target_arch = "x86_64", target_arch = "aarch64")) {
-        assert!(native.is_some(), "this host has machine code");
-    }
-    let dual = problem.clone().with_route(Route::Dual);
-    for energy in [false, true] {
-        let mut a = ReducedOde::for_problem(problem, energy);
-        let mut b = ReducedOde::for_problem(&dual, energy);
-        let dim = a.dim();
-        for (t, q, qd) in states_around(problem) {
-            let mut y = [q, qd].concat();
-            y.resize(dim, 0.0);
-            // The machine code is taken once the right-hand side is.
-            let mut dy = vec![0.0; dim];
-            a.rhs(t, &y, &mut dy).expect("regular");
-            let (mut ja, mut ta) = (vec![f64::NAN; dim * dim], vec![f64::NAN; dim]);
-            let (mut jb, mut tb) = (vec![f64::NAN; dim * dim], vec![f64::NAN; dim]);
-            a.jacobian(t, &y, &mut ja, &mut ta).expect("regular");
-            b.jacobian(t, &y, &mut jb, &mut tb).expect("regular");
-            let scale = jb.iter().chain(&tb).fold(1.0f64, |m, v| m.max(v.abs()));
-            for (i, (u, v)) in ja.iter().chain(&ta).zip(jb.iter().chain(&tb)).enumerate() {
-                assert!(
-                    (u - v).abs() <= 1e-10 * scale,
-                    "energy {energy}, t = {t}, entry {i} (of {dim} × {dim}, then ∂F/∂t): {u} against {v}"
-                );
-            }
-        }
-    }
-}
-
-#[test]
-fn the_machine_code_jacobian_equals_the_dual_number_one() {
-    compare_jacobians(&uniform());
-    compare_jacobians(&pendulum());
-    compare_jacobians(&dyn_pendulum());
-    compare_jacobians(&sphere());
-    compare_jacobians(&coupled());
 }
