@@ -242,8 +242,53 @@ fn compare_integrator_functions<M: Model + Clone>(problem: &Problem<M>) {
     }
 }
 
+/// A particle in a potential made of every elementary function (each argument kept in its
+/// domain near the initial state), at constant speed: the derivative rules of the Jacobian's
+/// program, one per function.
+#[derive(Clone)]
+struct Elementary;
+impl DynModel for Elementary {
+    fn sizes(&self) -> (usize, usize) {
+        (2, 1)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        let (x, y) = (q[0] * 0.1 + 0.3, q[1] * 0.1 + 0.2);
+        let v = x.tan()
+            + y.exp()
+            + (x + 1.0).ln()
+            + x.atan()
+            + y.sinh()
+            + x.cosh()
+            + y.tanh()
+            + x.asinh()
+            + (y + 1.5).acosh()
+            + x.atanh()
+            + y.asin()
+            + x.acos()
+            + (x + 1.0).powf(1.7)
+            + y.powi(3)
+            + y.atan2(x + 1.0)
+            + (x + 2.0).sqrt()
+            + y.cbrt()
+            + x.exp2()
+            + y.ln_1p()
+            + x.exp_m1()
+            + (y + 1.0).log2()
+            + (x + 1.0).log10()
+            + (x - 2.0).abs()
+            + (y + 3.0).recip();
+        (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5 - v
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd[0] * qd[0] + qd[1] * qd[1] - 1.0;
+    }
+}
+
 #[test]
 fn the_machine_code_right_hand_side_and_jacobian_equal_the_dual_number_ones() {
+    let elementary =
+        Problem::dynamic(Elementary, 0.0, vec![0.1, -0.2], vec![0.6, 0.8]).expect("consistent");
+    compare_integrator_functions(&elementary);
     compare_integrator_functions(&uniform());
     compare_integrator_functions(&pendulum());
     compare_integrator_functions(&dyn_pendulum());
