@@ -157,6 +157,9 @@ pub enum ProgramError {
     /// An output or a guard names an operation that does not exist.
     #[error("an output or guard names operation {0}, beyond the program's end")]
     Reference(u32),
+    /// Slices of the wrong length given to [`Program::eval`].
+    #[error(transparent)]
+    Lengths(#[from] LengthError),
     /// The code generator failed, or this host is not one Cranelift generates code for.
     #[error("no machine code for this program on this host: {0}")]
     Backend(String),
@@ -231,9 +234,15 @@ impl Program {
     }
 
     /// Evaluates the program by interpretation (the reference the compiled code equals): writes
-    /// the outputs, and returns whether every guard holds. The program must pass
-    /// [`Program::check`] (an operand out of range panics).
-    pub fn eval(&self, inputs: [&[f64]; 2], outputs: [&mut [f64]; 2]) -> Result<bool, LengthError> {
+    /// the outputs, and returns whether every guard holds. A program that fails
+    /// [`Program::check`], or slices of other lengths than the program's, give a
+    /// [`ProgramError`] and write nothing.
+    pub fn eval(
+        &self,
+        inputs: [&[f64]; 2],
+        outputs: [&mut [f64]; 2],
+    ) -> Result<bool, ProgramError> {
+        self.check()?;
         lengths(
             self.inputs,
             self.output_lengths(),
@@ -618,6 +627,21 @@ mod tests {
         let mut p = every_op();
         p.outputs[1].push(13);
         assert_eq!(Native::compile(&p).err(), Some(ProgramError::Reference(13)));
+    }
+
+    #[test]
+    fn the_interpreter_refuses_a_program_that_reads_what_is_not_there() {
+        let mut p = every_op();
+        p.ops[3] = Op::Add(0, 3);
+        let (mut y0, mut y1) = ([0.0], [0.0]);
+        assert_eq!(
+            p.eval([&[1.0], &[2.0]], [&mut y0, &mut y1]),
+            Err(ProgramError::Operand { op: 3, operand: 3 })
+        );
+        assert!(matches!(
+            every_op().eval([&[1.0], &[]], [&mut y0, &mut y1]),
+            Err(ProgramError::Lengths(_))
+        ));
     }
 
     #[test]

@@ -508,11 +508,7 @@ impl Compiled {
     /// [`Need::Rates`]), compiled on the first call; `None` for [`Need::All`] and where there is
     /// none (see [`NativeEquations::new`]).
     pub(crate) fn native(&self, need: Need) -> Option<&NativeEquations> {
-        let rates = match need {
-            Need::Motion => false,
-            Need::Rates => true,
-            Need::All => return None,
-        };
+        let rates = native_rates(need)?;
         self.native[usize::from(rates)]
             .get_or_init(|| NativeEquations::new(self, rates).map(Arc::new))
             .as_deref()
@@ -522,11 +518,7 @@ impl Compiled {
     /// first call; `None` for [`Need::All`] and where there is none. The integrator asks for it
     /// only once its right-hand side runs as machine code ([`Compiled::native_after`]).
     pub(crate) fn native_jacobian(&self, need: Need) -> Option<&NativeJacobian> {
-        let rates = match need {
-            Need::Motion => false,
-            Need::Rates => true,
-            Need::All => return None,
-        };
+        let rates = native_rates(need)?;
         self.native_jacobian[usize::from(rates)]
             .get_or_init(|| NativeJacobian::new(self, rates).map(Arc::new))
             .as_deref()
@@ -540,11 +532,10 @@ impl Compiled {
         need: Need,
         evaluations: usize,
     ) -> Option<Option<&NativeEquations>> {
-        let slot = match need {
-            Need::Motion => &self.native[0],
-            Need::Rates => &self.native[1],
-            Need::All => return Some(None),
+        let Some(rates) = native_rates(need) else {
+            return Some(None);
         };
+        let slot = &self.native[usize::from(rates)];
         if let Some(made) = slot.get() {
             return Some(made.as_deref());
         }
@@ -1003,6 +994,16 @@ impl Compiled {
         ws.a.copy_from_slice(&x[..n]);
         ws.mu.copy_from_slice(&x[n..n + k]);
         Ok(ratio)
+    }
+}
+
+/// Whether the machine code for `need` carries the rates of the energy balance; `None` for
+/// [`Need::All`], which has none (output points take the interpreted route).
+fn native_rates(need: Need) -> Option<bool> {
+    match need {
+        Need::Motion => Some(false),
+        Need::Rates => Some(true),
+        Need::All => None,
     }
 }
 
