@@ -21,7 +21,7 @@
 #![allow(clippy::excessive_precision)]
 
 use super::system::OdeSystem;
-use super::{combine, weighted, Controller, Method, MethodInfo, Stage, Step, Stepper};
+use super::{combine, weighted, Method, MethodInfo, Stage, Step, Stepper};
 use super::{StiffnessTest, Trial};
 use crate::error::Error;
 
@@ -299,19 +299,13 @@ impl Default for Dop853 {
 impl Method for Dop853 {
     type Stepper = Dop853Stepper;
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: "Dop853",
-            order: 8,
-            embedded_order: Some(5),
-            control_order: 8,
-            dense_order: 7,
-            stability_size: 6.39,
-            needs_jacobian: false,
-            fixed_step: None,
-            controller: Controller::i(0.2, 10.0),
-            advice:
+        // DOP853's error estimate combines its 5th- and 3rd-order embedded solutions into one of
+        // order 8 (Hairer, Nørsett, Wanner I, II.10), so step control uses the order itself.
+        MethodInfo::explicit("Dop853", (8, 5), 7, 6.39)
+            .with_control_order(8)
+            .with_advice(
                 "above tolerances of about 1e-7 Dopri5 is cheaper; for a stiff problem use Rodas4",
-        }
+            )
     }
     fn stepper(&self, dim: usize) -> Dop853Stepper {
         Dop853Stepper {

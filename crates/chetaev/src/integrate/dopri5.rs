@@ -103,19 +103,12 @@ impl Default for Dopri5 {
 impl Method for Dopri5 {
     type Stepper = Dopri5Stepper;
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: "Dopri5",
-            order: 5,
-            embedded_order: Some(4),
-            control_order: 5,
-            dense_order: 4,
-            stability_size: 3.3,
-            needs_jacobian: false,
-            fixed_step: None,
-            controller: Controller::pi(0.2, 10.0, 0.04),
-            advice:
-                "for tolerances below about 1e-10 Dop853 is cheaper; for a stiff problem use Rodas4",
-        }
+        MethodInfo::explicit("Dopri5", (5, 4), 4, 3.3)
+            .with_controller(Controller::pi(0.2, 10.0, 0.04))
+            .with_advice(
+                "for tolerances below about 1e-10 Dop853 is cheaper; for a stiff problem use \
+                 Rodas4",
+            )
     }
     fn stepper(&self, dim: usize) -> Dopri5Stepper {
         Dopri5Stepper {

@@ -65,6 +65,76 @@ pub struct MethodInfo {
     pub advice: &'static str,
 }
 
+/// The facts a method declares, from the literature, with what follows from them filled in: a
+/// method is declared in one line, `MethodInfo::explicit("Dopri5", (5, 4), 4, 3.3)`, and states
+/// only where it departs from its family (`with_controller`, `with_control_order`) and what to try
+/// when it fails (`with_advice`; the conformance suite checks that every method has advice).
+impl MethodInfo {
+    /// An explicit embedded pair of orders `p(p̂)` (`(5, 4)` for Dormand–Prince 5(4)) with dense
+    /// output of order `dense_order` and stability size `stability_size`: no Jacobian, step-size
+    /// control with exponent `q = p̂ + 1` by the classical controller, ratios in `[0.2, 10]`.
+    pub const fn explicit(
+        name: &'static str,
+        (order, embedded): (u32, u32),
+        dense_order: u32,
+        stability_size: f64,
+    ) -> Self {
+        Self {
+            name,
+            order,
+            embedded_order: Some(embedded),
+            control_order: embedded + 1,
+            dense_order,
+            stability_size,
+            needs_jacobian: false,
+            fixed_step: None,
+            controller: Controller::i(0.2, 10.0),
+            advice: "",
+        }
+    }
+
+    /// A Rosenbrock (linearly implicit) embedded pair of orders `p(p̂)`, A-stable: as
+    /// [`MethodInfo::explicit`] with an unbounded stability size and the Jacobian evaluated.
+    pub const fn rosenbrock(name: &'static str, orders: (u32, u32), dense_order: u32) -> Self {
+        let mut info = Self::explicit(name, orders, dense_order, f64::INFINITY);
+        info.needs_jacobian = true;
+        info
+    }
+
+    /// An explicit method of order `order` without error control, stepping by `h`.
+    pub const fn fixed_step(
+        name: &'static str,
+        order: u32,
+        dense_order: u32,
+        stability_size: f64,
+        h: f64,
+    ) -> Self {
+        let mut info = Self::explicit(name, (order, order - 1), dense_order, stability_size);
+        info.embedded_order = None;
+        info.fixed_step = Some(h);
+        info
+    }
+
+    /// The same facts with another step-size controller.
+    pub const fn with_controller(mut self, controller: Controller) -> Self {
+        self.controller = controller;
+        self
+    }
+
+    /// The same facts with another exponent of step-size control (DOP853's combined estimate
+    /// calls for its order, not the embedded order plus one).
+    pub const fn with_control_order(mut self, control_order: u32) -> Self {
+        self.control_order = control_order;
+        self
+    }
+
+    /// The same facts with the advice shown when the method fails.
+    pub const fn with_advice(mut self, advice: &'static str) -> Self {
+        self.advice = advice;
+        self
+    }
+}
+
 /// A step-size controller: after a step with weighted error `err` (`≤ 1` accepts), the next step is
 ///
 /// ```text

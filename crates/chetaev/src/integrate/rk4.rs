@@ -4,7 +4,7 @@
 //! Z. Math. Phys. 46 (1901) 435–453; Hairer, Nørsett, Wanner, *Solving ODEs I*, Table II.1.2.
 
 use super::system::OdeSystem;
-use super::{combine, Controller, Method, MethodInfo, Step, Stepper, Trial};
+use super::{combine, Method, MethodInfo, Step, Stepper, Trial};
 use crate::error::Error;
 
 /// Classical Runge–Kutta, fourth order, fixed step `h` (the last step is shortened to end exactly
@@ -26,20 +26,10 @@ impl Rk4 {
 impl Method for Rk4 {
     type Stepper = Rk4Stepper;
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: "Rk4",
-            order: 4,
-            embedded_order: None,
-            control_order: 4,
-            dense_order: 3,
-            stability_size: 2.78,
-            needs_jacobian: false,
-            fixed_step: Some(self.h),
-            controller: Controller::i(0.2, 10.0),
-            advice:
-                "Rk4 has no error control: halve the step to check the error, or use Dopri5 or \
-                     Dop853 with a tolerance",
-        }
+        MethodInfo::fixed_step("Rk4", 4, 3, 2.78, self.h).with_advice(
+            "Rk4 has no error control: halve the step to check the error, or use Dopri5 or Dop853 \
+             with a tolerance",
+        )
     }
     fn stepper(&self, dim: usize) -> Rk4Stepper {
         Rk4Stepper {

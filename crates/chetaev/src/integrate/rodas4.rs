@@ -11,8 +11,8 @@
 
 #![allow(clippy::excessive_precision)]
 
-use super::rosenbrock::{RosenbrockStepper, Tableau};
-use super::{Controller, Method, MethodInfo};
+use super::rosenbrock::{lower, RosenbrockStepper, Tableau};
+use super::{Method, MethodInfo};
 
 /// The tableau of `rodas.f` (`METH = 1`): its `A_ij`, `C_ij`, nodes `C_i`, `D_i`, and dense-output
 /// rows `D_2j`, `D_3j`.
@@ -30,68 +30,43 @@ static TABLEAU: Tableau<6, 2> = Tableau {
     ],
     a: [
         [0.0; 6],
-        [0.1544000000000000e+01, 0.0, 0.0, 0.0, 0.0, 0.0],
-        [
-            0.9466785280815826e+00,
-            0.2557011698983284e+00,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
+        lower(&[0.1544000000000000e+01]),
+        lower(&[0.9466785280815826e+00, 0.2557011698983284e+00]),
+        lower(&[
             0.3314825187068521e+01,
             0.2896124015972201e+01,
             0.9986419139977817e+00,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
+        ]),
+        lower(&[
             0.1221224509226641e+01,
             0.6019134481288629e+01,
             0.1253708332932087e+02,
             -0.6878860361058950e+00,
-            0.0,
-            0.0,
-        ],
+        ]),
         [0.0; 6],
     ],
     coupling: [
         [0.0; 6],
-        [-0.5668800000000000e+01, 0.0, 0.0, 0.0, 0.0, 0.0],
-        [
-            -0.2430093356833875e+01,
-            -0.2063599157091915e+00,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
+        lower(&[-0.5668800000000000e+01]),
+        lower(&[-0.2430093356833875e+01, -0.2063599157091915e+00]),
+        lower(&[
             -0.1073529058151375e+00,
             -0.9594562251023355e+01,
             -0.2047028614809616e+02,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
+        ]),
+        lower(&[
             0.7496443313967647e+01,
             -0.1024680431464352e+02,
             -0.3399990352819905e+02,
             0.1170890893206160e+02,
-            0.0,
-            0.0,
-        ],
-        [
+        ]),
+        lower(&[
             0.8083246795921522e+01,
             -0.7981132988064893e+01,
             -0.3152159432874371e+02,
             0.1631930543123136e+02,
             -0.6058818238834054e+01,
-            0.0,
-        ],
+        ]),
     ],
     dense: [
         [
@@ -132,20 +107,10 @@ pub type Rodas4Stepper = RosenbrockStepper<6, 2>;
 impl Method for Rodas4 {
     type Stepper = Rodas4Stepper;
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: "Rodas4",
-            order: 4,
-            embedded_order: Some(3),
-            control_order: 4,
-            dense_order: 3,
-            stability_size: f64::INFINITY,
-            needs_jacobian: true,
-            fixed_step: None,
-            controller: Controller::i(0.2, 10.0),
-            advice:
-                "on a non-stiff problem Dopri5 or Dop853 is cheaper; a failing Rodas4 run often \
-                     means a singularity of the model near the failure",
-        }
+        MethodInfo::rosenbrock("Rodas4", (4, 3), 3).with_advice(
+            "on a non-stiff problem Dopri5 or Dop853 is cheaper; a failing Rodas4 run often means a \
+             singularity of the model near the failure",
+        )
     }
     fn stepper(&self, dim: usize) -> Rodas4Stepper {
         RosenbrockStepper::new(&TABLEAU, dim)

@@ -13,8 +13,8 @@
 
 #![allow(clippy::excessive_precision)]
 
-use super::rosenbrock::{RosenbrockStepper, Tableau};
-use super::{Controller, Method, MethodInfo};
+use super::rosenbrock::{lower, RosenbrockStepper, Tableau};
+use super::{Method, MethodInfo};
 
 /// `γ`, which is also `d_1`.
 const GAMMA: f64 = 0.21193756319429014;
@@ -46,104 +46,52 @@ static TABLEAU: Tableau<8, 3> = Tableau {
     ],
     a: [
         [0.0; 8],
-        [3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        [
-            2.849394379747939,
-            0.45842242204463923,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
-            -6.954028509809101,
-            2.489845061869568,
-            -10.358996098473584,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
+        lower(&[3.0]),
+        lower(&[2.849394379747939, 0.45842242204463923]),
+        lower(&[-6.954028509809101, 2.489845061869568, -10.358996098473584]),
+        lower(&[
             2.8029986275628964,
             0.5072464736228206,
             -0.3988312541770524,
             -0.04721187230404641,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
+        ]),
+        lower(&[
             -7.502846399306121,
             2.561846144803919,
             -11.627539656261098,
             -0.18268767659942256,
             0.030198172008377946,
-            0.0,
-            0.0,
-            0.0,
-        ],
+        ]),
         [0.0; 8],
         [0.0; 8],
     ],
     coupling: [
         [0.0; 8],
-        [-14.155112264123755, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        [
-            -17.97296035885952,
-            -2.859693295451294,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
-            147.12150275711716,
-            -1.41221402718213,
-            71.68940251302358,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
+        lower(&[-14.155112264123755]),
+        lower(&[-17.97296035885952, -2.859693295451294]),
+        lower(&[147.12150275711716, -1.41221402718213, 71.68940251302358]),
+        lower(&[
             165.43517024871676,
             -0.4592823456491126,
             42.90938336958603,
             -5.961986721573306,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
+        ]),
+        lower(&[
             24.854864614690072,
             -3.0009227002832186,
             47.4931110020768,
             5.5814197821558125,
             -0.6610691825249471,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
+        ]),
+        lower(&[
             30.91273214028599,
             -3.1208243349937974,
             77.79954646070892,
             34.28646028294783,
             -19.097331116725623,
             -28.087943162872662,
-            0.0,
-            0.0,
-        ],
-        [
+        ]),
+        lower(&[
             37.80277123390563,
             -3.2571969029072276,
             112.26918849496327,
@@ -151,8 +99,7 @@ static TABLEAU: Tableau<8, 3> = Tableau {
             -40.06618937091002,
             -54.66780262877968,
             -9.48861652309627,
-            0.0,
-        ],
+        ]),
     ],
     dense: [
         [
@@ -205,19 +152,10 @@ pub type Rodas5PStepper = RosenbrockStepper<8, 3>;
 impl Method for Rodas5P {
     type Stepper = Rodas5PStepper;
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: "Rodas5P",
-            order: 5,
-            embedded_order: Some(4),
-            control_order: 5,
-            dense_order: 4,
-            stability_size: f64::INFINITY,
-            needs_jacobian: true,
-            fixed_step: None,
-            controller: Controller::i(0.2, 10.0),
-            advice: "on a non-stiff problem Dopri5 or Dop853 is cheaper; a failing Rodas5P run \
-                     often means a singularity of the model near the failure",
-        }
+        MethodInfo::rosenbrock("Rodas5P", (5, 4), 4).with_advice(
+            "on a non-stiff problem Dopri5 or Dop853 is cheaper; a failing Rodas5P run often means \
+             a singularity of the model near the failure",
+        )
     }
     fn stepper(&self, dim: usize) -> Rodas5PStepper {
         RosenbrockStepper::new(&TABLEAU, dim)

@@ -53,6 +53,18 @@ pub struct Tableau<const S: usize, const D: usize> {
     pub dense: [[f64; S]; D],
 }
 
+/// A row of `a` or `coupling` from its entries below the diagonal, `row = [x_0, …, x_{i−1}]`,
+/// padded with zeros to the stage count (the entries on and above the diagonal are not read).
+pub(crate) const fn lower<const S: usize>(row: &[f64]) -> [f64; S] {
+    let mut out = [0.0; S];
+    let mut j = 0;
+    while j < row.len() {
+        out[j] = row[j];
+        j += 1;
+    }
+    out
+}
+
 /// The working state of a RODAS-type method.
 #[derive(Clone, Debug)]
 pub struct RosenbrockStepper<const S: usize, const D: usize> {

@@ -126,19 +126,12 @@ pub struct Tsit5;
 impl Method for Tsit5 {
     type Stepper = Tsit5Stepper;
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: "Tsit5",
-            order: 5,
-            embedded_order: Some(4),
-            control_order: 5,
-            dense_order: 4,
-            stability_size: 3.5069,
-            needs_jacobian: false,
-            fixed_step: None,
-            controller: Controller::pi(0.2, 10.0, 0.04),
-            advice:
-                "for tolerances below about 1e-10 Dop853 is cheaper; for a stiff problem use Rodas4",
-        }
+        MethodInfo::explicit("Tsit5", (5, 4), 4, 3.5069)
+            .with_controller(Controller::pi(0.2, 10.0, 0.04))
+            .with_advice(
+                "Tsit5 has no stiffness test: steps that shrink without end may mean a stiff \
+                 problem, for which use Rodas4; below tolerances of about 1e-10 Dop853 is cheaper",
+            )
     }
     fn stepper(&self, dim: usize) -> Tsit5Stepper {
         Tsit5Stepper {
