@@ -237,22 +237,22 @@ fn measure<Me: Method + Copy>(
         }
 
         // The four timings.
-        let mut first = |n: usize| {
-            let problems: Vec<UniformProblem> = (0..n).map(|_| fresh()).collect();
-            let start = Instant::now();
-            for pb in &problems {
-                let _sol = black_box(solve(pb, method, &o).expect("valid options"));
+        // One fresh problem at a time, made and dropped outside the clock: a batch of problems
+        // made in advance would time the first touch of their memory as well (a recorded
+        // problem holds some 25 KB), which a program that solves one problem after another
+        // does not pay.
+        let once = |make: fn() -> UniformProblem, n: usize| {
+            let mut elapsed = 0.0;
+            for _ in 0..n {
+                let pb = make();
+                let start = Instant::now();
+                let _sol = black_box(solve(&pb, method, &o).expect("valid options"));
+                elapsed += start.elapsed().as_secs_f64();
             }
-            start.elapsed().as_secs_f64() / n as f64
+            elapsed / n as f64
         };
-        let mut interpreted = |n: usize| {
-            let problems: Vec<UniformProblem> = (0..n).map(|_| fresh_compiled()).collect();
-            let start = Instant::now();
-            for pb in &problems {
-                let _sol = black_box(solve(pb, method, &o).expect("valid options"));
-            }
-            start.elapsed().as_secs_f64() / n as f64
-        };
+        let mut first = |n: usize| once(fresh, n);
+        let mut interpreted = |n: usize| once(fresh_compiled, n);
         let mut repeated = |n: usize| {
             let start = Instant::now();
             for _ in 0..n {
