@@ -128,6 +128,7 @@ impl<'o> LoopSettings<'o> {
     ) -> Result<Self, Error> {
         method.validate()?;
         let info = method.info();
+        info.validate()?;
         check_finite("t_end", std::slice::from_ref(&o.t_end))?;
         let positive = |name: &'static str, v: f64, hint: &'static str| {
             if v.is_finite() && v > 0.0 {

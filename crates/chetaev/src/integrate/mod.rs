@@ -83,7 +83,7 @@ impl MethodInfo {
             name,
             order,
             embedded_order: Some(embedded),
-            control_order: embedded + 1,
+            control_order: embedded.saturating_add(1),
             dense_order,
             stability_size,
             needs_jacobian: false,
@@ -109,7 +109,8 @@ impl MethodInfo {
         stability_size: f64,
         h: f64,
     ) -> Self {
-        let mut info = Self::explicit(name, (order, order - 1), dense_order, stability_size);
+        let embedded = order.saturating_sub(1);
+        let mut info = Self::explicit(name, (order, embedded), dense_order, stability_size);
         info.embedded_order = None;
         info.fixed_step = Some(h);
         info
@@ -132,6 +133,60 @@ impl MethodInfo {
     pub const fn with_advice(mut self, advice: &'static str) -> Self {
         self.advice = advice;
         self
+    }
+
+    /// Checks that the facts are complete and consistent with one another, as the driver needs
+    /// them: a name and advice; orders `1 ≤ p`, an embedded order below `p`, control and dense
+    /// orders in `1..=p`; a positive stability size, unbounded exactly for a method that needs the
+    /// Jacobian; a fixed step (finite and positive) exactly for a method without an embedded
+    /// solution; a valid controller. The driver checks them before it steps.
+    pub fn validate(&self) -> Result<(), Error> {
+        let fail = |name: &'static str, value: f64, hint: &'static str| {
+            Err(Error::InvalidOption { name, value, hint })
+        };
+        let p = self.order;
+        if self.name.is_empty() || self.advice.is_empty() {
+            return fail(
+                "MethodInfo::name, advice",
+                0.0,
+                "a method names itself and says what to try when it fails (`with_advice`)",
+            );
+        }
+        let orders_ok = p >= 1
+            && self.embedded_order.is_none_or(|e| e < p)
+            && (1..=p).contains(&self.control_order)
+            && (1..=p).contains(&self.dense_order);
+        if !orders_ok {
+            return fail(
+                "MethodInfo::order",
+                f64::from(p),
+                "orders of at least 1, the embedded order below the order, control and dense \
+                 orders between 1 and the order",
+            );
+        }
+        // Positive, and not NaN.
+        let positive = self.stability_size > 0.0;
+        if !positive || self.stability_size.is_infinite() != self.needs_jacobian {
+            return fail(
+                "MethodInfo::stability_size",
+                self.stability_size,
+                "a positive size, infinite exactly for a method that needs the Jacobian (an \
+                 A-stable implicit method)",
+            );
+        }
+        match (self.embedded_order, self.fixed_step) {
+            (None, Some(h)) if h.is_finite() && h > 0.0 => {}
+            (Some(_), None) => {}
+            (_, h) => {
+                return fail(
+                    "MethodInfo::fixed_step",
+                    h.unwrap_or(f64::NAN),
+                    "a finite positive step for a method without an embedded solution, none for \
+                     one with it",
+                )
+            }
+        }
+        self.controller.validate()
     }
 }
 
@@ -751,6 +806,92 @@ mod tests {
         ));
         assert!(AnyMethod::from_name("rk4", None).is_err());
         Ok(())
+    }
+
+    /// A method of someone else's whose facts the driver could not use.
+    struct Misdeclared(MethodInfo);
+
+    impl Method for Misdeclared {
+        type Stepper = dopri5::Dopri5Stepper;
+        fn info(&self) -> MethodInfo {
+            self.0
+        }
+        fn stepper(&self, dim: usize) -> Self::Stepper {
+            Dopri5::default().stepper(dim)
+        }
+    }
+
+    #[test]
+    fn inconsistent_method_facts_are_refused_with_what_was_wrong() {
+        let good = Dopri5::default().info();
+        let bad = [
+            ("MethodInfo::name, advice", good.with_advice("")),
+            ("MethodInfo::order", MethodInfo { order: 0, ..good }),
+            ("MethodInfo::order", good.with_control_order(0)),
+            (
+                "MethodInfo::order",
+                MethodInfo::explicit("X", (4, 4), 3, 1.0).with_advice("a"),
+            ),
+            (
+                "MethodInfo::order",
+                MethodInfo {
+                    dense_order: 6,
+                    ..good
+                },
+            ),
+            (
+                "MethodInfo::stability_size",
+                MethodInfo {
+                    stability_size: f64::NAN,
+                    ..good
+                },
+            ),
+            (
+                "MethodInfo::stability_size",
+                MethodInfo {
+                    needs_jacobian: true,
+                    ..good
+                },
+            ),
+            (
+                "MethodInfo::fixed_step",
+                MethodInfo {
+                    fixed_step: Some(0.1),
+                    ..good
+                },
+            ),
+        ];
+        for (name, info) in &bad {
+            let e = info.validate();
+            assert!(
+                matches!(e, Err(Error::InvalidOption { name: n, .. }) if n == *name),
+                "{info:?}: {e:?}"
+            );
+        }
+        let no_step = MethodInfo::fixed_step("X", 4, 3, 2.78, f64::NAN).with_advice("a");
+        assert!(matches!(
+            no_step.validate(),
+            Err(Error::InvalidOption {
+                name: "MethodInfo::fixed_step",
+                ..
+            })
+        ));
+        let pi = Controller::pi(0.2, 10.0, 0.5);
+        assert!(good.with_controller(pi).validate().is_err());
+        // The same reaches a caller of the driver as the error, before any step.
+        let mut sys = testing::Sys::explicit(1, |_, y: &[f64], dy: &mut [f64]| dy[0] = -y[0]);
+        let options = driver::OdeOptions::until(1.0);
+        let method = Misdeclared(good.with_control_order(0));
+        let e = driver::solve_ode(&mut sys, method, 0.0, &[1.0], &options);
+        assert!(matches!(
+            e,
+            Err(Error::InvalidOption {
+                name: "MethodInfo::order",
+                ..
+            })
+        ));
+        assert_eq!(sys.rhs_evaluations, 0);
+        assert!(driver::solve_ode(&mut sys, Misdeclared(good), 0.0, &[1.0], &options).is_ok());
     }
 
     #[cfg(feature = "serde")]
