@@ -25,6 +25,7 @@ use std::time::Instant;
 use chetaev::equations::compiled::NATIVE_AFTER;
 use chetaev::integrate::system::{OdeSystem, ReducedOde};
 use chetaev_bench::handwritten::Full;
+use chetaev_bench::measure::median;
 use uniform_projectile::closed_form::{uniform, Params};
 use uniform_projectile::model::uniform_problem;
 
@@ -77,11 +78,6 @@ fn time_interpreted(p: &Params, states: &[[f64; 4]]) -> Result<f64, chetaev::Err
     Ok(elapsed * 1e9 / (PROBLEMS * passes * states.len()) as f64)
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let p = Params::PAPER;
     let t_end = uniform::kinematics(&p).t_impact;
@@ -128,14 +124,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         r.sort_by(f64::total_cmp);
         (r[r.len() / 4], r[3 * r.len() / 4])
     };
-    let (n, h, i) = (median(tn), median(th), median(ti));
+    let (n, h, i) = (median(&mut tn), median(&mut th), median(&mut ti));
     println!("ns per right-hand side, medians of {ROUNDS} interleaved samples:");
     println!("  chetaev, machine code    {n:6.2}");
     println!("  chetaev, interpreted     {i:6.2}");
     println!("  hand-written             {h:6.2}");
     println!(
         "ratio machine code / hand-written: median {:.2} (quartiles {lo:.2}–{hi:.2}); interpreted / hand-written {:.2}",
-        median(ratios),
+        median(&mut ratios.clone()),
         i / h
     );
     Ok(())

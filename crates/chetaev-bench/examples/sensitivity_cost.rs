@@ -21,6 +21,7 @@ use std::time::Instant;
 
 use chetaev::num_dual::Dual64;
 use chetaev::prelude::*;
+use chetaev_bench::measure::median;
 use uniform_projectile::closed_form::{uniform, Params};
 use uniform_projectile::model::{impact, seeds, uniform_problem};
 
@@ -134,11 +135,6 @@ fn batch(f: &mut dyn FnMut() -> Result<(), Error>) -> Result<f64, Error> {
     }
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 fn main() -> Result<(), Error> {
     let p = paper();
     let e = exact(&p);
@@ -182,7 +178,7 @@ fn main() -> Result<(), Error> {
                 })
             })?);
         }
-        let (ts, tf, td) = (median(ts), median(tf), median(td));
+        let (ts, tf, td) = (median(&mut ts), median(&mut tf), median(&mut td));
         println!(
             "{tol:>8.0e} {s_err:>12.2e} {:>10.1} {f_err:>12.2e} {:>10.1} {:>9.0e} {:>12.2e} {:>10.1}",
             ts * 1e6,

@@ -24,6 +24,7 @@ use chetaev::integrate::driver::solve_ode;
 use chetaev::integrate::system::OdeSystem;
 use chetaev::model::Fixed;
 use chetaev::prelude::*;
+use chetaev_bench::measure::interleaved_batches;
 use chetaev_catalogue::chaplygin_sleigh::{problem, ChaplyginSleigh, ClosedForm, Params};
 
 /// End time: `c V t_end ≈ 7.6`, the turning rate has fallen to about `1e-3` of its start.
@@ -141,34 +142,14 @@ fn max_diff(a: &[f64], b: &[f64]) -> f64 {
         })
 }
 
-/// Seconds per solve of `f`, one batch: the batch size is fixed beforehand.
-fn batch(n: usize, f: &mut dyn FnMut() -> Vec<f64>) -> f64 {
-    let start = Instant::now();
-    for _ in 0..n {
-        black_box(f());
-    }
-    start.elapsed().as_secs_f64() / n as f64
-}
-
-/// The number of solves that makes one batch last at least [`MIN_BATCH_SECONDS`].
-fn batch_size(f: &mut dyn FnMut() -> Vec<f64>) -> usize {
-    let mut n = 1;
-    loop {
-        let s = batch(n, f) * n as f64;
-        if s >= MIN_BATCH_SECONDS {
-            return n;
+/// A batch of `f`: `n` solves, in seconds per solve.
+fn batch(f: &mut dyn FnMut() -> Vec<f64>) -> impl FnMut(usize) -> f64 + '_ {
+    move |n| {
+        let start = Instant::now();
+        for _ in 0..n {
+            black_box(f());
         }
-        n = (n * 2).max((n as f64 * 1.2 * MIN_BATCH_SECONDS / s.max(1e-9)).ceil() as usize);
-    }
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let k = v.len();
-    if k % 2 == 1 {
-        v[k / 2]
-    } else {
-        0.5 * (v[k / 2 - 1] + v[k / 2])
+        start.elapsed().as_secs_f64() / n as f64
     }
 }
 
@@ -226,18 +207,14 @@ fn measure<Me: Method + Copy>(
         let sh = solve_ode(&mut sys, method, 0.0, y0, &o)
             .expect("valid options")
             .stats;
-        let (nc, nh) = (batch_size(&mut run_c), batch_size(&mut run_h));
-        let (mut tc, mut th) = (Vec::new(), Vec::new());
-        for _ in 0..ROUNDS {
-            tc.push(batch(nc, &mut run_c));
-            th.push(batch(nh, &mut run_h));
-        }
+        let (mut bc, mut bh) = (batch(&mut run_c), batch(&mut run_h));
+        let t = interleaved_batches(ROUNDS, MIN_BATCH_SECONDS, &mut [&mut bc, &mut bh]);
         rows.push(Row {
             tol,
             err_c,
             err_h,
-            t_c: median(tc),
-            t_h: median(th),
+            t_c: t[0],
+            t_h: t[1],
             steps_c: (sc.accepted_steps, sc.rejected_steps),
             steps_h: (sh.accepted_steps, sh.rejected_steps),
             rhs: (sc.rhs_evaluations, sys.rhs),

@@ -61,6 +61,7 @@ use chetaev::integrate::driver::solve_ode;
 use chetaev::integrate::system::{OdeSystem, ReducedOde, Stats};
 use chetaev::prelude::*;
 use chetaev_bench::handwritten::Full;
+use chetaev_bench::measure::{batch_size, interleaved_batches, median, Batch};
 use chetaev_bench::scenes::{stiff_scene, STIFF};
 use uniform_projectile::closed_form::uniform;
 use uniform_projectile::model::{scaled_atol, uniform_problem, UniformProblem};
@@ -140,40 +141,10 @@ fn scaled_diff(a: &[f64], b: &[f64], scale: &[f64]) -> f64 {
         })
 }
 
-/// The number of solves (or calls) that makes one batch last at least [`MIN_BATCH_SECONDS`];
-/// `batch(n)` returns the seconds per item of a batch of `n`.
-fn batch_size(batch: &mut dyn FnMut(usize) -> f64) -> usize {
-    let mut n = 1;
-    loop {
-        let s = batch(n) * n as f64;
-        if s >= MIN_BATCH_SECONDS {
-            return n;
-        }
-        n = (n * 2).max((n as f64 * 1.2 * MIN_BATCH_SECONDS / s.max(1e-9)).ceil() as usize);
-    }
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let k = v.len();
-    if k % 2 == 1 {
-        v[k / 2]
-    } else {
-        0.5 * (v[k / 2 - 1] + v[k / 2])
-    }
-}
-
-/// Median seconds per item of each of `batches`, timed interleaved: every round runs one batch of
-/// each, in order.
-fn interleaved(batches: &mut [&mut dyn FnMut(usize) -> f64]) -> Vec<f64> {
-    let sizes: Vec<usize> = batches.iter_mut().map(|b| batch_size(*b)).collect();
-    let mut samples = vec![Vec::with_capacity(ROUNDS); batches.len()];
-    for _ in 0..ROUNDS {
-        for ((b, &n), s) in batches.iter_mut().zip(&sizes).zip(&mut samples) {
-            s.push(b(n));
-        }
-    }
-    samples.into_iter().map(median).collect()
+/// Median seconds per item of each of `batches`, timed interleaved ([`ROUNDS`] rounds, batches
+/// of at least [`MIN_BATCH_SECONDS`]).
+fn interleaved(batches: &mut [Batch<'_>]) -> Vec<f64> {
+    interleaved_batches(ROUNDS, MIN_BATCH_SECONDS, batches)
 }
 
 /// What one method at one tolerance gave.
@@ -359,8 +330,7 @@ fn per_call(f: &mut dyn FnMut()) -> f64 {
         }
         start.elapsed().as_secs_f64() / n as f64
     };
-    let n = batch_size(&mut batch);
-    median((0..ROUNDS).map(|_| batch(n)).collect())
+    interleaved(&mut [&mut batch])[0]
 }
 
 /// Seconds per interpreted right-hand side of chetaev at `y`: [`INTERPRETED_CALLS`] calls on each
@@ -384,8 +354,10 @@ fn interpreted_rhs(y: &[f64]) -> f64 {
         drop(systems);
         s
     };
-    let n = batch_size(&mut |k| batch(k) * INTERPRETED_CALLS as f64);
-    median((0..ROUNDS).map(|_| batch(n)).collect())
+    let n = batch_size(MIN_BATCH_SECONDS, &mut |k| {
+        batch(k) * INTERPRETED_CALLS as f64
+    });
+    median(&mut (0..ROUNDS).map(|_| batch(n)).collect::<Vec<_>>())
 }
 
 /// Seconds per `Problem::compiled` on a fresh problem: recording the model and compiling its
@@ -399,8 +371,7 @@ fn recording() -> f64 {
         }
         start.elapsed().as_secs_f64() / n as f64
     };
-    let n = batch_size(&mut batch);
-    median((0..ROUNDS).map(|_| batch(n)).collect())
+    interleaved(&mut [&mut batch])[0]
 }
 
 /// Seconds per right-hand side and per Jacobian at `y`: chetaev interpreted (and its Jacobian by

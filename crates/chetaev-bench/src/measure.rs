@@ -93,6 +93,39 @@ pub fn time_interleaved<E>(budget: &Budget, runs: &mut [Run<'_, E>]) -> Result<V
         .collect())
 }
 
+/// A batch of work to be timed: `batch(n)` does `n` items and returns the seconds per item.
+pub type Batch<'a> = &'a mut dyn FnMut(usize) -> f64;
+
+/// The number of items that makes one batch of `batch` last at least `min_seconds` (doubling, or
+/// more where one batch was far too short).
+pub fn batch_size(min_seconds: f64, batch: Batch<'_>) -> usize {
+    let mut n = 1;
+    loop {
+        let s = batch(n) * n as f64;
+        if s >= min_seconds {
+            return n;
+        }
+        n = (n * 2).max((n as f64 * 1.2 * min_seconds / s.max(1e-9)).ceil() as usize);
+    }
+}
+
+/// The median seconds per item of each of `batches` over `rounds` rounds, timed interleaved: each
+/// round runs one batch of each, in order, every batch sized once to last at least `min_seconds`.
+/// For work too short to time one item at a time (a solve of microseconds, one right-hand side).
+pub fn interleaved_batches(rounds: usize, min_seconds: f64, batches: &mut [Batch<'_>]) -> Vec<f64> {
+    let sizes: Vec<usize> = batches
+        .iter_mut()
+        .map(|b| batch_size(min_seconds, &mut **b))
+        .collect();
+    let mut samples = vec![Vec::with_capacity(rounds); batches.len()];
+    for _ in 0..rounds {
+        for ((b, &n), s) in batches.iter_mut().zip(&sizes).zip(&mut samples) {
+            s.push(b(n));
+        }
+    }
+    samples.iter_mut().map(|s| median(s)).collect()
+}
+
 /// The median of `values` (the mean of the middle two for an even count); NaN when empty.
 pub fn median(values: &mut [f64]) -> f64 {
     if values.is_empty() {
@@ -193,6 +226,33 @@ mod tests {
             .map(|&n: &f64| (n, n.powi(3)))
             .collect();
         assert!((log_slope(&cubic) - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn batches_are_sized_once_and_timed_in_rounds() {
+        // Batches that report what they are told: 1 ms an item for the first, 0.1 ms for the
+        // second, which needs at least 50 items to last 5 ms.
+        let (mut calls_a, mut calls_b) = (Vec::new(), Vec::new());
+        let mut a = |n: usize| {
+            calls_a.push(n);
+            1e-3
+        };
+        let mut b = |n: usize| {
+            calls_b.push(n);
+            1e-4 * (1.0 + n as f64 * 1e-6)
+        };
+        let t = interleaved_batches(3, 5e-3, &mut [&mut a, &mut b]);
+        assert_eq!(t[0], 1e-3);
+        assert!((t[1] / 1e-4 - 1.0).abs() < 1e-3, "{t:?}");
+        // Sizing, then three rounds of the size found.
+        let (&na, &nb) = (calls_a.last().unwrap_or(&0), calls_b.last().unwrap_or(&0));
+        assert_eq!(calls_a[calls_a.len() - 3..], [na; 3]);
+        assert_eq!(calls_b[calls_b.len() - 3..], [nb; 3]);
+        assert!(
+            na as f64 * 1e-3 >= 5e-3 && nb as f64 * 1e-4 >= 5e-3,
+            "{na}, {nb}"
+        );
+        assert!(nb < 200, "{nb}: sized far above what was needed");
     }
 
     #[test]
