@@ -96,36 +96,6 @@ fn end_state(sol: &Solution) -> Vec<f64> {
     q.iter().chain(qd).copied().collect()
 }
 
-/// The hand-written system with its LU decompositions counted (used only where nothing is timed).
-struct CountedFull {
-    full: Full,
-    lu: usize,
-}
-
-impl OdeSystem for CountedFull {
-    fn dim(&self) -> usize {
-        self.full.dim()
-    }
-    fn controlled_dim(&self) -> usize {
-        self.full.controlled_dim()
-    }
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
-        self.full.rhs(t, y, dy)
-    }
-    fn jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error> {
-        self.full.jacobian(t, y, jac, dfdt)
-    }
-    fn count_lu(&mut self) {
-        self.lu += 1;
-    }
-}
-
 /// The largest of `|a_i − b_i| / scale_i`; NaN if any is NaN.
 fn scaled_diff(a: &[f64], b: &[f64], scale: &[f64]) -> f64 {
     a.iter()
@@ -184,10 +154,7 @@ fn measure<Me: Method + Copy>(
         // The work and the end states, untimed.
         let cold = solve(&fresh(), method, &o).map_err(|e| e.to_string())?;
         let warm = solve(steady, method, &o).map_err(|e| e.to_string())?;
-        let mut counted = CountedFull {
-            full: Full::new(STIFF.g),
-            lu: 0,
-        };
+        let mut counted = Full::new(STIFF.g);
         let hand = solve_ode(&mut counted, method, 0.0, y0, &o).map_err(|e| e.to_string())?;
         if let Some(e) = &hand.error {
             return Err(format!("hand-written failed at tol {tol:e}: {e}"));
@@ -248,9 +215,9 @@ fn measure<Me: Method + Copy>(
             time: [t[0], t[1], t[2], t[3]],
             stats: [cold.stats, warm.stats],
             hand: [
-                counted.full.counts.rhs,
-                counted.full.counts.jacobians,
-                counted.lu,
+                counted.counts.rhs,
+                counted.counts.jacobians,
+                counted.counts.lu,
                 hand.stats.accepted_steps,
                 hand.stats.rejected_steps,
             ],

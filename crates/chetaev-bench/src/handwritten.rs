@@ -16,6 +16,8 @@ pub struct Counts {
     pub rhs: usize,
     /// Jacobians.
     pub jacobians: usize,
+    /// LU decompositions of an implicit method's iteration matrix.
+    pub lu: usize,
 }
 
 /// The reduced equation (42.28) with `ẋ` from the constraint (42.24):
@@ -85,6 +87,9 @@ impl OdeSystem for Reduced {
         jac[2 * 3 + 2] = 2.0 * self.g / v2 * w; // ∂ẏ'/∂ẏ
         Ok(())
     }
+    fn count_lu(&mut self) {
+        self.counts.lu += 1;
+    }
 }
 
 /// The motion in full coordinates: gravity minus its component along the velocity,
@@ -151,6 +156,9 @@ impl OdeSystem for Full {
         jac[3 * 4 + 2] = -2.0 * g * yd * yd * xd / s2; // ∂ÿ/∂ẋ
         jac[3 * 4 + 3] = 2.0 * g * yd * xd * xd / s2; // ∂ÿ/∂ẏ
         Ok(())
+    }
+    fn count_lu(&mut self) {
+        self.counts.lu += 1;
     }
 }
 
