@@ -176,9 +176,8 @@ fn measure<Me: Method + Copy>(
 
         // The four timings.
         // One fresh problem at a time, made and dropped outside the clock: a batch of problems
-        // made in advance would time the first touch of their memory as well (a recorded
-        // problem holds some 25 KB), which a program that solves one problem after another
-        // does not pay.
+        // made in advance would time the first touch of their memory as well (page faults),
+        // which a program that solves one problem after another does not pay.
         let once = |make: fn() -> UniformProblem, n: usize| {
             let mut elapsed = 0.0;
             for _ in 0..n {

@@ -97,12 +97,13 @@ pub fn time_interleaved<E>(budget: &Budget, runs: &mut [Run<'_, E>]) -> Result<V
 pub type Batch<'a> = &'a mut dyn FnMut(usize) -> f64;
 
 /// The number of items that makes one batch of `batch` last at least `min_seconds` (doubling, or
-/// more where one batch was far too short).
+/// more where one batch was far too short). A batch that reports no finite time ends the search
+/// at its size: there is nothing to scale by.
 pub fn batch_size(min_seconds: f64, batch: Batch<'_>) -> usize {
     let mut n = 1;
     loop {
         let s = batch(n) * n as f64;
-        if s >= min_seconds {
+        if s >= min_seconds || !s.is_finite() {
             return n;
         }
         n = (n * 2).max((n as f64 * 1.2 * min_seconds / s.max(1e-9)).ceil() as usize);
@@ -253,6 +254,8 @@ mod tests {
             "{na}, {nb}"
         );
         assert!(nb < 200, "{nb}: sized far above what was needed");
+        // A batch that reports NaN ends the sizing instead of growing without end.
+        assert_eq!(batch_size(5e-3, &mut |_| f64::NAN), 1);
     }
 
     #[test]
