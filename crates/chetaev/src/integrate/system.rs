@@ -375,6 +375,81 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         }
     }
 
+    /// [`OdeSystem::rhs`] but for its common case; `native_failed`: the machine code was just run
+    /// and its guards did not all hold.
+    #[inline]
+    fn rhs_general(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        native_failed: bool,
+    ) -> Result<(), Error> {
+        self.stats.rhs_evaluations += 1;
+        let (n, e) = (self.n, self.quadratures());
+        let (q, qd) = (&y[..n], &y[n..2 * n]);
+        // The right-hand side needs q̈, and the rates of the quadratures (q̇·Φ, ∂L/∂t, q̇·Q) only
+        // when they are recorded; never E.
+        let need = self.need();
+        if let NativeState::Pending(u) = &mut self.native {
+            u.count += 1;
+            if u.count >= NATIVE_REPORT {
+                let evaluations = std::mem::take(&mut u.count);
+                match u.compiled.native_after(u.need, evaluations) {
+                    Some(Some(native)) => self.native = NativeState::On(native, native.buffers()),
+                    Some(None) => self.native = NativeState::Off,
+                    None => {}
+                }
+            }
+        }
+        let done = match &mut self.native {
+            NativeState::On(native, buf) if !native_failed => native
+                .evaluate(buf, t, &y[..2 * n], &mut dy[..2 * n])
+                .then(|| native.rates(buf)),
+            _ => None,
+        };
+        if let Some(rates) = done {
+            self.native_done(rates, dy);
+        } else {
+            let (d, fell_back) =
+                evaluate_with_unchecked(self.model, self.compiled, &mut self.ws, t, q, qd, need)
+                    .map_err(|e| locate(e, t, q, qd))?;
+            self.stats.graph_fallbacks += usize::from(fell_back);
+            // Element by element: `copy_from_slice` calls `memcpy`, which costs more for a few
+            // words.
+            let (dq, dqd) = dy[..2 * n].split_at_mut(n);
+            for (((dq, dqd), &v), &a) in dq.iter_mut().zip(dqd).zip(qd).zip(&d.qdd) {
+                *dq = v;
+                *dqd = a;
+            }
+            if self.energy {
+                dy[e] = d.power;
+                dy[e + 1] = d.dl_dt;
+                if self.forces {
+                    dy[e + 2] = d.power_forces;
+                }
+            }
+            self.native_last = false;
+        }
+        self.last_t = t;
+        if let Some(sens) = &mut self.sens {
+            sens.rhs(self.model, t, q, qd, &y[2 * n..e], &mut dy[2 * n..e])?;
+        }
+        Ok(())
+    }
+
+    /// The machine code evaluated `dy`'s first `2n` entries; the rates of the energy balance, when
+    /// they are compiled in, go after the sensitivities.
+    #[inline(always)]
+    fn native_done(&mut self, rates: Option<[f64; 3]>, dy: &mut [f64]) {
+        if let Some(rates) = rates {
+            let e = self.quadratures();
+            let k = if self.forces { 3 } else { 2 };
+            dy[e..e + k].iter_mut().zip(rates).for_each(|(x, r)| *x = r);
+        }
+        self.native_last = true;
+    }
+
     /// The number of coordinates `n`.
     pub fn n(&self) -> usize {
         self.n
@@ -424,61 +499,22 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
 
     #[inline]
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
-        self.stats.rhs_evaluations += 1;
-        let (n, e) = (self.n, self.quadratures());
-        let (q, qd) = (&y[..n], &y[n..2 * n]);
-        // The right-hand side needs q̈, and the rates of the quadratures (q̇·Φ, ∂L/∂t, q̇·Q) only
-        // when they are recorded; never E.
-        let need = self.need();
-        if let NativeState::Pending(u) = &mut self.native {
-            u.count += 1;
-            if u.count >= NATIVE_REPORT {
-                let evaluations = std::mem::take(&mut u.count);
-                match u.compiled.native_after(u.need, evaluations) {
-                    Some(Some(native)) => self.native = NativeState::On(native, native.buffers()),
-                    Some(None) => self.native = NativeState::Off,
-                    None => {}
+        // The common case here, in a small frame: machine code, no sensitivities. Everything else
+        // in `rhs_general`, whose frame is large (about 5 KB with the interpreted route).
+        if self.sens.is_none() {
+            if let NativeState::On(native, buf) = &mut self.native {
+                let n = self.n;
+                if native.evaluate(buf, t, &y[..2 * n], &mut dy[..2 * n]) {
+                    let rates = native.rates(buf);
+                    self.stats.rhs_evaluations += 1;
+                    self.native_done(rates, dy);
+                    self.last_t = t;
+                    return Ok(());
                 }
+                return self.rhs_general(t, y, dy, true);
             }
         }
-        let done = match &mut self.native {
-            NativeState::On(native, buf) => native
-                .evaluate(buf, t, &y[..2 * n], &mut dy[..2 * n])
-                .then_some((*native, &*buf)),
-            _ => None,
-        };
-        if let Some((native, buf)) = done {
-            if let Some(rates) = native.rates(buf) {
-                let k = if self.forces { 3 } else { 2 };
-                dy[e..e + k].iter_mut().zip(rates).for_each(|(x, r)| *x = r);
-            }
-            self.native_last = true;
-        } else {
-            let (d, fell_back) =
-                evaluate_with_unchecked(self.model, self.compiled, &mut self.ws, t, q, qd, need)
-                    .map_err(|e| locate(e, t, q, qd))?;
-            self.stats.graph_fallbacks += usize::from(fell_back);
-            // Element by element: `copy_from_slice` calls `memcpy`, which costs more for a few
-            // words.
-            let (dq, dqd) = dy[..2 * n].split_at_mut(n);
-            for (((dq, dqd), &v), &a) in dq.iter_mut().zip(dqd).zip(qd).zip(&d.qdd) {
-                *dq = v;
-                *dqd = a;
-            }
-            if self.energy {
-                dy[e] = d.power;
-                dy[e + 1] = d.dl_dt;
-                if self.forces {
-                    dy[e + 2] = d.power_forces;
-                }
-            }
-            self.native_last = false;
-        }
-        self.last_t = t;
-        if let Some(sens) = &mut self.sens {
-            sens.rhs(self.model, t, q, qd, &y[2 * n..e], &mut dy[2 * n..e])?;
-        }
-        Ok(())
+        self.rhs_general(t, y, dy, false)
     }
 
     fn count_lu(&mut self) {
