@@ -3,7 +3,11 @@
 //! everything else, and parts that do not depend on the differentiation variables are never
 //! visited.
 
-use super::{Deps, FastMap, Fun, Graph, Node};
+use super::{Deps, Fun, Graph, Node};
+
+/// No adjoint or tangent (yet) in the dense tables of [`Graph::gradient`] and
+/// [`Graph::directional`]: no node has this id.
+const NONE: u32 = u32::MAX;
 
 impl Graph {
     /// The partial derivatives of node `id` with respect to its operands, as nodes.
@@ -150,13 +154,13 @@ impl Graph {
             return vec![zero; wrt.len()];
         }
         let order = self.reachable(&[y]);
-        let mut adjoint: FastMap<u32, u32> = FastMap::default();
-        adjoint.insert(y, self.constant_node(1.0));
+        // Adjoints by node id: every node visited is at most `y`, and the nodes made on the way
+        // are never read back.
+        let mut adjoint = vec![NONE; y as usize + 1];
+        adjoint[y as usize] = self.constant_node(1.0);
         for &id in order.iter().rev() {
-            let Some(&a) = adjoint.get(&id) else {
-                continue;
-            };
-            if matches!(self.nodes[id as usize], Node::Input(_)) {
+            let a = adjoint[id as usize];
+            if a == NONE || matches!(self.nodes[id as usize], Node::Input(_)) {
                 continue;
             }
             let (parts, count) = self.partials(id);
@@ -165,15 +169,19 @@ impl Graph {
                     continue;
                 }
                 let contribution = self.mul(a, d);
-                let sum = match adjoint.get(&operand) {
-                    Some(&prev) => self.add(prev, contribution),
-                    None => contribution,
+                let prev = adjoint[operand as usize];
+                adjoint[operand as usize] = if prev == NONE {
+                    contribution
+                } else {
+                    self.add(prev, contribution)
                 };
-                adjoint.insert(operand, sum);
             }
         }
         wrt.iter()
-            .map(|x| adjoint.get(x).copied().unwrap_or(zero))
+            .map(|&x| match adjoint.get(x as usize) {
+                Some(&a) if a != NONE => a,
+                _ => zero,
+            })
             .collect()
     }
 
@@ -183,7 +191,18 @@ impl Graph {
     pub fn directional(&mut self, ys: &[u32], seeds: &[(u32, u32)], mask: Deps) -> Vec<u32> {
         let zero = self.constant_node(0.0);
         let order = self.reachable(ys);
-        let mut tangent: FastMap<u32, u32> = seeds.iter().copied().collect();
+        // Tangents by node id, up to the last node visited or seeded.
+        let len = order
+            .last()
+            .copied()
+            .into_iter()
+            .chain(seeds.iter().map(|&(x, _)| x))
+            .max()
+            .map_or(0, |m| m as usize + 1);
+        let mut tangent = vec![NONE; len];
+        for &(x, dx) in seeds {
+            tangent[x as usize] = dx;
+        }
         for &id in &order {
             if self.deps(id) & mask == 0 || matches!(self.nodes[id as usize], Node::Input(_)) {
                 continue;
@@ -191,9 +210,10 @@ impl Graph {
             let (parts, count) = self.partials(id);
             let mut acc: Option<u32> = None;
             for &(operand, d) in &parts[..count] {
-                let Some(&t) = tangent.get(&operand) else {
+                let t = tangent[operand as usize];
+                if t == NONE {
                     continue;
-                };
+                }
                 let term = self.mul(d, t);
                 acc = Some(match acc {
                     Some(s) => self.add(s, term),
@@ -201,11 +221,14 @@ impl Graph {
                 });
             }
             if let Some(t) = acc {
-                tangent.insert(id, t);
+                tangent[id as usize] = t;
             }
         }
         ys.iter()
-            .map(|y| tangent.get(y).copied().unwrap_or(zero))
+            .map(|&y| match tangent.get(y as usize) {
+                Some(&t) if t != NONE => t,
+                _ => zero,
+            })
             .collect()
     }
 }
