@@ -443,6 +443,32 @@ fn a_branch_that_flips_falls_back_to_dual_numbers_and_gives_the_same_motion() {
     assert!((qa[0] - (-(2.0 * t).sin() / 2.0)).abs() < 1e-8, "{}", qa[0]);
 }
 
+#[test]
+fn a_branch_that_flips_under_machine_code_takes_the_interpreted_route_with_the_same_numbers() {
+    // The machine code made at once: the solve starts on it, and its guard fails at q = 0. The
+    // same solve of a fresh problem runs the interpreted tape throughout, whose numbers the
+    // machine code equals bit for bit: the two solutions must be the same, counts included.
+    let native = Problem::dynamic(Kinked, 0.0, vec![1.0], vec![0.0]).expect("ok");
+    let ops = native.compiled().and_then(|c| c.native_operations());
+    if cfg!(any(target_arch = "x86_64", target_arch = "aarch64")) {
+        assert!(ops.is_some_and(|n| n > 0), "this host has machine code");
+    }
+    let interpreted = Problem::dynamic(Kinked, 0.0, vec![1.0], vec![0.0]).expect("ok");
+    for energy in [false, true] {
+        let mut o = Options::until(3.0).tolerances(1e-10, 1e-10);
+        if energy {
+            o = o.record(Record::Energy);
+        }
+        let a = solve(&native, Dop853::default(), &o).expect("valid");
+        let b = solve(&interpreted, Dop853::default(), &o).expect("valid");
+        assert!(a.stats.graph_fallbacks > 0, "{:?}", a.stats);
+        assert_eq!(a.stats, b.stats, "energy {energy}");
+        assert_eq!(a.t, b.t, "energy {energy}");
+        assert_eq!(a.q, b.q, "energy {energy}");
+        assert_eq!(a.qd, b.qd, "energy {energy}");
+    }
+}
+
 /// A model that takes a value out of the graph (`re()`): it is not compiled, and still solves.
 struct Escaping;
 impl DynModel for Escaping {
