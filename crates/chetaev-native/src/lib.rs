@@ -91,8 +91,8 @@ pub enum Op {
 }
 
 impl Op {
-    /// The operations this one reads.
-    fn operands(&self) -> ([u32; 2], usize) {
+    /// The operations this one reads: the first `count` of the pair returned as `(pair, count)`.
+    pub fn operands(&self) -> ([u32; 2], usize) {
         match *self {
             Op::Input(..) | Op::Const(_) => ([0, 0], 0),
             Op::Neg(a) | Op::Sqrt(a) | Op::Abs(a) | Op::Unary(_, a) | Op::WithInt(_, a, _) => {

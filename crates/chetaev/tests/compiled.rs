@@ -349,11 +349,24 @@ fn compiled_motions_equal_the_dual_number_motions_for_explicit_and_implicit_meth
 
 /// `∂F/∂y` and `∂F/∂t` of the reduced equations (with the energy quadratures) at `(t, q, q̇)`.
 fn jacobian<M: Model>(problem: &Problem<M>, t: f64, y: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    jacobian_with(problem, true, t, y)
+}
+
+/// The integrator's Jacobian at `(t, y)`, with the energy quadratures or without (`y` is padded
+/// with zeros for them).
+fn jacobian_with<M: Model>(
+    problem: &Problem<M>,
+    energy: bool,
+    t: f64,
+    y: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
     use chetaev::integrate::system::{OdeSystem, ReducedOde};
-    let mut sys = ReducedOde::for_problem(problem, true);
+    let mut sys = ReducedOde::for_problem(problem, energy);
     let dim = sys.dim();
+    let mut y = y.to_vec();
+    y.resize(dim, 0.0);
     let (mut jac, mut dfdt) = (vec![f64::NAN; dim * dim], vec![f64::NAN; dim]);
-    sys.jacobian(t, y, &mut jac, &mut dfdt).expect("evaluates");
+    sys.jacobian(t, &y, &mut jac, &mut dfdt).expect("evaluates");
     (jac, dfdt)
 }
 
@@ -376,6 +389,89 @@ fn the_jacobian_skips_the_time_direction_only_where_nothing_depends_on_t() {
     // A comparison in the model's code could switch to a branch that depends on t.
     let kinked = Problem::dynamic(Kinked, 0.0, vec![1.0], vec![0.0]).expect("ok");
     assert!(!kinked.compiled().expect("compiled").autonomous());
+}
+
+/// Eight masses on a line, each tied to its neighbours by springs with a quartic term, the last
+/// one driven by `cos t`, and the speeds of the first two held: `q̈_i` reaches only `q_{i−1}`,
+/// `q_i`, `q_{i+1}` (and the constraint's coordinates), so the Jacobian is sparse.
+#[derive(Clone)]
+struct Chain;
+const CHAIN: usize = 8;
+impl DynModel for Chain {
+    fn sizes(&self) -> (usize, usize) {
+        (CHAIN, 1)
+    }
+    fn lagrangian<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> R {
+        let mut l = R::zero();
+        for v in qd {
+            l += *v * *v * 0.5;
+        }
+        for i in 1..CHAIN {
+            let d = q[i] - q[i - 1] - 1.0;
+            l -= d * d * 0.5 + d.powi(4) * 0.25;
+        }
+        l + q[CHAIN - 1] * t.cos()
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd[0] * qd[0] + qd[1] * qd[1] - 1.0;
+    }
+}
+
+/// The Jacobian of a fresh problem (by dual numbers, in compressed passes where the structure
+/// allows them) against the dual-number route's (one pass per column) at states around the initial
+/// one, with the energy quadratures and without; returns each state's `t` and `∂F/∂t`.
+fn same_jacobians<M: Model + Clone>(problem: &Problem<M>) -> Vec<(f64, Vec<f64>)> {
+    // The groups made at once, not after `COLOUR_AFTER` passes.
+    problem.compiled().and_then(|c| c.jacobian_passes());
+    let dual = problem.clone().with_route(Route::Dual);
+    let mut out = Vec::new();
+    for energy in [false, true] {
+        for (t, q, qd) in states_around(problem) {
+            let y = [q, qd].concat();
+            let (jac, dfdt) = jacobian_with(problem, energy, t, &y);
+            let (jac_dual, dfdt_dual) = jacobian_with(&dual, energy, t, &y);
+            close_at(t, "∂F/∂y", &jac, &jac_dual);
+            close_at(t, "∂F/∂t", &dfdt, &dfdt_dual);
+            out.push((t, dfdt));
+        }
+    }
+    out
+}
+
+#[test]
+fn the_jacobian_by_dual_numbers_takes_one_pass_per_group_of_columns_that_share_no_row() {
+    let q0: Vec<f64> = (0..CHAIN).map(|i| i as f64 * 1.1).collect();
+    let mut qd0 = vec![0.0; CHAIN];
+    qd0[0] = 0.6;
+    qd0[1] = 0.8;
+    let chain = Problem::dynamic(Chain, 0.0, q0, qd0).expect("consistent");
+    let passes = chain
+        .compiled()
+        .and_then(|c| c.jacobian_passes())
+        .expect("no guards, a metric that is positive definite");
+    // 2n + 1 = 17 columns. Rows 0 and 1 (the held speeds, through μ) reach q_0 … q_2 and
+    // q̇_0, q̇_1; every other row three neighbouring positions; each q̇ row its own velocity.
+    assert!(passes <= 6, "{passes} passes");
+    for (t, dfdt) in same_jacobians(&chain) {
+        // ∂q̈_7/∂t = −sin t.
+        assert!((dfdt[2 * CHAIN - 1] + t.sin()).abs() < 1e-12, "{dfdt:?}");
+    }
+    let elementary =
+        Problem::dynamic(Elementary, 0.0, vec![0.1, -0.2], vec![0.6, 0.8]).expect("consistent");
+    same_jacobians(&elementary);
+    same_jacobians(&pendulum());
+    same_jacobians(&dyn_pendulum());
+    same_jacobians(&sphere());
+    same_jacobians(&coupled());
+    // The paper's particle: q̈ reaches q̇ alone, whose two columns share the rows of q̈.
+    let uniform = uniform();
+    assert_eq!(
+        uniform.compiled().and_then(|c| c.jacobian_passes()),
+        Some(2)
+    );
+    // A recorded branch could reach other entries on its other side: one pass per column.
+    let kinked = Problem::dynamic(Kinked, 0.0, vec![1.0], vec![0.0]).expect("ok");
+    assert_eq!(kinked.compiled().and_then(|c| c.jacobian_passes()), None);
 }
 
 fn structure<M: Model>(p: &Problem<M>) -> &Structure {

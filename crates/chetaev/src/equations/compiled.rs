@@ -36,7 +36,7 @@ use super::graph::{
     record, record_with_parameters, Deps, Graph, GuardFlip, ParameterConflict, Sym, Tape, DEP_Q,
     DEP_QD, DEP_T,
 };
-use super::native::{NativeEquations, NativeJacobian};
+use super::native::{Colouring, NativeEquations, NativeJacobian};
 use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
 use super::structure::{Dependence, Structure};
 use super::{Dynamics, Need};
@@ -113,6 +113,11 @@ pub struct Compiled {
     native: [OnceLock<Option<Arc<NativeEquations>>>; 2],
     /// The Jacobian of the right-hand side as machine code, the same two ways.
     native_jacobian: [OnceLock<Option<Arc<NativeJacobian>>>; 2],
+    /// The groups of the Jacobian's columns for compressed forward passes, the same two ways.
+    colouring: [OnceLock<Option<Arc<Colouring>>>; 2],
+    /// Forward passes the Jacobian took by dual numbers before its colouring was made
+    /// ([`Compiled::colouring_after`]).
+    dense_passes: Arc<AtomicUsize>,
     /// Right-hand sides evaluated by the interpreted route, as reported ([`Compiled::native_after`]).
     interpreted: Arc<AtomicUsize>,
 }
@@ -121,6 +126,12 @@ pub struct Compiled {
 /// making it costs about as much as 10⁴ evaluations save (5–10 µs per operation against a gain of
 /// 0.2–2 ns per operation and evaluation), so a problem solved once, briefly, never pays for it.
 pub const NATIVE_AFTER: usize = 10_000;
+
+/// Forward passes by dual numbers (one per column of the Jacobian) a problem's Jacobian takes
+/// before the columns are grouped for compressed passes ([`Compiled::colouring_after`]): making the
+/// groups costs about as much as 50 passes for the paper's particle (about 2 µs), so a problem
+/// solved briefly never pays for them, and one with many columns makes them at its first Jacobian.
+pub const COLOUR_AFTER: usize = 256;
 
 /// What [`NativeEquations::new`] reads of compiled equations.
 pub(crate) struct NativeParts<'a> {
@@ -462,6 +473,8 @@ impl Compiled {
             parameters,
             native: Default::default(),
             native_jacobian: Default::default(),
+            colouring: Default::default(),
+            dense_passes: Arc::default(),
             interpreted: Arc::default(),
             id: {
                 static NEXT: AtomicU64 = AtomicU64::new(0);
@@ -522,6 +535,44 @@ impl Compiled {
         self.native_jacobian[usize::from(rates)]
             .get_or_init(|| NativeJacobian::new(self, rates).map(Arc::new))
             .as_deref()
+    }
+
+    /// [`Compiled::colouring`] once the Jacobian has taken [`COLOUR_AFTER`] forward passes by
+    /// dual numbers without it, counting `passes` more (one per column) where it is not made yet:
+    /// a problem whose solves evaluate few Jacobians does not pay for it.
+    pub(crate) fn colouring_after(&self, need: Need, passes: usize) -> Option<&Colouring> {
+        let rates = native_rates(need)?;
+        if let Some(made) = self.colouring[usize::from(rates)].get() {
+            return made.as_deref();
+        }
+        let before = self.dense_passes.fetch_add(passes, Ordering::Relaxed);
+        if before + passes < COLOUR_AFTER {
+            return None;
+        }
+        self.colouring(need)
+    }
+
+    /// The columns of the Jacobian of the integrator's right-hand side for `need`, grouped for
+    /// compressed forward passes ([`Colouring`]), made on the first call; `None` for [`Need::All`]
+    /// and where there is none.
+    pub(crate) fn colouring(&self, need: Need) -> Option<&Colouring> {
+        let rates = native_rates(need)?;
+        self.colouring[usize::from(rates)]
+            .get_or_init(|| Colouring::new(self, rates).map(Arc::new))
+            .as_deref()
+    }
+
+    /// The forward passes the Jacobian of the integrator's right-hand side takes by dual numbers
+    /// (before it runs as machine code): one per group of columns that share no row of the
+    /// Jacobian's pattern, found from the recorded structure, instead of one per column
+    /// (`2n + 1`, or `2n` without time). The groups are made at once (with and without the rows
+    /// of the energy balance), so that solves use them from their first Jacobian rather than after
+    /// [`COLOUR_AFTER`] passes. `None` where the passes are not compressed: equations whose
+    /// recording has guards, whose metric is constant but not positive definite, or too large to
+    /// find their pattern cheaply (more than 2²⁰ operations × 64 columns).
+    pub fn jacobian_passes(&self) -> Option<usize> {
+        self.colouring(Need::Rates);
+        self.colouring(Need::Motion).map(|c| c.groups.len())
     }
 
     /// `evaluations` more right-hand sides evaluated by the interpreted route for `need`: the

@@ -518,6 +518,104 @@ fn build(compiled: &Compiled, rates: bool) -> Option<Built> {
     })
 }
 
+/// Operations times words of 64 columns beyond which [`Colouring::new`] makes no colouring (8 MiB of
+/// bit sets): the models that large are the ones whose Jacobian is dense anyway (the gas of 1000
+/// particles, whose constraint couples every velocity, would need 27 MiB).
+const PATTERN_MAX_WORDS: usize = 1 << 20;
+
+/// The columns of the right-hand side's Jacobian `∂F/∂(q, q̇, t)` (`2n + 1` columns: `q`, `q̇`,
+/// then `t`) in groups no two columns of which have a nonzero in the same row, so that one forward
+/// pass seeded along every column of a group gives each of its columns (Curtis, Powell and Reid's
+/// compression; the groups by greedy colouring of the columns that share a row). The rows are
+/// those of [`NativeJacobian`]: `q̇`, `q̈`, then the three rates of the energy balance where asked
+/// for. The nonzeros are those of the program that computes the right-hand side for the recorded
+/// structure (which entries any of its operations can reach), so only equations without guards
+/// have one: where no branch of the model's code was recorded, every route evaluates the same
+/// function, whose derivatives outside the pattern are zero.
+#[derive(Debug)]
+pub(crate) struct Colouring {
+    /// The groups of columns, each evaluated by one pass; columns with no nonzero are in none.
+    pub(crate) groups: Vec<Vec<usize>>,
+    /// The rows of each column's nonzeros.
+    pub(crate) rows: Vec<Vec<usize>>,
+}
+
+impl Colouring {
+    /// The colouring of `compiled`'s Jacobian, with the rates' rows or without; `None` where the
+    /// equations have guards, where they have no program (see [`NativeEquations::new`]), or where
+    /// the pattern would take more than [`PATTERN_MAX_WORDS`].
+    pub(crate) fn new(compiled: &Compiled, rates: bool) -> Option<Self> {
+        if compiled.guards() > 0 {
+            return None;
+        }
+        let Built {
+            b,
+            derivative,
+            outputs,
+            layout,
+            ..
+        } = build(compiled, rates)?;
+        let n = layout.n;
+        let columns = 2 * n + 1;
+        let words = columns.div_ceil(64);
+        if b.ops.len().checked_mul(words)? > PATTERN_MAX_WORDS {
+            return None;
+        }
+        // The columns each operation depends on, as bits.
+        let mut bits = vec![0u64; b.ops.len() * words];
+        for (i, op) in b.ops.iter().enumerate() {
+            let (before, rest) = bits.split_at_mut(i * words);
+            let own = &mut rest[..words];
+            match *op {
+                Op::Input(0, _) => own[(2 * n) / 64] |= 1 << ((2 * n) % 64),
+                Op::Input(_, j) => own[j as usize / 64] |= 1 << (j % 64),
+                _ => {
+                    let (operands, count) = op.operands();
+                    for &o in &operands[..count] {
+                        let from = &before[o as usize * words..][..words];
+                        own.iter_mut().zip(from).for_each(|(a, b)| *a |= b);
+                    }
+                }
+            }
+        }
+        let mut row_ops = derivative;
+        if rates {
+            row_ops.extend(&outputs[..3]);
+        }
+        let mut rows = vec![Vec::new(); columns];
+        for (r, &op) in row_ops.iter().enumerate() {
+            let set = &bits[op as usize * words..][..words];
+            for (c, column) in rows.iter_mut().enumerate() {
+                if set[c / 64] >> (c % 64) & 1 == 1 {
+                    column.push(r);
+                }
+            }
+        }
+        // Greedy: each column takes the first group that has no column sharing a row with it.
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut group_of_row: Vec<Vec<usize>> = vec![Vec::new(); row_ops.len()];
+        let mut taken: Vec<usize> = Vec::new();
+        for (c, column) in rows.iter().enumerate() {
+            if column.is_empty() {
+                continue;
+            }
+            taken.clear();
+            for &r in column {
+                taken.extend(&group_of_row[r]);
+            }
+            let g = (0..).find(|g| !taken.contains(g)).unwrap_or(groups.len());
+            if g == groups.len() {
+                groups.push(Vec::new());
+            }
+            groups[g].push(c);
+            for &r in column {
+                group_of_row[r].push(g);
+            }
+        }
+        Some(Self { groups, rows })
+    }
+}
+
 /// The derivatives of every operation of `b` (those there now) along the `2n + 1` directions `q`,
 /// `q̇`, `t`, by forward differentiation written out as operations: `tangents[op][d]`. A zero
 /// folds away, so an operation that does not depend on an input costs nothing in its direction.

@@ -49,7 +49,10 @@ pub trait OdeSystem {
 pub struct Stats {
     /// Evaluations of the reduced right-hand side by the integrator.
     pub rhs_evaluations: usize,
-    /// Evaluations of the exact Jacobian (each costs `2n + 1` dual evaluations of the equations).
+    /// Evaluations of the exact Jacobian: as machine code once the right-hand side is, before that
+    /// by dual evaluations of the equations, one per group of columns that share no row
+    /// ([`Compiled::jacobian_passes`](crate::equations::compiled::Compiled::jacobian_passes)) or
+    /// one per column (`2n + 1`).
     pub jacobian_evaluations: usize,
     /// LU decompositions of the implicit methods' iteration matrix.
     pub lu_decompositions: usize,
@@ -150,6 +153,16 @@ impl Drop for Unreported<'_> {
     }
 }
 
+/// Scratch space for [`ReducedOde`]'s Jacobian by dual numbers.
+struct JacobianScratch {
+    ws: Workspace<Dual64>,
+    /// The seeded `q`, `q̇`.
+    q: Vec<Dual64>,
+    qd: Vec<Dual64>,
+    /// The seeds of one pass along `(q, q̇, t)`.
+    seeds: Vec<f64>,
+}
+
 /// The reduced Chetaev equations of one model as a first-order system on `y = [q, q̇]` (and, with
 /// `energy`, the two quadratures `[W_Φ, ∫∂L/∂t dt]`), with scratch space and counters: what the
 /// driver integrates, and what another integrator (a backend) can integrate.
@@ -165,9 +178,8 @@ pub struct ReducedOde<'a, M: ?Sized> {
     native_jac: (Vec<f64>, Vec<f64>),
     pub(crate) n: usize,
     pub(crate) ws: Workspace<f64>,
-    /// Scratch space for the dual evaluations of the Jacobian, made on first use: the workspace
-    /// and the seeded `q`, `q̇`.
-    jac_ws: Option<(Workspace<Dual64>, Vec<Dual64>, Vec<Dual64>)>,
+    /// Scratch space for the dual evaluations of the Jacobian, made on first use.
+    jac_ws: Option<JacobianScratch>,
     energy: bool,
     /// Whether the energy quadratures include the work of forces not derivable from `L`.
     forces: bool,
@@ -563,44 +575,102 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 }
             }
         }
-        let (ws, q, qd) = self.jac_ws.get_or_insert_with(|| {
+        let JacobianScratch { ws, q, qd, seeds } = self.jac_ws.get_or_insert_with(|| {
             let zero = Dual64::from(0.0);
-            (Workspace::for_model(model), vec![zero; n], vec![zero; n])
+            JacobianScratch {
+                ws: Workspace::for_model(model),
+                q: vec![zero; n],
+                qd: vec![zero; n],
+                seeds: vec![0.0; 2 * n + 1],
+            }
         });
-        // One forward pass per direction: y_j for j < 2n, then t (unless the compiled equations
-        // prove that nothing depends on t). The quadratures do not feed back.
+        // Forward passes along the directions y_j (j < 2n), then t. The quadratures do not feed
+        // back.
         let autonomous = self.compiled.is_some_and(Compiled::autonomous);
-        if autonomous {
-            dfdt[..2 * n].fill(0.0);
-            dfdt[e..dim].fill(0.0);
-        }
         let directions = if autonomous { 2 * n } else { 2 * n + 1 };
-        for dir in 0..directions {
-            let seed = |i: usize| if i == dir { 1.0 } else { 0.0 };
-            for i in 0..n {
-                q[i] = Dual64::new(y[i], seed(i));
-                qd[i] = Dual64::new(y[n + i], seed(n + i));
-            }
-            let td = Dual64::new(t, seed(2 * n));
-            let (d, fell_back) = evaluate_with_unchecked(model, self.compiled, ws, td, q, qd, need)
-                .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
-            self.stats.graph_fallbacks += usize::from(fell_back);
-            let mut put = |row: usize, v: f64| {
-                if dir < 2 * n {
-                    jac[row * dim + dir] = v;
-                } else {
-                    dfdt[row] = v;
+        if let Some(colouring) = self
+            .compiled
+            .and_then(|c| c.colouring_after(need, directions))
+        {
+            // One pass per group of directions no two of which reach the same row (the recorded
+            // structure's pattern), each entry read from the pass of its column's group.
+            jac.fill(0.0);
+            dfdt.fill(0.0);
+            // The rows: q̇, q̈, then the rates of the energy balance that the state carries (at
+            // `e`, after the sensitivities).
+            let rows = 2 * n
+                + match (self.energy, self.forces) {
+                    (true, true) => 3,
+                    (true, false) => 2,
+                    (false, _) => 0,
+                };
+            for group in &colouring.groups {
+                for x in seeds.iter_mut() {
+                    *x = 0.0;
                 }
-            };
-            for (i, (v, a)) in qd.iter().zip(&d.qdd).enumerate() {
-                put(i, v.eps);
-                put(n + i, a.eps);
+                for &j in group {
+                    seeds[j] = 1.0;
+                }
+                for i in 0..n {
+                    q[i] = Dual64::new(y[i], seeds[i]);
+                    qd[i] = Dual64::new(y[n + i], seeds[n + i]);
+                }
+                let td = Dual64::new(t, seeds[2 * n]);
+                let (d, fell_back) =
+                    evaluate_with_unchecked(model, self.compiled, ws, td, q, qd, need)
+                        .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
+                self.stats.graph_fallbacks += usize::from(fell_back);
+                let value = |row: usize| match row {
+                    row if row < n => qd[row].eps,
+                    row if row < 2 * n => d.qdd[row - n].eps,
+                    row => [d.power.eps, d.dl_dt.eps, d.power_forces.eps][row - 2 * n],
+                };
+                for &column in group {
+                    for &row in colouring.rows[column].iter().filter(|&&row| row < rows) {
+                        let at = if row < 2 * n { row } else { e + row - 2 * n };
+                        if column < 2 * n {
+                            jac[at * dim + column] = value(row);
+                        } else {
+                            dfdt[at] = value(row);
+                        }
+                    }
+                }
             }
-            if self.energy {
-                put(e, d.power.eps);
-                put(e + 1, d.dl_dt.eps);
-                if self.forces {
-                    put(e + 2, d.power_forces.eps);
+        } else {
+            // One pass per direction, t left out where the compiled equations prove that nothing
+            // depends on it.
+            if autonomous {
+                dfdt[..2 * n].fill(0.0);
+                dfdt[e..dim].fill(0.0);
+            }
+            for dir in 0..directions {
+                let seed = |i: usize| if i == dir { 1.0 } else { 0.0 };
+                for i in 0..n {
+                    q[i] = Dual64::new(y[i], seed(i));
+                    qd[i] = Dual64::new(y[n + i], seed(n + i));
+                }
+                let td = Dual64::new(t, seed(2 * n));
+                let (d, fell_back) =
+                    evaluate_with_unchecked(model, self.compiled, ws, td, q, qd, need)
+                        .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
+                self.stats.graph_fallbacks += usize::from(fell_back);
+                let mut put = |row: usize, v: f64| {
+                    if dir < 2 * n {
+                        jac[row * dim + dir] = v;
+                    } else {
+                        dfdt[row] = v;
+                    }
+                };
+                for (i, (v, a)) in qd.iter().zip(&d.qdd).enumerate() {
+                    put(i, v.eps);
+                    put(n + i, a.eps);
+                }
+                if self.energy {
+                    put(e, d.power.eps);
+                    put(e + 1, d.dl_dt.eps);
+                    if self.forces {
+                        put(e + 2, d.power_forces.eps);
+                    }
                 }
             }
         }
