@@ -296,6 +296,9 @@ impl<M: Model> Problem<M> {
                 .map(|c| c.equations_text(false))
                 .unwrap_or_default(),
             latex: compiled.map(|c| c.equations_text(true)).unwrap_or_default(),
+            jacobian_passes: compiled
+                .and_then(|c| c.jacobian_passes())
+                .map(|p| (p, 2 * n + 1)),
             state: (t, q.to_vec(), qd.to_vec()),
             lagrangian,
             constraints,

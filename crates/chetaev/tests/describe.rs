@@ -42,6 +42,9 @@ fn the_structure_of_each_block_is_found_and_reported() -> Result<(), Error> {
     let eq = problem.equations_at(0.5, &[1.0, 0.5], &[0.5, 2.0])?;
     assert_eq!(d.dynamics.qdd, eq.qdd);
     assert_eq!(d.lagrangian.w, vec![2.0, 0.0, 0.0, 1.0]);
+    // No row reaches y (∂L/∂y = −sin t, and y is nowhere else); x, ẋ, ẏ and t each reach both
+    // rows of q̈: four passes for five columns.
+    assert_eq!(d.jacobian_passes, Some((4, 5)));
     let text = d.to_string();
     for needle in [
         "W = ∂²L/∂q̇²",
@@ -49,6 +52,7 @@ fn the_structure_of_each_block_is_found_and_reported() -> Result<(), Error> {
         "J = ∂f/∂q̇",
         "pattern ×· / ·×",
         "pivot",
+        "4 forward passes for its 5 columns",
     ] {
         assert!(text.contains(needle), "{needle} not in\n{text}");
     }

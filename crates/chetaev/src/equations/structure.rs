@@ -224,6 +224,11 @@ pub struct Description {
     pub constraints: ConstraintBlocks<f64>,
     /// `q̈`, `μ`, `Φ`, `E`, the pivot ratio, ... at the state.
     pub dynamics: super::Dynamics<f64>,
+    /// The Jacobian of the reduced equations `∂F/∂(q, q̇, t)` by dual numbers: the forward passes
+    /// it takes, one per group of columns that share no row of its pattern, and its columns
+    /// (`2n + 1`); `None` where the passes are not grouped
+    /// ([`Compiled::jacobian_passes`](super::compiled::Compiled::jacobian_passes)).
+    pub jacobian_passes: Option<(usize, usize)>,
 }
 
 impl Description {
@@ -325,6 +330,12 @@ impl fmt::Display for Description {
             writeln!(f, "    c = (∂f/∂q)q̇ + ∂f/∂t     {}", s.c)?;
         }
         writeln!(f, "    Q (forces not from L)    {}", s.forces)?;
+        if let Some((passes, columns)) = self.jacobian_passes {
+            writeln!(
+                f,
+                "    ∂F/∂(q, q̇, t)            {passes} forward passes for its {columns} columns"
+            )?;
+        }
         if !self.equations.is_empty() {
             writeln!(
                 f,
