@@ -284,16 +284,25 @@ impl DynModel for Elementary {
     }
 }
 
+fn elementary() -> Problem<Elementary> {
+    Problem::dynamic(Elementary, 0.0, vec![0.1, -0.2], vec![0.6, 0.8]).expect("consistent")
+}
+
+/// On a fresh problem from `make`: the right-hand side and the Jacobian as machine code, and the
+/// Jacobian by dual numbers in grouped passes, each against the dual-number route's.
+fn compare_routes<M: Model + Clone>(make: fn() -> Problem<M>) {
+    compare_integrator_functions(&make());
+    same_jacobians(&make());
+}
+
 #[test]
-fn the_machine_code_right_hand_side_and_jacobian_equal_the_dual_number_ones() {
-    let elementary =
-        Problem::dynamic(Elementary, 0.0, vec![0.1, -0.2], vec![0.6, 0.8]).expect("consistent");
-    compare_integrator_functions(&elementary);
-    compare_integrator_functions(&uniform());
-    compare_integrator_functions(&pendulum());
-    compare_integrator_functions(&dyn_pendulum());
-    compare_integrator_functions(&sphere());
-    compare_integrator_functions(&coupled());
+fn the_machine_code_and_the_grouped_jacobian_equal_the_dual_number_ones() {
+    compare_routes(elementary);
+    compare_routes(uniform);
+    compare_routes(pendulum);
+    compare_routes(dyn_pendulum);
+    compare_routes(sphere);
+    compare_routes(coupled);
 }
 
 #[test]
@@ -456,13 +465,6 @@ fn the_jacobian_by_dual_numbers_takes_one_pass_per_group_of_columns_that_share_n
         // ∂q̈_7/∂t = −sin t.
         assert!((dfdt[2 * CHAIN - 1] + t.sin()).abs() < 1e-12, "{dfdt:?}");
     }
-    let elementary =
-        Problem::dynamic(Elementary, 0.0, vec![0.1, -0.2], vec![0.6, 0.8]).expect("consistent");
-    same_jacobians(&elementary);
-    same_jacobians(&pendulum());
-    same_jacobians(&dyn_pendulum());
-    same_jacobians(&sphere());
-    same_jacobians(&coupled());
     // The paper's particle: q̈ reaches q̇ alone, whose two columns share the rows of q̈.
     let uniform = uniform();
     assert_eq!(
