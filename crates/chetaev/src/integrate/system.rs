@@ -387,8 +387,9 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         }
     }
 
-    /// [`OdeSystem::rhs`] but for its common case; `native_failed`: the machine code was just run
-    /// and its guards did not all hold.
+    /// [`OdeSystem::rhs`] in every case but the common one (machine code, no sensitivities), which
+    /// `rhs` takes itself; `native_failed`: the machine code was just run there and its guards did
+    /// not all hold.
     #[inline]
     fn rhs_general(
         &mut self,
