@@ -523,6 +523,10 @@ fn build(compiled: &Compiled, rates: bool) -> Option<Built> {
 /// particles, whose constraint couples every velocity, would need 27 MiB).
 const PATTERN_MAX_WORDS: usize = 1 << 20;
 
+/// Columns reaching one row beyond which a Jacobian with such a row in more than half its columns
+/// is not grouped ([`Colouring::new`]).
+const DENSE_ROW: usize = 64;
+
 /// The columns of the right-hand side's Jacobian `∂F/∂(q, q̇, t)` (`2n + 1` columns: `q`, `q̇`,
 /// then `t`) in groups no two columns of which have a nonzero in the same row, so that one forward
 /// pass seeded along every column of a group gives each of its columns (Curtis, Powell and Reid's
@@ -542,8 +546,10 @@ pub(crate) struct Colouring {
 
 impl Colouring {
     /// The colouring of `compiled`'s Jacobian, with the rates' rows or without; `None` where the
-    /// equations have guards, where they have no program (see [`NativeEquations::new`]), or where
-    /// the pattern would take more than [`PATTERN_MAX_WORDS`].
+    /// equations have guards, where they have no program (see [`NativeEquations::new`]), where
+    /// the pattern would take more than [`PATTERN_MAX_WORDS`], or where a row is reached by more
+    /// than [`DENSE_ROW`] columns and more than half of them (grouping would save less than half
+    /// the passes).
     pub(crate) fn new(compiled: &Compiled, rates: bool) -> Option<Self> {
         if compiled.guards() > 0 {
             return None;
@@ -591,21 +597,35 @@ impl Colouring {
                 }
             }
         }
-        // Greedy: each column takes the first group that has no column sharing a row with it.
+        // A row reached by `widest` columns needs that many passes: where that is more than half
+        // the columns, grouping saves less than half the passes, and for many columns the
+        // colouring below (quadratic in the columns of such rows) costs more than it saves.
+        let mut per_row = vec![0usize; row_ops.len()];
+        rows.iter().flatten().for_each(|&r| per_row[r] += 1);
+        let widest = per_row.iter().copied().max().unwrap_or(0);
+        if widest > DENSE_ROW && 2 * widest > columns {
+            return None;
+        }
+        // Greedy: each column takes the first group that has no column sharing a row with it
+        // (`seen[g] == c + 1`: group `g` has such a column).
         let mut groups: Vec<Vec<usize>> = Vec::new();
         let mut group_of_row: Vec<Vec<usize>> = vec![Vec::new(); row_ops.len()];
-        let mut taken: Vec<usize> = Vec::new();
+        let mut seen: Vec<usize> = Vec::new();
         for (c, column) in rows.iter().enumerate() {
             if column.is_empty() {
                 continue;
             }
-            taken.clear();
             for &r in column {
-                taken.extend(&group_of_row[r]);
+                for &g in &group_of_row[r] {
+                    seen[g] = c + 1;
+                }
             }
-            let g = (0..).find(|g| !taken.contains(g)).unwrap_or(groups.len());
+            let g = (0..groups.len())
+                .find(|&g| seen[g] != c + 1)
+                .unwrap_or(groups.len());
             if g == groups.len() {
                 groups.push(Vec::new());
+                seen.push(0);
             }
             groups[g].push(c);
             for &r in column {
