@@ -1,28 +1,38 @@
 //! The integrator's Jacobian by dual numbers (the route a problem takes before its equations run as
 //! machine code), one forward pass per column against one pass per group of columns that share no
-//! row of the recorded structure's pattern, timed interleaved.
+//! row of the recorded structure's pattern, timed interleaved, with what making the groups costs.
 //!
-//! The model: `n` masses on a line, neighbours tied by springs with a quartic term, the last one
-//! driven by `cos t`, the speeds of the first two held (`q̇_0² + q̇_1² = 1`). Each `q̈_i` reaches
-//! only `q_{i−1}`, `q_i`, `q_{i+1}` (and the constraint's coordinates), so its Jacobian is sparse:
-//! `2n + 1` columns in a handful of groups.
+//! The models: the paper's particle in the stiff scene; `n` masses on a line, neighbours tied by
+//! springs with a quartic term, the last one driven by `cos t`, the speeds of the first two held
+//! (`q̇_0² + q̇_1² = 1`), whose `q̈_i` reaches only `q_{i−1}`, `q_i`, `q_{i+1}` (and the
+//! constraint's coordinates), so that its `2n + 1` columns fall into a handful of groups; and the
+//! isokinetic gas, whose constraint couples every velocity, for which only the time to find that
+//! its columns are not grouped is printed.
 //!
 //! - **one pass per column**: fresh problems whose equations were recorded before the clock, each
 //!   evaluating as many Jacobians as stay below `COLOUR_AFTER` passes (the groups are not made
 //!   yet); the first one, which makes the scratch space, untimed;
 //! - **grouped**: one problem whose groups were made (`Compiled::jacobian_passes`), evaluated again
-//!   and again.
+//!   and again;
+//! - **making the groups**: `Compiled::jacobian_passes` on fresh recorded problems (both sets of
+//!   groups, with and without the rows of the energy balance).
 //!
-//! Both are checked to give the same Jacobian first.
+//! Both Jacobians are checked to be the same first.
 //!
 //! ```sh
-//! cargo run --release -p chetaev-bench --example jacobian_passes
+//! cargo run --release -p chetaev-bench --example jacobian_passes      # about 10 s
 //! ```
+
+use std::hint::black_box;
+use std::time::Instant;
 
 use chetaev::equations::compiled::COLOUR_AFTER;
 use chetaev::integrate::system::{OdeSystem, ReducedOde};
+use chetaev::model::Model;
 use chetaev::prelude::*;
 use chetaev_bench::measure::interleaved_batches;
+use chetaev_bench::scenes::STIFF;
+use uniform_projectile::model::uniform_problem;
 
 /// The chain of `n` masses.
 #[derive(Clone)]
@@ -49,6 +59,35 @@ impl DynModel for Chain {
     }
 }
 
+/// `n / 3` unit-mass particles in 3D in harmonic wells, at constant kinetic energy:
+/// `L = ½ |q̇|² − ½ |q|²`, `f = |q̇|² − 2K`.
+#[derive(Clone)]
+struct Gas {
+    n: usize,
+    two_k: f64,
+}
+
+impl DynModel for Gas {
+    fn sizes(&self) -> (usize, usize) {
+        (self.n, 1)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        let kinetic = qd.iter().fold(R::zero(), |acc, v| acc + *v * *v);
+        let potential = q.iter().fold(R::zero(), |acc, x| acc + *x * *x);
+        (kinetic - potential) * 0.5
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd.iter().fold(R::zero(), |acc, v| acc + *v * *v) - self.two_k;
+    }
+}
+
+fn gas(n: usize) -> Result<Problem<Gas>, Error> {
+    let q: Vec<f64> = (0..n).map(|i| (0.7 * i as f64).sin()).collect();
+    let qd: Vec<f64> = (0..n).map(|i| 0.4 + 0.3 * (1.3 * i as f64).cos()).collect();
+    let two_k = qd.iter().map(|v| v * v).sum();
+    Problem::dynamic(Gas { n, two_k }, 0.0, q, qd)
+}
+
 fn chain(n: usize) -> Result<Problem<Chain>, Error> {
     let q0: Vec<f64> = (0..n).map(|i| i as f64 * 1.1).collect();
     let mut qd0 = vec![0.0; n];
@@ -68,79 +107,128 @@ fn state(n: usize) -> Vec<f64> {
     y
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    println!("| n | columns | passes grouped | one pass per column (ns) | grouped (ns) | ratio |");
-    println!("|---|---|---|---|---|---|");
-    for n in [4, 8, 16, 32] {
-        let y = state(n);
-        let dim = 2 * n;
-        let grouped = chain(n)?;
-        let passes = grouped
-            .compiled()
-            .and_then(|c| c.jacobian_passes())
-            .ok_or("the chain's Jacobian should be grouped")?;
-        let mut sys = ReducedOde::for_problem(&grouped, false);
-        let (mut jac, mut dfdt) = (vec![0.0; dim * dim], vec![0.0; dim]);
-        sys.jacobian(0.7, &y, &mut jac, &mut dfdt)?;
-        // The same Jacobian from a problem that has not made its groups.
-        let fresh = chain(n)?;
-        let mut dense = ReducedOde::for_problem(&fresh, false);
-        let (mut jac_d, mut dfdt_d) = (vec![0.0; dim * dim], vec![0.0; dim]);
-        dense.jacobian(0.7, &y, &mut jac_d, &mut dfdt_d)?;
-        let worst = jac
+/// One row of the table: the grouped Jacobian against one pass per column for problems made by
+/// `make`, at `(t, y)`, and what making the groups costs (both sets, with and without the energy
+/// balance's rows, as `Compiled::jacobian_passes` makes them).
+fn row<M: Model + Clone>(
+    name: &str,
+    make: &dyn Fn() -> Result<Problem<M>, Error>,
+    t: f64,
+    y: &[f64],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let dim = y.len();
+    let columns = dim + 1;
+    let grouped = make()?;
+    let passes = grouped
+        .compiled()
+        .and_then(|c| c.jacobian_passes())
+        .ok_or("this model's Jacobian should be grouped")?;
+    let mut sys = ReducedOde::for_problem(&grouped, false);
+    let (mut jac, mut dfdt) = (vec![0.0; dim * dim], vec![0.0; dim]);
+    sys.jacobian(t, y, &mut jac, &mut dfdt)?;
+    // The same Jacobian from a problem that has not made its groups.
+    let fresh = make()?;
+    let mut dense = ReducedOde::for_problem(&fresh, false);
+    let (mut jac_d, mut dfdt_d) = (vec![0.0; dim * dim], vec![0.0; dim]);
+    dense.jacobian(t, y, &mut jac_d, &mut dfdt_d)?;
+    let worst = jac
+        .iter()
+        .chain(&dfdt)
+        .zip(jac_d.iter().chain(&dfdt_d))
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs() / b.abs().max(1.0)));
+    if worst.is_nan() || worst > 1e-12 {
+        return Err(format!("{name}: the Jacobians differ by {worst:e}").into());
+    }
+    // Fresh problems, recorded before the clock.
+    let recorded = |count: usize| -> Vec<Problem<M>> {
+        (0..count)
+            .map(|_| {
+                let p = make().expect("consistent");
+                p.compiled();
+                p
+            })
+            .collect()
+    };
+    // Dense Jacobians per fresh problem: the untimed first one and the timed ones stay below
+    // COLOUR_AFTER passes (at most one per column each).
+    let per_problem = ((COLOUR_AFTER - 1) / columns).saturating_sub(1).max(1);
+    let mut one_per_column = |items: usize| {
+        let problems = items.div_ceil(per_problem);
+        let pbs = recorded(problems);
+        let mut systems: Vec<_> = pbs
             .iter()
-            .chain(&dfdt)
-            .zip(jac_d.iter().chain(&dfdt_d))
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs() / b.abs().max(1.0)));
-        if worst.is_nan() || worst > 1e-12 {
-            return Err(format!("n = {n}: the Jacobians differ by {worst:e}").into());
+            .map(|p| ReducedOde::for_problem(p, false))
+            .collect();
+        let (mut j, mut d) = (vec![0.0; dim * dim], vec![0.0; dim]);
+        for s in &mut systems {
+            s.jacobian(t, y, &mut j, &mut d).expect("regular");
         }
-        // Dense Jacobians per fresh problem: the untimed first one and the timed ones stay below
-        // COLOUR_AFTER passes (2n + 1 each; the drive depends on t).
-        let per_problem = (COLOUR_AFTER - 1) / (2 * n + 1) - 1;
-        let mut one_per_column = |items: usize| {
-            let problems = items.div_ceil(per_problem);
-            let pbs: Vec<Problem<Chain>> = (0..problems)
-                .map(|_| {
-                    let p = chain(n).expect("consistent");
-                    p.compiled();
-                    p
-                })
-                .collect();
-            let mut systems: Vec<_> = pbs
-                .iter()
-                .map(|p| ReducedOde::for_problem(p, false))
-                .collect();
-            let (mut j, mut d) = (vec![0.0; dim * dim], vec![0.0; dim]);
-            for s in &mut systems {
-                s.jacobian(0.7, &y, &mut j, &mut d).expect("regular");
-            }
-            let start = std::time::Instant::now();
-            for s in &mut systems {
-                for _ in 0..per_problem {
-                    s.jacobian(0.7, std::hint::black_box(&y), &mut j, &mut d)
-                        .expect("regular");
-                    std::hint::black_box(&mut j);
-                }
-            }
-            start.elapsed().as_secs_f64() / (problems * per_problem) as f64
-        };
-        let mut in_groups = |items: usize| {
-            let start = std::time::Instant::now();
-            for _ in 0..items {
-                sys.jacobian(0.7, std::hint::black_box(&y), &mut jac, &mut dfdt)
+        let start = Instant::now();
+        for s in &mut systems {
+            for _ in 0..per_problem {
+                s.jacobian(t, black_box(y), &mut j, &mut d)
                     .expect("regular");
-                std::hint::black_box(&mut jac);
+                black_box(&mut j);
             }
-            start.elapsed().as_secs_f64() / items as f64
-        };
-        let times = interleaved_batches(21, 0.005, &mut [&mut one_per_column, &mut in_groups]);
+        }
+        start.elapsed().as_secs_f64() / (problems * per_problem) as f64
+    };
+    let mut in_groups = |items: usize| {
+        let start = Instant::now();
+        for _ in 0..items {
+            sys.jacobian(t, black_box(y), &mut jac, &mut dfdt)
+                .expect("regular");
+            black_box(&mut jac);
+        }
+        start.elapsed().as_secs_f64() / items as f64
+    };
+    let mut making = |items: usize| {
+        let pbs = recorded(items);
+        let start = Instant::now();
+        for p in &pbs {
+            black_box(p.compiled().and_then(|c| c.jacobian_passes()));
+        }
+        start.elapsed().as_secs_f64() / items as f64
+    };
+    let times = interleaved_batches(
+        21,
+        0.005,
+        &mut [&mut one_per_column, &mut in_groups, &mut making],
+    );
+    println!(
+        "| {name} | {columns} | {passes} | {:.0} | {:.0} | {:.2} | {:.1} |",
+        times[0] * 1e9,
+        times[1] * 1e9,
+        times[0] / times[1],
+        times[2] * 1e6
+    );
+    Ok(())
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    println!(
+        "| model | columns | passes grouped | one pass per column (ns) | grouped (ns) | ratio | \
+         making the groups (µs) |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    // The paper's particle in the stiff scene, at a state on the constraint.
+    let v = STIFF.v0;
+    let y = [0.1, 0.9, 0.6 * v, -0.8 * v];
+    row("paper's particle", &|| uniform_problem(&STIFF), 0.0, &y)?;
+    for n in [4, 8, 16, 32] {
+        row(&format!("chain, n = {n}"), &|| chain(n), 0.7, &state(n))?;
+    }
+    // The isokinetic gas: every velocity reaches every row of q̈, so its columns are not grouped
+    // beyond 64 of them; the time to find that out, once per problem.
+    for n in [30, 300, 3000] {
+        let gas = gas(n)?;
+        let compiled = gas.compiled().ok_or("the gas records")?;
+        let start = Instant::now();
+        let passes = compiled.jacobian_passes();
         println!(
-            "| {n} | {} | {passes} | {:.0} | {:.0} | {:.2} |",
+            "isokinetic gas, n = {n}: {} columns, grouped passes {passes:?}, found in {:.1} ms",
             2 * n + 1,
-            times[0] * 1e9,
-            times[1] * 1e9,
-            times[0] / times[1]
+            start.elapsed().as_secs_f64() * 1e3
         );
     }
     Ok(())

@@ -128,9 +128,10 @@ pub struct Compiled {
 pub const NATIVE_AFTER: usize = 10_000;
 
 /// Forward passes by dual numbers (one per column of the Jacobian) a problem's Jacobian takes
-/// before the columns are grouped for compressed passes ([`Compiled::jacobian_passes`]): making the
-/// groups costs about as much as 40 passes for the paper's particle (1.5 µs), so a problem solved
-/// briefly never pays for them, and one with many columns makes them within its first Jacobians.
+/// before the columns are grouped for compressed passes ([`Compiled::jacobian_passes`]): making one
+/// set of groups costs about as much as 50 passes for the paper's particle (2.3–2.5 µs;
+/// `examples/jacobian_passes` in `chetaev-bench`), so a problem solved briefly never pays for them,
+/// and one with many columns makes them within its first Jacobians.
 pub const COLOUR_AFTER: usize = 256;
 
 /// What [`NativeEquations::new`] reads of compiled equations.
