@@ -20,6 +20,7 @@ use nalgebra::SVector;
 use num_dual::DualNum;
 
 use crate::equations::compiled::Compiled;
+use crate::equations::derivatives::fixed::At;
 use crate::equations::derivatives::{self, ConstraintBlocks, Holonomic, LagrangianBlocks};
 use crate::equations::graph::Sym;
 use crate::equations::saddle::SaddleFailure;
@@ -242,6 +243,34 @@ pub trait DynModel {
     }
 }
 
+/// A point `(t, q, q̇)` over the scalar `T`, with `q` and `q̇` of the model's `n` coordinates: where
+/// the engine evaluates a [`Model`].
+#[derive(Debug)]
+pub struct Point<'a, T> {
+    /// The time.
+    pub t: T,
+    /// The coordinates.
+    pub q: &'a [T],
+    /// The velocities.
+    pub qd: &'a [T],
+}
+
+impl<'a, T> Point<'a, T> {
+    /// The point `(t, q, q̇)`.
+    #[inline(always)]
+    pub fn new(t: T, q: &'a [T], qd: &'a [T]) -> Self {
+        Self { t, q, qd }
+    }
+}
+
+impl<T: Copy> Clone for Point<'_, T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T: Copy> Copy for Point<'_, T> {}
+
 /// A model's own functions at one point, as [`Model::functions`] writes them.
 #[derive(Clone, Debug)]
 pub struct Functions<T> {
@@ -298,8 +327,8 @@ pub trait Model {
     /// dissipation function `D`. The engine records them once as an expression graph
     /// ([`equations::compiled`](crate::equations::compiled)). Returns whether it wrote them; the
     /// default does not, and such a model is evaluated by the dual-number blocks alone.
-    fn functions<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut Functions<T>) -> bool {
-        let _ = (t, q, qd, out);
+    fn functions<T: Real>(&self, x: Point<T>, out: &mut Functions<T>) -> bool {
+        let _ = (x, out);
         false
     }
 
@@ -311,64 +340,61 @@ pub trait Model {
 
     /// `L`, `p = ∂L/∂q̇`, `W = ∂²L/∂q̇²`, `∂L/∂q`, `g = (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t` and `∂L/∂t` into
     /// `out` (whose vectors have the model's sizes).
-    fn lagrangian_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut LagrangianBlocks<T>);
+    fn lagrangian_blocks<T: Real>(&self, x: Point<T>, out: &mut LagrangianBlocks<T>);
 
     /// `W = ∂²L/∂q̇²` alone (row-major `n × n`), for the projection's metric.
-    fn velocity_hessian<T: Real>(&self, t: T, q: &[T], qd: &[T], w: &mut [T]);
+    fn velocity_hessian<T: Real>(&self, x: Point<T>, w: &mut [T]);
 
     /// `f`, `J = ∂f/∂q̇` and `c = (∂f/∂q) q̇ + ∂f/∂t` into `out`; with `with_c = false` only `f` and
     /// `J` (the projection needs no `c`). Never called when `k = 0`.
-    fn constraint_blocks<T: Real>(
-        &self,
-        t: T,
-        q: &[T],
-        qd: &[T],
-        with_c: bool,
-        out: &mut ConstraintBlocks<T>,
-    );
+    fn constraint_blocks<T: Real>(&self, x: Point<T>, with_c: bool, out: &mut ConstraintBlocks<T>);
 
     /// `f(t, q, q̇)` alone (length `k`).
-    fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]);
+    fn constraint_values(&self, x: Point<f64>, f: &mut [f64]);
 
     /// The forces not derivable from `L`, `Q − ∂D/∂q̇` (length `n`), into `out`; returns whether
     /// the model has any (when `false`, `out` is untouched and nothing was evaluated).
-    fn force_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut [T]) -> bool;
+    fn force_blocks<T: Real>(&self, x: Point<T>, out: &mut [T]) -> bool;
 
-    /// The reduced equations at `(t, q, q̇)` into `ws` (see [`equations::evaluate`]). The default
-    /// builds them from [`Model::lagrangian_blocks`] and [`Model::constraint_blocks`]; a flavour
-    /// may take a faster route to the same numbers (a static model keeps every block on the
-    /// stack with its sizes known to the compiler).
+    /// The reduced equations at `x` into `ws` (see [`equations::evaluate`]). The default builds
+    /// them from [`Model::lagrangian_blocks`] and [`Model::constraint_blocks`]; a flavour may take
+    /// a faster route to the same numbers (a static model keeps every block on the stack with its
+    /// sizes known to the compiler).
     ///
     /// [`equations::evaluate`]: crate::equations::evaluate
     #[inline]
     fn evaluate_into<T: Real>(
         &self,
         ws: &mut Workspace<T>,
-        t: T,
-        q: &[T],
-        qd: &[T],
+        x: Point<T>,
     ) -> Result<(), SaddleFailure> {
-        crate::equations::evaluate_blocks(self, ws, t, q, qd)
+        crate::equations::evaluate_blocks(self, ws, x)
     }
 
     /// The reduced equations by a route of the flavour's own that uses the structure found in
-    /// `plan` (the model's compiled equations), or `None` to evaluate the compiled tape. A static
-    /// model keeps its fixed-size dual passes and skips the blocks the plan proves zero or
-    /// constant, and what `need` leaves out.
+    /// the plan's compiled equations (the model's), or `None` to evaluate the compiled tape. A
+    /// static model keeps its fixed-size dual passes and skips the blocks the plan proves zero
+    /// or constant, and what the plan's [`Need`] leaves out.
     #[inline]
-    fn evaluate_planned<T: Real>(
-        &self,
-        plan: &Compiled,
-        ws: &mut Workspace<T>,
-        t: T,
-        q: &[T],
-        qd: &[T],
-        need: Need,
-    ) -> Option<Result<(), SaddleFailure>> {
-        let _ = (plan, ws, t, q, qd, need);
+    fn evaluate_planned<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
+        let _ = (plan, ws, x);
         None
     }
 }
+
+/// The model's compiled equations and what the caller needs of the dynamics: what
+/// [`Model::evaluate_planned`] may use.
+#[derive(Clone, Copy, Debug)]
+pub struct Plan<'a> {
+    /// The model's compiled equations.
+    pub compiled: &'a Compiled,
+    /// What is needed.
+    pub need: Need,
+}
+
+/// What [`Model::evaluate_planned`] returns: the outcome of the model's own route, or `None` where
+/// it has none for the plan (and the compiled tape is evaluated).
+pub type Planned = Option<Result<(), SaddleFailure>>;
 
 /// A static model (`Lagrangian<N> + Constraints<N, K>`) as a [`Model`]. [`Problem::new`] wraps
 /// the user's model in it; it dereferences to the user's model.
@@ -396,21 +422,20 @@ where
         self.0.holonomic_count()
     }
 
-    fn functions<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut Functions<T>) -> bool {
-        let q = SVector::<T, N>::from_column_slice(q);
-        let qd = SVector::<T, N>::from_column_slice(qd);
-        out.l = self.0.lagrangian(t, &q, &qd);
-        out.f
-            .copy_from_slice(self.0.constraints(t, &q, &qd).as_slice());
-        self.0.holonomic(t, &q, &mut out.h);
-        out.has_forces = match self.0.forces(t, &q, &qd) {
+    fn functions<T: Real>(&self, x: Point<T>, out: &mut Functions<T>) -> bool {
+        let (m, x) = (&self.0, At::<M, T, N>::from_point(&self.0, x));
+        let (t, q, qd) = (x.t, &x.q, &x.qd);
+        out.l = m.lagrangian(t, q, qd);
+        out.f.copy_from_slice(m.constraints(t, q, qd).as_slice());
+        m.holonomic(t, q, &mut out.h);
+        out.has_forces = match m.forces(t, q, qd) {
             Some(f) => {
                 out.forces.copy_from_slice(f.as_slice());
                 true
             }
             None => false,
         };
-        out.dissipation = self.0.dissipation(t, &q, &qd);
+        out.dissipation = m.dissipation(t, q, qd);
         true
     }
 
@@ -419,71 +444,52 @@ where
     }
 
     #[inline]
-    fn lagrangian_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut LagrangianBlocks<T>) {
-        derivatives::fixed::lagrangian_blocks::<M, T, N>(&self.0, t, q, qd, out);
+    fn lagrangian_blocks<T: Real>(&self, x: Point<T>, out: &mut LagrangianBlocks<T>) {
+        At::<M, T, N>::from_point(&self.0, x).lagrangian_blocks(out);
     }
 
-    fn velocity_hessian<T: Real>(&self, t: T, q: &[T], qd: &[T], w: &mut [T]) {
-        derivatives::fixed::velocity_hessian_into::<M, T, N>(&self.0, t, q, qd, w);
+    fn velocity_hessian<T: Real>(&self, x: Point<T>, w: &mut [T]) {
+        At::<M, T, N>::from_point(&self.0, x).velocity_hessian_into(w);
     }
 
     #[inline]
-    fn constraint_blocks<T: Real>(
-        &self,
-        t: T,
-        q: &[T],
-        qd: &[T],
-        with_c: bool,
-        out: &mut ConstraintBlocks<T>,
-    ) {
-        derivatives::fixed::constraint_blocks::<M, T, N, K>(&self.0, t, q, qd, with_c, out);
-        derivatives::holonomic_rows(self, K, t, q, qd, with_c, out);
+    fn constraint_blocks<T: Real>(&self, x: Point<T>, with_c: bool, out: &mut ConstraintBlocks<T>) {
+        At::<M, T, N>::from_point(&self.0, x).constraint_blocks::<K>(with_c, out);
+        derivatives::holonomic_rows(self, K, x, with_c, out);
     }
 
     #[inline(never)]
     fn evaluate_into<T: Real>(
         &self,
         ws: &mut Workspace<T>,
-        t: T,
-        q: &[T],
-        qd: &[T],
+        x: Point<T>,
     ) -> Result<(), SaddleFailure> {
         if self.0.holonomic_count() > 0 {
             // The holonomic rows have sizes known only at run time.
-            return crate::equations::evaluate_blocks(self, ws, t, q, qd);
+            return crate::equations::evaluate_blocks(self, ws, x);
         }
-        crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, None, ws, t, q, qd, Need::All)
+        crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, None, ws, x)
     }
 
     #[inline]
-    fn evaluate_planned<T: Real>(
-        &self,
-        plan: &Compiled,
-        ws: &mut Workspace<T>,
-        t: T,
-        q: &[T],
-        qd: &[T],
-        need: Need,
-    ) -> Option<Result<(), SaddleFailure>> {
+    fn evaluate_planned<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
         // The fixed-size passes skip what the recorded structure proves, but they do not re-check
         // the recorded branches: a model with guards takes the compiled tape, which does.
         // A constant metric leaves a short body, inlined into the caller; the longer one of a
         // metric that varies is called, which keeps the caller's loop lean.
-        (self.0.holonomic_count() == 0 && plan.guards() == 0).then(|| {
-            let m = &self.0;
-            if plan.constant_factor().is_some() {
-                crate::equations::evaluate_fixed::<M, T, N, K>(m, Some(plan), ws, t, q, qd, need)
+        let c = plan.compiled;
+        (self.0.holonomic_count() == 0 && c.guards() == 0).then(|| {
+            if c.constant_factor().is_some() {
+                crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, x)
             } else {
-                crate::equations::evaluate_fixed_outlined::<M, T, N, K>(m, plan, ws, t, q, qd, need)
+                self.evaluate_outlined(plan, ws, x)
             }
         })
     }
 
     #[inline]
-    fn force_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut [T]) -> bool {
-        let q = SVector::<T, N>::from_column_slice(q);
-        let qd = SVector::<T, N>::from_column_slice(qd);
-        match derivatives::fixed::forces::<M, T, N>(&self.0, t, &q, &qd) {
+    fn force_blocks<T: Real>(&self, x: Point<T>, out: &mut [T]) -> bool {
+        match At::<M, T, N>::from_point(&self.0, x).forces() {
             Some(f) => {
                 out.copy_from_slice(f.as_slice());
                 true
@@ -492,14 +498,28 @@ where
         }
     }
 
-    fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]) {
-        let v = self.0.constraints(
-            t,
-            &SVector::from_column_slice(q),
-            &SVector::from_column_slice(qd),
-        );
-        f[..K].copy_from_slice(v.as_slice());
-        derivatives::holonomic_velocities(self, K, t, q, qd, f);
+    fn constraint_values(&self, x: Point<f64>, f: &mut [f64]) {
+        let at = At::<M, f64, N>::from_point(&self.0, x);
+        f[..K].copy_from_slice(self.0.constraints(at.t, &at.q, &at.qd).as_slice());
+        derivatives::holonomic_velocities(self, K, x, f);
+    }
+}
+
+impl<M, const N: usize, const K: usize> Fixed<M, N, K>
+where
+    M: Lagrangian<N> + Constraints<N, K>,
+{
+    /// [`evaluate_fixed`](crate::equations::evaluate_fixed) with a plan, called rather than
+    /// inlined: for a metric `W` that varies the body is long, and inlined into the integrator's
+    /// right-hand side it slows the loop around it.
+    #[inline(never)]
+    fn evaluate_outlined<T: Real>(
+        &self,
+        plan: Plan,
+        ws: &mut Workspace<T>,
+        x: Point<T>,
+    ) -> Result<(), SaddleFailure> {
+        crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, x)
     }
 }
 
@@ -522,7 +542,8 @@ impl<M: DynModel> Model for M {
         DynModel::holonomic_count(self)
     }
 
-    fn functions<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut Functions<T>) -> bool {
+    fn functions<T: Real>(&self, x: Point<T>, out: &mut Functions<T>) -> bool {
+        let (t, q, qd) = (x.t, x.q, x.qd);
         out.l = DynModel::lagrangian(self, t, q, qd);
         DynModel::constraints(self, t, q, qd, &mut out.f);
         DynModel::holonomic(self, t, q, &mut out.h);
@@ -535,34 +556,27 @@ impl<M: DynModel> Model for M {
         derivatives::holonomic_blocks(self, t, q, h, hq);
     }
 
-    fn lagrangian_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut LagrangianBlocks<T>) {
-        derivatives::scalar::lagrangian_blocks(self, t, q, qd, out);
+    fn lagrangian_blocks<T: Real>(&self, x: Point<T>, out: &mut LagrangianBlocks<T>) {
+        derivatives::scalar::lagrangian_blocks(self, x, out);
     }
 
-    fn velocity_hessian<T: Real>(&self, t: T, q: &[T], qd: &[T], w: &mut [T]) {
-        derivatives::scalar::velocity_hessian(self, t, q, qd, w);
+    fn velocity_hessian<T: Real>(&self, x: Point<T>, w: &mut [T]) {
+        derivatives::scalar::hessian_pass(self, x, w, None);
     }
 
-    fn constraint_blocks<T: Real>(
-        &self,
-        t: T,
-        q: &[T],
-        qd: &[T],
-        with_c: bool,
-        out: &mut ConstraintBlocks<T>,
-    ) {
-        derivatives::scalar::constraint_blocks(self, t, q, qd, with_c, out);
-        derivatives::holonomic_rows(self, DynModel::sizes(self).1, t, q, qd, with_c, out);
+    fn constraint_blocks<T: Real>(&self, x: Point<T>, with_c: bool, out: &mut ConstraintBlocks<T>) {
+        derivatives::scalar::constraint_blocks(self, x, with_c, out);
+        derivatives::holonomic_rows(self, DynModel::sizes(self).1, x, with_c, out);
     }
 
-    fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]) {
+    fn constraint_values(&self, x: Point<f64>, f: &mut [f64]) {
         let k = DynModel::sizes(self).1;
-        DynModel::constraints(self, t, q, qd, &mut f[..k]);
-        derivatives::holonomic_velocities(self, k, t, q, qd, f);
+        DynModel::constraints(self, x.t, x.q, x.qd, &mut f[..k]);
+        derivatives::holonomic_velocities(self, k, x, f);
     }
 
-    fn force_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut [T]) -> bool {
-        derivatives::scalar::forces(self, t, q, qd, out)
+    fn force_blocks<T: Real>(&self, x: Point<T>, out: &mut [T]) -> bool {
+        derivatives::scalar::forces(self, x, out)
     }
 }
 

@@ -11,7 +11,7 @@ use crate::integrate::projection::{
     constraint_scale, project_positions, project_velocity, Projection,
 };
 use crate::integrate::system::locate;
-use crate::model::{Constraints, DynModel, Fixed, Lagrangian, Model, Unconstrained};
+use crate::model::{Constraints, DynModel, Fixed, Lagrangian, Model, Point, Unconstrained};
 
 /// Relative tolerance on the initial constraint residual: `|f_a| ≤ tol · |J_a|·|q̇|` with
 /// `J_a = ∂f_a/∂q̇` (or `≤ tol` where `|J_a|·|q̇|` vanishes) is accepted as consistent.
@@ -278,11 +278,11 @@ impl<M: Model> Problem<M> {
         let dynamics = self.equations_at(t, q, qd)?;
         let (n, k) = self.model.sizes();
         let mut lagrangian = crate::equations::derivatives::LagrangianBlocks::new(n);
-        self.model.lagrangian_blocks(t, q, qd, &mut lagrangian);
+        let x = Point::new(t, q, qd);
+        self.model.lagrangian_blocks(x, &mut lagrangian);
         let mut constraints = crate::equations::derivatives::ConstraintBlocks::new(n, k);
         if k > 0 {
-            self.model
-                .constraint_blocks(t, q, qd, true, &mut constraints);
+            self.model.constraint_blocks(x, true, &mut constraints);
         }
         let compiled = self.compiled();
         Ok(crate::equations::structure::Description {
@@ -348,7 +348,8 @@ impl<M: Model> Problem<M> {
         let qd_norm = norm(qd0);
         let mut cb = crate::equations::derivatives::ConstraintBlocks::new(n, k);
         if k > 0 {
-            self.model.constraint_blocks(t0, q0, qd0, false, &mut cb);
+            self.model
+                .constraint_blocks(Point::new(t0, q0, qd0), false, &mut cb);
         }
         for a in 0..k {
             let scale = constraint_scale(norm(&cb.j[a * n..(a + 1) * n]), qd_norm);
@@ -384,7 +385,7 @@ fn compile<M: Model>(model: &M, t0: f64, q0: &[f64], qd0: &[f64]) -> Option<Comp
         let (n, k) = model.sizes();
         let kh = model.holonomic_count();
         let mut own = crate::model::Functions::<f64>::new(n, k - kh, kh);
-        model.functions(t0, q0, qd0, &mut own);
+        model.functions(Point::new(t0, q0, qd0), &mut own);
         let mut ws = Workspace::for_model(model);
         let (fast, _) =
             evaluate_with(model, Some(&compiled), &mut ws, t0, q0, qd0, Need::All).ok()?;

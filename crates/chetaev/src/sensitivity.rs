@@ -34,7 +34,7 @@ use crate::equations::{evaluate_compiled, lane, lanes, Dynamics, Lanes, Need, Wo
 use crate::error::Error;
 use crate::integrate::events::{Event, EventFunction};
 use crate::integrate::system::locate;
-use crate::model::Model;
+use crate::model::{Model, Point};
 use crate::solution::Series;
 
 /// One direction in which sensitivities are taken: rates of parameters, of initial positions and
@@ -361,7 +361,7 @@ impl Variational {
             })
             .collect();
         for first in (0..seeds.len()).step_by(LANES) {
-            let d = v.lanes(model, t0, q0, qd0, &s0, first, Need::All)?;
+            let d = v.lanes(model, Point::new(t0, q0, qd0), &s0, first, Need::All)?;
             for (a, fa) in d.f.iter().enumerate() {
                 let row = &d.j[a * n..(a + 1) * n];
                 let size = row.iter().map(|x| x.abs()).sum::<f64>().max(fa.re.abs());
@@ -415,14 +415,8 @@ impl Variational {
     }
 
     /// Records the equations again at `(t, q, q̇)`, where a branch of the model's code flipped.
-    fn rerecord<M: Model + ?Sized>(
-        &mut self,
-        model: &M,
-        t: f64,
-        q: &[f64],
-        qd: &[f64],
-    ) -> Result<(), Error> {
-        self.compiled = Compiled::with_parameters(model, t, q, qd)?;
+    fn rerecord<M: Model + ?Sized>(&mut self, model: &M, x: Point<f64>) -> Result<(), Error> {
+        self.compiled = Compiled::with_parameters(model, x.t, x.q, x.qd)?;
         let k = model.sizes().1;
         self.lanes = Workspace::new(self.n, k);
         self.hyper = None;
@@ -434,18 +428,15 @@ impl Variational {
     /// The equations at `(t, q, q̇)` with the derivative parts of seeds `first..first + LANES`
     /// (those that exist): `(S, δp)` of each in its lane. Where a branch of the model's code goes
     /// the other way than when recorded, the equations are recorded again there.
-    #[allow(clippy::too_many_arguments)]
     fn lanes<M: Model + ?Sized>(
         &mut self,
         model: &M,
-        t: f64,
-        q: &[f64],
-        qd: &[f64],
+        x: Point<f64>,
         s: &[f64],
         first: usize,
         need: Need,
     ) -> Result<&Dynamics<Lanes>, Error> {
-        let n = self.n;
+        let (n, t, q, qd) = (self.n, x.t, x.q, x.qd);
         let count = (self.seeds.len() - first).min(LANES);
         let rate = |l: usize, i: usize| {
             if l < count {
@@ -458,7 +449,7 @@ impl Variational {
             self.lq[i] = lanes(q[i], |l| rate(l, i));
             self.lqd[i] = lanes(qd[i], |l| rate(l, n + i));
         }
-        self.with_recording(model, t, q, qd, |v| {
+        self.with_recording(model, x, |v| {
             let dp = &v.dp;
             v.lp.clear();
             v.lp.extend(
@@ -468,16 +459,8 @@ impl Variational {
                     .enumerate()
                     .map(|(k, p)| lanes(p.1, |l| if l < count { dp[first + l][k] } else { 0.0 })),
             );
-            evaluate_compiled(
-                &v.compiled,
-                &mut v.lanes,
-                &v.lp,
-                Lanes::from_re(t),
-                &v.lq,
-                &v.lqd,
-                need,
-            )
-            .map(|_| ())
+            let point = Point::new(Lanes::from_re(t), &v.lq, &v.lqd);
+            evaluate_compiled(&v.compiled, &mut v.lanes, &v.lp, point, need).map(|_| ())
         })?;
         Ok(self.lanes.dynamics())
     }
@@ -488,16 +471,15 @@ impl Variational {
     fn with_recording<M: Model + ?Sized>(
         &mut self,
         model: &M,
-        t: f64,
-        q: &[f64],
-        qd: &[f64],
+        x: Point<f64>,
         mut eval: impl FnMut(&mut Self) -> Result<(), CompiledFailure>,
     ) -> Result<(), Error> {
+        let t = x.t;
         for again in [false, true] {
             match eval(self) {
                 Ok(()) => return Ok(()),
-                Err(CompiledFailure::Saddle(e)) => return Err(locate(e, t, q, qd)),
-                Err(CompiledFailure::Guard(_)) if !again => self.rerecord(model, t, q, qd)?,
+                Err(CompiledFailure::Saddle(e)) => return Err(locate(e, t, x.q, x.qd)),
+                Err(CompiledFailure::Guard(_)) if !again => self.rerecord(model, x)?,
                 Err(CompiledFailure::Guard(_)) => {}
             }
         }
@@ -511,15 +493,13 @@ impl Variational {
     pub(crate) fn rhs<M: Model + ?Sized>(
         &mut self,
         model: &M,
-        t: f64,
-        q: &[f64],
-        qd: &[f64],
+        x: Point<f64>,
         s: &[f64],
         ds: &mut [f64],
     ) -> Result<(), Error> {
         let (n, m) = (self.n, self.seeds.len());
         for first in (0..m).step_by(LANES) {
-            let d = self.lanes(model, t, q, qd, s, first, Need::Motion)?;
+            let d = self.lanes(model, x, s, first, Need::Motion)?;
             for (i, a) in d.qdd.iter().enumerate() {
                 for (l, j) in (first..m.min(first + LANES)).enumerate() {
                     ds[2 * n * j + n + i] = lane(a, l);
@@ -532,12 +512,8 @@ impl Variational {
             ds[at..at + n].copy_from_slice(&s[at + n..at + 2 * n]);
         }
         if ds.iter().any(|v| !v.is_finite()) {
-            return Err(locate(
-                crate::equations::saddle::SaddleFailure::NonFinite,
-                t,
-                q,
-                qd,
-            ));
+            let non_finite = crate::equations::saddle::SaddleFailure::NonFinite;
+            return Err(locate(non_finite, x.t, x.q, x.qd));
         }
         Ok(())
     }
@@ -577,7 +553,7 @@ impl Variational {
                     hqd[i] = HyperDual64::new(qd[i], seed(n + i), s[n + i], 0.0);
                 }
                 let ht = HyperDual64::new(t, seed(2 * n), 0.0, 0.0);
-                self.with_recording(model, t, q, qd, |v| {
+                self.with_recording(model, Point::new(t, q, qd), |v| {
                     // The parameters in the equations' input order (they change where the
                     // equations are recorded again).
                     hp.clear();
@@ -589,7 +565,8 @@ impl Variational {
                             .map(|(p, &r)| HyperDual64::new(p.1, 0.0, r, 0.0)),
                     );
                     let ws = v.hyper.get_or_insert_with(|| Workspace::new(n, k));
-                    evaluate_compiled(&v.compiled, ws, &hp, ht, &hq, &hqd, Need::Motion).map(|_| ())
+                    let point = Point::new(ht, &hq, &hqd);
+                    evaluate_compiled(&v.compiled, ws, &hp, point, Need::Motion).map(|_| ())
                 })?;
                 let d = self.hyper.as_ref().map(Workspace::dynamics);
                 for (i, a) in d.iter().flat_map(|d| d.qdd.iter()).enumerate() {

@@ -41,7 +41,7 @@ use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
 use super::structure::{Dependence, Structure};
 use super::{Dynamics, Need};
 use crate::error::Error;
-use crate::model::{Functions, Model, Real};
+use crate::model::{Functions, Model, Point, Real};
 
 /// How `W` is handled.
 #[derive(Clone, Debug)]
@@ -309,7 +309,7 @@ impl Compiled {
             let qs: Vec<Sym> = q.iter().map(|&v| Sym::input(DEP_Q, v)).collect();
             let qds: Vec<Sym> = qd.iter().map(|&v| Sym::input(DEP_QD, v)).collect();
             let mut out = Functions::<Sym>::new(n, kv, holonomic);
-            let offered = model.functions(ts, &qs, &qds, &mut out);
+            let offered = model.functions(Point::new(ts, &qs, &qds), &mut out);
             offered.then(|| {
                 let nodes = |v: &[Sym]| v.iter().map(|s| s.node()).collect::<Vec<u32>>();
                 (
@@ -770,22 +770,19 @@ impl Compiled {
                 (k * n, d.j.len()),
             ],
         )?;
-        self.evaluate_unchecked(ws, d, t, q, qd, need)
+        self.evaluate_unchecked(ws, d, Point::new(t, q, qd), need)
     }
 
-    /// [`Compiled::evaluate`] without the check of the sizes.
+    /// [`Compiled::evaluate`] at `x` without the check of the sizes.
     #[inline]
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn evaluate_unchecked<T: Real>(
         &self,
         ws: &mut CompiledWorkspace<T>,
         d: &mut Dynamics<T>,
-        t: T,
-        q: &[T],
-        qd: &[T],
+        x: Point<T>,
         need: Need,
     ) -> Result<(), CompiledFailure> {
-        let n = self.n;
+        let (n, t, q, qd) = (self.n, x.t, x.q, x.qd);
         let full = need == Need::All;
         let tape = if full { self.full() } else { self.core() };
         let mut slots = std::mem::take(if full { &mut ws.full } else { &mut ws.core });

@@ -20,7 +20,7 @@ pub(crate) mod native;
 pub mod saddle;
 pub mod structure;
 
-use crate::model::{Model, Real};
+use crate::model::{Model, Plan, Point, Real};
 use compiled::{Compiled, CompiledFailure, CompiledWorkspace};
 use derivatives::{ConstraintBlocks, LagrangianBlocks};
 use saddle::{SaddleFailure, SaddleWorkspace};
@@ -200,7 +200,7 @@ where
     T: Real,
 {
     ws.fits(model, q, qd)?;
-    model.evaluate_into(ws, t, q, qd)?;
+    model.evaluate_into(ws, Point::new(t, q, qd))?;
     Ok(&ws.dynamics)
 }
 
@@ -237,39 +237,34 @@ where
             [(ws.n, c.sizes().0), (ws.k, c.sizes().1)],
         )?;
     }
-    evaluate_with_unchecked(model, compiled, ws, t, q, qd, need)
+    evaluate_with_unchecked(model, compiled, ws, Point::new(t, q, qd), need)
 }
 
 /// [`evaluate_with`] without the check of the sizes, for callers that made `ws`, `q`, `q̇` and
 /// `compiled` for `model` themselves (the integrator's right-hand side).
 #[inline]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn evaluate_with_unchecked<'w, M, T>(
+pub(crate) fn evaluate_with_unchecked<'w, M: Model + ?Sized, T: Real>(
     model: &M,
     compiled: Option<&Compiled>,
     ws: &'w mut Workspace<T>,
-    t: T,
-    q: &[T],
-    qd: &[T],
+    x: Point<T>,
     need: Need,
-) -> Result<(&'w Dynamics<T>, bool), SaddleFailure>
-where
-    M: Model + ?Sized,
-    T: Real,
-{
+) -> Result<(&'w Dynamics<T>, bool), SaddleFailure> {
     let Some(c) = compiled else {
-        model.evaluate_into(ws, t, q, qd)?;
+        model.evaluate_into(ws, x)?;
         return Ok((&ws.dynamics, false));
     };
-    if let Some(result) = model.evaluate_planned(c, ws, t, q, qd, need) {
+    let plan = Plan { compiled: c, need };
+    if let Some(result) = model.evaluate_planned(plan, ws, x) {
         return result.map(|()| (&ws.dynamics, false));
     }
     let cws = ws.compiled.get_or_insert_with(|| CompiledWorkspace::new(c));
-    match c.evaluate_unchecked(cws, &mut ws.dynamics, t, q, qd, need) {
+    match c.evaluate_unchecked(cws, &mut ws.dynamics, x, need) {
         Ok(()) => Ok((&ws.dynamics, false)),
         Err(CompiledFailure::Saddle(e)) => Err(e),
         Err(CompiledFailure::Guard(_)) => {
-            model.evaluate_into(ws, t, q, qd)?;
+            model.evaluate_into(ws, x)?;
             Ok((&ws.dynamics, true))
         }
     }
@@ -281,16 +276,14 @@ pub(crate) fn evaluate_compiled<'w, T: Real>(
     compiled: &Compiled,
     ws: &'w mut Workspace<T>,
     params: &[T],
-    t: T,
-    q: &[T],
-    qd: &[T],
+    x: Point<T>,
     need: Need,
 ) -> Result<&'w Dynamics<T>, CompiledFailure> {
     let cws = ws
         .compiled
         .get_or_insert_with(|| CompiledWorkspace::new(compiled));
     cws.params.copy_from_slice(params);
-    compiled.evaluate_unchecked(cws, &mut ws.dynamics, t, q, qd, need)?;
+    compiled.evaluate_unchecked(cws, &mut ws.dynamics, x, need)?;
     Ok(&ws.dynamics)
 }
 
@@ -300,9 +293,7 @@ pub(crate) fn evaluate_compiled<'w, T: Real>(
 pub fn evaluate_blocks<M, T>(
     model: &M,
     ws: &mut Workspace<T>,
-    t: T,
-    q: &[T],
-    qd: &[T],
+    x: Point<T>,
 ) -> Result<(), SaddleFailure>
 where
     M: Model + ?Sized,
@@ -322,11 +313,11 @@ where
         *lb = LagrangianBlocks::new(n);
         *cb = ConstraintBlocks::new(n, k);
     }
-    model.lagrangian_blocks(t, q, qd, lb);
+    model.lagrangian_blocks(x, lb);
     if k > 0 {
-        model.constraint_blocks(t, q, qd, true, cb);
+        model.constraint_blocks(x, true, cb);
     }
-    let has_forces = model.force_blocks(t, q, qd, &mut d.forces);
+    let has_forces = model.force_blocks(x, &mut d.forces);
     if !has_forces {
         d.forces.iter_mut().for_each(|v| *v = T::zero());
     }
@@ -344,13 +335,13 @@ where
         |i| lb.dl_dq[i] - lb.g[i] + d.forces[i],
         |a| -cb.c[a],
     )?;
-    let x = sw.solution();
-    d.qdd.copy_from_slice(&x[..n]);
-    d.mu.copy_from_slice(&x[n..n + k]);
+    let solution = sw.solution();
+    d.qdd.copy_from_slice(&solution[..n]);
+    d.mu.copy_from_slice(&solution[n..n + k]);
     let mut power = T::zero();
     let mut p_qd = T::zero();
     let mut power_forces = T::zero();
-    for (i, (phi_i, (&qd_i, &p_i))) in d.phi.iter_mut().zip(qd.iter().zip(&lb.p)).enumerate() {
+    for (i, (phi_i, (&qd_i, &p_i))) in d.phi.iter_mut().zip(x.qd.iter().zip(&lb.p)).enumerate() {
         let mut phi = T::zero();
         for (a, &mu_a) in d.mu.iter().enumerate() {
             phi += cb.j[a * n + i] * mu_a;
@@ -374,26 +365,6 @@ where
     Ok(())
 }
 
-/// [`evaluate_fixed`] with a plan, called rather than inlined: for a metric `W` that varies the body
-/// is long, and inlined into the integrator's right-hand side it slows the loop around it.
-#[inline(never)]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn evaluate_fixed_outlined<M, T, const N: usize, const K: usize>(
-    model: &M,
-    plan: &Compiled,
-    ws: &mut Workspace<T>,
-    t: T,
-    q: &[T],
-    qd: &[T],
-    need: Need,
-) -> Result<(), SaddleFailure>
-where
-    M: crate::model::Lagrangian<N> + crate::model::Constraints<N, K> + ?Sized,
-    T: Real,
-{
-    evaluate_fixed::<M, T, N, K>(model, Some(plan), ws, t, q, qd, need)
-}
-
 /// [`evaluate`] for a static model: the same equations and the same block solve, with every block
 /// a fixed-size `SVector`/`SMatrix` on the stack, so the sizes are known to the compiler
 /// throughout.
@@ -403,28 +374,24 @@ where
 /// pass over `L` at all, `g`, `c` and `Q` are skipped where they are zero, and the block system is
 /// solved by the Schur complement. What `need` leaves out is not evaluated: `L`, `E` (which needs
 /// `p = ∂L/∂q̇`) and `Q` outside [`Need::All`], `Φ` and the rates of the energy balance under
-/// [`Need::Motion`]. Without a plan every block is evaluated.
+/// [`Need::Motion`]. Without a plan every block is evaluated, as for [`Need::All`].
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn evaluate_fixed<M, T, const N: usize, const K: usize>(
     model: &M,
-    plan: Option<&Compiled>,
+    plan: Option<Plan>,
     ws: &mut Workspace<T>,
-    t: T,
-    q: &[T],
-    qd: &[T],
-    need: Need,
+    x: Point<T>,
 ) -> Result<(), SaddleFailure>
 where
     M: crate::model::Lagrangian<N> + crate::model::Constraints<N, K> + ?Sized,
     T: Real,
 {
     use compiled::{cholesky, cholesky_solve, Metric};
-    use derivatives::fixed as fx;
     use nalgebra::{SMatrix, SVector};
-    // Element by element rather than `from_column_slice`, which calls `memcpy` for a few words.
-    let q = SVector::<T, N>::from_fn(|i, _| q[i]);
-    let qd = SVector::<T, N>::from_fn(|i, _| qd[i]);
+    let need = plan.map_or(Need::All, |p| p.need);
+    let plan = plan.map(|p| p.compiled);
+    let at = derivatives::fixed::At::<M, T, N>::from_point(model, x);
+    let qd = at.qd;
     let s = plan.map(|p| p.structure());
     let zero = |b: fn(&structure::Structure) -> bool| s.is_some_and(b);
     let known_w = plan.and_then(|p| p.constant_factor());
@@ -433,13 +400,13 @@ where
     // L, p = ∂L/∂q̇ (for E) and W.
     let (l, p, w) = match known_w {
         Some(_) if full => {
-            let (l, p) = fx::momentum(model, t, &q, &qd);
+            let (l, p) = at.momentum();
             (Some(l), Some(p), None)
         }
         // The right-hand side needs neither L nor E: `d.l` keeps its last value.
         Some(_) => (None, None, None),
         None => {
-            let (l, p, w) = fx::velocity_hessian(model, t, &q, &qd);
+            let (l, p, w) = at.velocity_hessian();
             (Some(l), Some(p), Some(w))
         }
     };
@@ -454,18 +421,18 @@ where
         _ => {
             let dl_dq = match plan.and_then(|p| p.dl_dq_constant()) {
                 Some(c) => SVector::<T, N>::from_fn(|i, _| T::from(c[i])),
-                None => fx::position_gradient(model, t, &q, &qd),
+                None => at.position_gradient(),
             };
             let (g, dl_dt) = if zero(|s| s.g.zero) && (!rates || zero(|s| s.dl_dt.zero)) {
                 (SVector::<T, N>::zeros(), T::zero())
             } else {
-                let (g, dl_dir) = fx::along_motion(model, t, &q, &qd);
+                let (g, dl_dir) = at.along_motion();
                 (g, dl_dir - dl_dq.dot(&qd))
             };
             let forces = if zero(|s| s.forces.zero) {
                 None
             } else {
-                fx::forces(model, t, &q, &qd)
+                at.forces()
             };
             let r = match forces {
                 Some(f) => dl_dq - g + f,
@@ -482,11 +449,11 @@ where
             SVector::<T, K>::zeros(),
         )
     } else {
-        let (f, j) = fx::constraint_jacobian::<M, T, N, K>(model, t, &q, &qd);
+        let (f, j) = at.constraint_jacobian::<K>();
         let c = if zero(|s| s.c.zero) {
             SVector::<T, K>::zeros()
         } else {
-            fx::constraint_direction::<M, T, N, K>(model, t, &q, &qd)
+            at.constraint_direction::<K>()
         };
         (f, j, c)
     };
@@ -570,10 +537,10 @@ where
                 |i| r[i],
                 |a| -c[a],
             )?;
-            let x = ws.saddle.solution();
+            let solution = ws.saddle.solution();
             (
-                SVector::<T, N>::from_column_slice(&x[..N]),
-                SVector::<T, K>::from_column_slice(&x[N..N + K]),
+                SVector::<T, N>::from_column_slice(&solution[..N]),
+                SVector::<T, K>::from_column_slice(&solution[N..N + K]),
                 ratio,
             )
         }

@@ -13,7 +13,7 @@
 use std::fmt;
 
 use super::derivatives::{ConstraintBlocks, LagrangianBlocks};
-use crate::model::Model;
+use crate::model::{Model, Point};
 
 /// On which of `t`, `q`, `q̇` a block depends (as probed).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -92,14 +92,15 @@ struct Sample {
 
 fn sample<M: Model + ?Sized>(model: &M, t: f64, q: &[f64], qd: &[f64]) -> Sample {
     let (n, k) = model.sizes();
+    let x = Point::new(t, q, qd);
     let mut lb = LagrangianBlocks::new(n);
-    model.lagrangian_blocks(t, q, qd, &mut lb);
+    model.lagrangian_blocks(x, &mut lb);
     let mut cb = ConstraintBlocks::new(n, k);
     if k > 0 {
-        model.constraint_blocks(t, q, qd, true, &mut cb);
+        model.constraint_blocks(x, true, &mut cb);
     }
     let mut forces = vec![0.0; n];
-    model.force_blocks(t, q, qd, &mut forces);
+    model.force_blocks(x, &mut forces);
     Sample {
         w: lb.w,
         dl_dq: lb.dl_dq,

@@ -17,7 +17,7 @@ use super::{AnyMethod, Method, MethodInfo, Stepper};
 use crate::equations::derivatives::{ConstraintBlocks, LagrangianBlocks};
 use crate::error::Error;
 use crate::integrate::events::Event;
-use crate::model::{DynModel, Model, Real};
+use crate::model::{DynModel, Model, Point, Real};
 use crate::{solve, Problem};
 
 /// The step size Rk4 runs with in the driver-level checks.
@@ -293,32 +293,25 @@ impl Model for Counted<'_> {
     fn sizes(&self) -> (usize, usize) {
         (1, 0)
     }
-    fn lagrangian_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut LagrangianBlocks<T>) {
+    fn lagrangian_blocks<T: Real>(&self, x: Point<T>, out: &mut LagrangianBlocks<T>) {
         if std::any::type_name::<T>() == "f64" {
             self.0.values.set(self.0.values.get() + 1);
         } else {
             self.0.duals.set(self.0.duals.get() + 1);
         }
-        Model::lagrangian_blocks(self.0, t, q, qd, out);
+        Model::lagrangian_blocks(self.0, x, out);
     }
-    fn velocity_hessian<T: Real>(&self, t: T, q: &[T], qd: &[T], w: &mut [T]) {
-        Model::velocity_hessian(self.0, t, q, qd, w);
+    fn velocity_hessian<T: Real>(&self, x: Point<T>, w: &mut [T]) {
+        Model::velocity_hessian(self.0, x, w);
     }
-    fn constraint_blocks<T: Real>(
-        &self,
-        t: T,
-        q: &[T],
-        qd: &[T],
-        with_c: bool,
-        out: &mut ConstraintBlocks<T>,
-    ) {
-        Model::constraint_blocks(self.0, t, q, qd, with_c, out);
+    fn constraint_blocks<T: Real>(&self, x: Point<T>, with_c: bool, out: &mut ConstraintBlocks<T>) {
+        Model::constraint_blocks(self.0, x, with_c, out);
     }
-    fn constraint_values(&self, t: f64, q: &[f64], qd: &[f64], f: &mut [f64]) {
-        Model::constraint_values(self.0, t, q, qd, f);
+    fn constraint_values(&self, x: Point<f64>, f: &mut [f64]) {
+        Model::constraint_values(self.0, x, f);
     }
-    fn force_blocks<T: Real>(&self, t: T, q: &[T], qd: &[T], out: &mut [T]) -> bool {
-        Model::force_blocks(self.0, t, q, qd, out)
+    fn force_blocks<T: Real>(&self, x: Point<T>, out: &mut [T]) -> bool {
+        Model::force_blocks(self.0, x, out)
     }
 }
 

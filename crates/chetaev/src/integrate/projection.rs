@@ -16,7 +16,7 @@ use crate::equations::saddle::{self, SaddleFailure};
 use crate::equations::Workspace;
 use crate::error::Error;
 use crate::integrate::system::locate;
-use crate::model::Model;
+use crate::model::{Model, Point};
 
 /// Options of the projection onto `f = 0`. Opt-in: see [`Options::project`](super::options::Options::project).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,11 +72,11 @@ pub fn project_velocity<M: Model + ?Sized>(
         settings,
         ws,
         |qd, f, j| {
-            model.constraint_blocks(t, q, qd, false, &mut blocks);
+            model.constraint_blocks(Point::new(t, q, qd), false, &mut blocks);
             f.copy_from_slice(&blocks.f);
             j.copy_from_slice(&blocks.j);
         },
-        |qd, w| model.velocity_hessian(t, q, qd, w),
+        |qd, w| model.velocity_hessian(Point::new(t, q, qd), w),
     )
     .map(|(iterations, _)| iterations)
     .map_err(|e| e.locate(t, q, qd))
@@ -106,7 +106,7 @@ pub fn project_positions<M: Model + ?Sized>(
         settings,
         ws,
         |q, h, hq| model.holonomic_blocks(t, q, h, Some(hq)),
-        |q, w| model.velocity_hessian(t, q, qd, w),
+        |q, w| model.velocity_hessian(Point::new(t, q, qd), w),
     )
     .map(|(iterations, _)| iterations)
     .map_err(|e| e.locate(t, q, qd))

@@ -13,7 +13,7 @@ use crate::equations::{
     evaluate_with, evaluate_with_unchecked, saddle::SaddleFailure, Dynamics, Need, Workspace,
 };
 use crate::error::Error;
-use crate::model::Model;
+use crate::model::{Model, Point};
 use crate::sensitivity::Variational;
 
 /// A first-order system `y' = F(t, y)` on flat slices.
@@ -330,7 +330,8 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     {
         let model = problem.model();
         let mut buf = vec![0.0; problem.q0().len()];
-        let forces = model.force_blocks(problem.t0(), problem.q0(), problem.qd0(), &mut buf);
+        let x0 = Point::new(problem.t0(), problem.q0(), problem.qd0());
+        let forces = model.force_blocks(x0, &mut buf);
         let compiled = problem.compiled();
         let need = if energy { Need::Rates } else { Need::Motion };
         let native = match compiled.map(|c| (c, c.native_after(need, 0))) {
@@ -424,8 +425,9 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         if let Some(rates) = done {
             self.native_done(rates, dy);
         } else {
+            let x = Point::new(t, q, qd);
             let (d, fell_back) =
-                evaluate_with_unchecked(self.model, self.compiled, &mut self.ws, t, q, qd, need)
+                evaluate_with_unchecked(self.model, self.compiled, &mut self.ws, x, need)
                     .map_err(|e| locate(e, t, q, qd))?;
             self.stats.graph_fallbacks += usize::from(fell_back);
             // Element by element: `copy_from_slice` calls `memcpy`, which costs more for a few
@@ -446,7 +448,12 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         }
         self.last_t = t;
         if let Some(sens) = &mut self.sens {
-            sens.rhs(self.model, t, q, qd, &y[2 * n..e], &mut dy[2 * n..e])?;
+            sens.rhs(
+                self.model,
+                Point::new(t, q, qd),
+                &y[2 * n..e],
+                &mut dy[2 * n..e],
+            )?;
         }
         Ok(())
     }
@@ -617,9 +624,9 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                     qd[i] = Dual64::new(y[n + i], seeds[n + i]);
                 }
                 let td = Dual64::new(t, seeds[2 * n]);
-                let (d, fell_back) =
-                    evaluate_with_unchecked(model, self.compiled, ws, td, q, qd, need)
-                        .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
+                let point = Point::new(td, q, qd);
+                let (d, fell_back) = evaluate_with_unchecked(model, self.compiled, ws, point, need)
+                    .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
                 self.stats.graph_fallbacks += usize::from(fell_back);
                 let value = |row: usize| match row {
                     row if row < n => qd[row].eps,
@@ -651,9 +658,9 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                     qd[i] = Dual64::new(y[n + i], seed(n + i));
                 }
                 let td = Dual64::new(t, seed(2 * n));
-                let (d, fell_back) =
-                    evaluate_with_unchecked(model, self.compiled, ws, td, q, qd, need)
-                        .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
+                let point = Point::new(td, q, qd);
+                let (d, fell_back) = evaluate_with_unchecked(model, self.compiled, ws, point, need)
+                    .map_err(|e| locate(e, t, &y[..n], &y[n..2 * n]))?;
                 self.stats.graph_fallbacks += usize::from(fell_back);
                 let mut put = |row: usize, v: f64| {
                     if dir < 2 * n {

@@ -20,7 +20,7 @@ pub use fixed::{
 
 use num_dual::{Dual, Dual2};
 
-use crate::model::Real;
+use crate::model::{Point, Real};
 
 /// The Lagrangian and its derivatives at one point `(t, q, q̇)`, for `n` coordinates.
 #[derive(Clone, Debug)]
@@ -94,13 +94,11 @@ pub(crate) trait Holonomic {
 pub(crate) fn holonomic_rows<T: Real>(
     model: &impl Holonomic,
     kv: usize,
-    t: T,
-    q: &[T],
-    qd: &[T],
+    x: Point<T>,
     with_c: bool,
     out: &mut ConstraintBlocks<T>,
 ) {
-    let n = q.len();
+    let (t, q, qd, n) = (x.t, x.q, x.qd, x.q.len());
     let count = out.f.len() - kv;
     if count == 0 {
         return;
@@ -133,16 +131,14 @@ pub(crate) fn holonomic_rows<T: Real>(
 pub(crate) fn holonomic_velocities(
     model: &impl Holonomic,
     kv: usize,
-    t: f64,
-    q: &[f64],
-    qd: &[f64],
+    x: Point<f64>,
     f: &mut [f64],
 ) {
     if f.len() == kv {
         return;
     }
-    let te = Dual::new(t, 1.0);
-    let qe: Vec<Dual<f64, f64>> = (0..q.len()).map(|i| Dual::new(q[i], qd[i])).collect();
+    let te = Dual::new(x.t, 1.0);
+    let qe: Vec<Dual<f64, f64>> = (0..x.q.len()).map(|i| Dual::new(x.q[i], x.qd[i])).collect();
     let mut h = vec![Dual::from_re(0.0); f.len() - kv];
     model.h(te, &qe, &mut h);
     for (dst, hb) in f[kv..].iter_mut().zip(&h) {
@@ -161,12 +157,12 @@ pub(crate) fn holonomic_blocks(
     model.h(t, q, h);
     if let Some(hq) = hq {
         let n = q.len();
-        let mut qd: Vec<Dual<f64, f64>> = q.iter().map(|&x| Dual::from_re(x)).collect();
+        let mut q_dual: Vec<Dual<f64, f64>> = q.iter().map(|&x| Dual::from_re(x)).collect();
         let mut hd = vec![Dual::from_re(0.0); h.len()];
         for i in 0..n {
-            qd[i].eps = 1.0;
-            model.h(Dual::from_re(t), &qd, &mut hd);
-            qd[i].eps = 0.0;
+            q_dual[i].eps = 1.0;
+            model.h(Dual::from_re(t), &q_dual, &mut hd);
+            q_dual[i].eps = 0.0;
             for (b, hb) in hd.iter().enumerate() {
                 hq[b * n + i] = hb.eps;
             }

@@ -15,30 +15,28 @@
 use num_dual::{Dual, HyperDual};
 
 use super::{ConstraintBlocks, LagrangianBlocks};
-use crate::model::{DynModel, Real};
+use crate::model::{DynModel, Point, Real};
 
 /// Pass A: `W` (row-major `n × n`) into `w`, `p = ∂L/∂q̇` into `p` (when given); returns `L`.
-fn hessian_pass<M: DynModel + ?Sized, T: Real>(
-    model: &M,
-    t: T,
-    q: &[T],
-    qd: &[T],
-    w: &mut [T],
-    mut p: Option<&mut [T]>,
-) -> T {
+pub(crate) fn hessian_pass<M, T>(model: &M, x: Point<T>, w: &mut [T], mut p: Option<&mut [T]>) -> T
+where
+    M: DynModel + ?Sized,
+    T: Real,
+{
+    let (t, q, qd) = (x.t, x.q, x.qd);
     type H<T> = HyperDual<T, f64>;
     let n = q.len();
     let th = H::from_re(t);
-    let qh: Vec<H<T>> = q.iter().map(|&x| H::from_re(x)).collect();
-    let mut qdh: Vec<H<T>> = qd.iter().map(|&x| H::from_re(x)).collect();
+    let q_hyper: Vec<H<T>> = q.iter().map(|&x| H::from_re(x)).collect();
+    let mut qd_hyper: Vec<H<T>> = qd.iter().map(|&x| H::from_re(x)).collect();
     let mut l = T::zero();
     for i in 0..n {
         for j in i..n {
-            qdh[i].eps1 = T::one();
-            qdh[j].eps2 += T::one();
-            let v = model.lagrangian(th, &qh, &qdh);
-            qdh[i].eps1 = T::zero();
-            qdh[j].eps2 = T::zero();
+            qd_hyper[i].eps1 = T::one();
+            qd_hyper[j].eps2 += T::one();
+            let v = model.lagrangian(th, &q_hyper, &qd_hyper);
+            qd_hyper[i].eps1 = T::zero();
+            qd_hyper[j].eps2 = T::zero();
             w[i * n + j] = v.eps1eps2;
             w[j * n + i] = v.eps1eps2;
             if i == j {
@@ -52,40 +50,27 @@ fn hessian_pass<M: DynModel + ?Sized, T: Real>(
     l
 }
 
-/// `W = ∂²L/∂q̇²` (row-major `n × n`) into `w`.
-pub(crate) fn velocity_hessian<M: DynModel + ?Sized, T: Real>(
-    model: &M,
-    t: T,
-    q: &[T],
-    qd: &[T],
-    w: &mut [T],
-) {
-    hessian_pass(model, t, q, qd, w, None);
-}
-
 /// Every block of `L` at `(t, q, q̇)` into `out`: passes A, B and C.
-pub(crate) fn lagrangian_blocks<M: DynModel + ?Sized, T: Real>(
-    model: &M,
-    t: T,
-    q: &[T],
-    qd: &[T],
-    out: &mut LagrangianBlocks<T>,
-) {
-    let n = q.len();
-    out.l = hessian_pass(model, t, q, qd, &mut out.w, Some(&mut out.p));
+pub(crate) fn lagrangian_blocks<M, T>(model: &M, x: Point<T>, out: &mut LagrangianBlocks<T>)
+where
+    M: DynModel + ?Sized,
+    T: Real,
+{
+    let (t, q, qd, n) = (x.t, x.q, x.qd, x.q.len());
+    out.l = hessian_pass(model, x, &mut out.w, Some(&mut out.p));
 
     // Pass B: g_i, and the directional derivative ∂L/∂q·q̇ + ∂L/∂t.
     type H<T> = HyperDual<T, f64>;
     let th = H::new(t, T::zero(), T::one(), T::zero());
-    let qh: Vec<H<T>> = (0..n)
+    let q_hyper: Vec<H<T>> = (0..n)
         .map(|i| H::new(q[i], T::zero(), qd[i], T::zero()))
         .collect();
-    let mut qdh: Vec<H<T>> = qd.iter().map(|&x| H::from_re(x)).collect();
+    let mut qd_hyper: Vec<H<T>> = qd.iter().map(|&x| H::from_re(x)).collect();
     let mut dl_dir = T::zero();
     for i in 0..n {
-        qdh[i].eps1 = T::one();
-        let v = model.lagrangian(th, &qh, &qdh);
-        qdh[i].eps1 = T::zero();
+        qd_hyper[i].eps1 = T::one();
+        let v = model.lagrangian(th, &q_hyper, &qd_hyper);
+        qd_hyper[i].eps1 = T::zero();
         out.g[i] = v.eps1eps2;
         dl_dir = v.eps2;
     }
@@ -93,12 +78,12 @@ pub(crate) fn lagrangian_blocks<M: DynModel + ?Sized, T: Real>(
     // Pass C: ∂L/∂q.
     type D<T> = Dual<T, f64>;
     let td = D::from_re(t);
-    let mut qdl: Vec<D<T>> = q.iter().map(|&x| D::from_re(x)).collect();
-    let qdd: Vec<D<T>> = qd.iter().map(|&x| D::from_re(x)).collect();
+    let mut q_dual: Vec<D<T>> = q.iter().map(|&x| D::from_re(x)).collect();
+    let qd_dual: Vec<D<T>> = qd.iter().map(|&x| D::from_re(x)).collect();
     for i in 0..n {
-        qdl[i].eps = T::one();
-        out.dl_dq[i] = model.lagrangian(td, &qdl, &qdd).eps;
-        qdl[i].eps = T::zero();
+        q_dual[i].eps = T::one();
+        out.dl_dq[i] = model.lagrangian(td, &q_dual, &qd_dual).eps;
+        q_dual[i].eps = T::zero();
     }
     let dl_dq_qd = out
         .dl_dq
@@ -109,25 +94,27 @@ pub(crate) fn lagrangian_blocks<M: DynModel + ?Sized, T: Real>(
 }
 
 /// `f`, `J` (row-major `k × n`) and, with `with_c`, `c` into `out`: passes D and E.
-pub(crate) fn constraint_blocks<M: DynModel + ?Sized, T: Real>(
+pub(crate) fn constraint_blocks<M, T>(
     model: &M,
-    t: T,
-    q: &[T],
-    qd: &[T],
+    x: Point<T>,
     with_c: bool,
     out: &mut ConstraintBlocks<T>,
-) {
+) where
+    M: DynModel + ?Sized,
+    T: Real,
+{
     type D<T> = Dual<T, f64>;
     // The velocity constraints' rows (holonomic rows, if any, follow).
+    let (t, q, qd) = (x.t, x.q, x.qd);
     let (n, k) = (q.len(), model.sizes().1);
     let td = D::from_re(t);
-    let qdl: Vec<D<T>> = q.iter().map(|&x| D::from_re(x)).collect();
-    let mut qdd: Vec<D<T>> = qd.iter().map(|&x| D::from_re(x)).collect();
+    let q_dual: Vec<D<T>> = q.iter().map(|&x| D::from_re(x)).collect();
+    let mut qd_dual: Vec<D<T>> = qd.iter().map(|&x| D::from_re(x)).collect();
     let mut f = vec![D::from_re(T::zero()); k];
     for i in 0..n {
-        qdd[i].eps = T::one();
-        model.constraints(td, &qdl, &qdd, &mut f);
-        qdd[i].eps = T::zero();
+        qd_dual[i].eps = T::one();
+        model.constraints(td, &q_dual, &qd_dual, &mut f);
+        qd_dual[i].eps = T::zero();
         for (a, fa) in f.iter().enumerate() {
             out.j[a * n + i] = fa.eps;
             out.f[a] = fa.re;
@@ -136,7 +123,7 @@ pub(crate) fn constraint_blocks<M: DynModel + ?Sized, T: Real>(
     if with_c {
         let te = D::new(t, T::one());
         let qe: Vec<D<T>> = (0..n).map(|i| D::new(q[i], qd[i])).collect();
-        model.constraints(te, &qe, &qdd, &mut f);
+        model.constraints(te, &qe, &qd_dual, &mut f);
         for (c, fa) in out.c.iter_mut().zip(&f) {
             *c = fa.eps;
         }
@@ -145,30 +132,25 @@ pub(crate) fn constraint_blocks<M: DynModel + ?Sized, T: Real>(
 
 /// The forces not derivable from `L`, `Q − ∂D/∂q̇` (length `n`), into `out`, `−∂D/∂q̇` by one scalar
 /// dual pass per velocity; returns whether the model has any.
-pub(crate) fn forces<M: DynModel + ?Sized, T: Real>(
-    model: &M,
-    t: T,
-    q: &[T],
-    qd: &[T],
-    out: &mut [T],
-) -> bool {
+pub(crate) fn forces<M: DynModel + ?Sized, T: Real>(model: &M, x: Point<T>, out: &mut [T]) -> bool {
+    let (t, q, qd) = (x.t, x.q, x.qd);
     let direct = model.forces(t, q, qd, out);
     type D<T> = Dual<T, f64>;
     let td = D::from_re(t);
-    let qdl: Vec<D<T>> = q.iter().map(|&x| D::from_re(x)).collect();
-    let mut qdd: Vec<D<T>> = qd.iter().map(|&x| D::from_re(x)).collect();
-    if model.dissipation(td, &qdl, &qdd).is_none() {
+    let q_dual: Vec<D<T>> = q.iter().map(|&x| D::from_re(x)).collect();
+    let mut qd_dual: Vec<D<T>> = qd.iter().map(|&x| D::from_re(x)).collect();
+    if model.dissipation(td, &q_dual, &qd_dual).is_none() {
         return direct;
     }
     if !direct {
         out.iter_mut().for_each(|v| *v = T::zero());
     }
     for i in 0..q.len() {
-        qdd[i].eps = T::one();
-        if let Some(d) = model.dissipation(td, &qdl, &qdd) {
+        qd_dual[i].eps = T::one();
+        if let Some(d) = model.dissipation(td, &q_dual, &qd_dual) {
             out[i] -= d.eps;
         }
-        qdd[i].eps = T::zero();
+        qd_dual[i].eps = T::zero();
     }
     true
 }
