@@ -18,7 +18,7 @@ use chetaev::equations::derivatives::{
 use chetaev::equations::{
     evaluate, evaluate_with, saddle, saddle::SaddleWorkspace, Need, Workspace,
 };
-use chetaev::integrate::system::{OdeSystem, ReducedOde};
+use chetaev::integrate::system::{Jacobian, OdeSystem, ReducedOde};
 use chetaev::prelude::*;
 use chetaev_bench::handwritten::{Full, Reduced};
 use criterion::Criterion;
@@ -165,10 +165,9 @@ fn profile(c: &mut Criterion) {
     g.bench_function("hand-written (42.28) rhs", |b| {
         b.iter(|| reduced.rhs(t, black_box(&y_red), &mut dz))
     });
-    let mut jac = [0.0; 16];
-    let mut dfdt = [0.0; 4];
+    let mut jac = Jacobian::new(4);
     g.bench_function("hand-written full jacobian", |b| {
-        b.iter(|| full.jacobian(t, black_box(&y_full), &mut jac, &mut dfdt))
+        b.iter(|| full.jacobian(t, black_box(&y_full), &mut jac))
     });
     g.finish();
 }

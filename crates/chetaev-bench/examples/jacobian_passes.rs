@@ -27,7 +27,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use chetaev::equations::compiled::COLOUR_AFTER;
-use chetaev::integrate::system::{OdeSystem, ReducedOde};
+use chetaev::integrate::system::{Jacobian, OdeSystem, ReducedOde};
 use chetaev::model::Model;
 use chetaev::prelude::*;
 use chetaev_bench::measure::interleaved_batches;
@@ -124,17 +124,18 @@ fn row<M: Model + Clone>(
         .and_then(|c| c.jacobian_passes())
         .ok_or("this model's Jacobian should be grouped")?;
     let mut sys = ReducedOde::for_problem(&grouped, false);
-    let (mut jac, mut dfdt) = (vec![0.0; dim * dim], vec![0.0; dim]);
-    sys.jacobian(t, y, &mut jac, &mut dfdt)?;
+    let mut jac = Jacobian::new(dim);
+    sys.jacobian(t, y, &mut jac)?;
     // The same Jacobian from a problem that has not made its groups.
     let fresh = make()?;
     let mut dense = ReducedOde::for_problem(&fresh, false);
-    let (mut jac_d, mut dfdt_d) = (vec![0.0; dim * dim], vec![0.0; dim]);
-    dense.jacobian(t, y, &mut jac_d, &mut dfdt_d)?;
+    let mut jac_d = Jacobian::new(dim);
+    dense.jacobian(t, y, &mut jac_d)?;
     let worst = jac
+        .dy
         .iter()
-        .chain(&dfdt)
-        .zip(jac_d.iter().chain(&dfdt_d))
+        .chain(&jac.dt)
+        .zip(jac_d.dy.iter().chain(&jac_d.dt))
         .fold(0.0f64, |m, (a, b)| m.max((a - b).abs() / b.abs().max(1.0)));
     if worst.is_nan() || worst > 1e-12 {
         return Err(format!("{name}: the Jacobians differ by {worst:e}").into());
@@ -159,15 +160,14 @@ fn row<M: Model + Clone>(
             .iter()
             .map(|p| ReducedOde::for_problem(p, false))
             .collect();
-        let (mut j, mut d) = (vec![0.0; dim * dim], vec![0.0; dim]);
+        let mut j = Jacobian::new(dim);
         for s in &mut systems {
-            s.jacobian(t, y, &mut j, &mut d).expect("regular");
+            s.jacobian(t, y, &mut j).expect("regular");
         }
         let start = Instant::now();
         for s in &mut systems {
             for _ in 0..per_problem {
-                s.jacobian(t, black_box(y), &mut j, &mut d)
-                    .expect("regular");
+                s.jacobian(t, black_box(y), &mut j).expect("regular");
                 black_box(&mut j);
             }
         }
@@ -176,8 +176,7 @@ fn row<M: Model + Clone>(
     let mut in_groups = |items: usize| {
         let start = Instant::now();
         for _ in 0..items {
-            sys.jacobian(t, black_box(y), &mut jac, &mut dfdt)
-                .expect("regular");
+            sys.jacobian(t, black_box(y), &mut jac).expect("regular");
             black_box(&mut jac);
         }
         start.elapsed().as_secs_f64() / items as f64

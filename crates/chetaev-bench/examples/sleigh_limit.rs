@@ -21,7 +21,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use chetaev::integrate::driver::solve_ode;
-use chetaev::integrate::system::OdeSystem;
+use chetaev::integrate::system::{Jacobian, OdeSystem};
 use chetaev::model::Fixed;
 use chetaev::prelude::*;
 use chetaev_bench::measure::interleaved_batches;
@@ -74,13 +74,8 @@ impl OdeSystem for Hand {
         Ok(())
     }
     /// By central differences: only implicit methods call it, and none is measured here.
-    fn jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error> {
+    fn jacobian(&mut self, t: f64, y: &[f64], out: &mut Jacobian) -> Result<(), Error> {
+        let Jacobian { dy: jac, dt: dfdt } = out;
         let (mut yp, mut ym) = (y.to_vec(), y.to_vec());
         let (mut fp, mut fm) = ([0.0; 6], [0.0; 6]);
         for j in 0..6 {

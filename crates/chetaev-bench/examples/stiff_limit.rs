@@ -58,7 +58,7 @@ use std::time::Instant;
 
 use chetaev::equations::compiled::NATIVE_AFTER;
 use chetaev::integrate::driver::solve_ode;
-use chetaev::integrate::system::{OdeSystem, ReducedOde, Stats};
+use chetaev::integrate::system::{Jacobian, OdeSystem, ReducedOde, Stats};
 use chetaev::prelude::*;
 use chetaev_bench::handwritten::Full;
 use chetaev_bench::measure::{batch_size, interleaved_batches, median, Batch};
@@ -343,13 +343,12 @@ fn recording() -> f64 {
 /// Seconds per right-hand side and per Jacobian at `y`: chetaev interpreted (and its Jacobian by
 /// dual numbers), chetaev as machine code (`steady`, past `NATIVE_AFTER`), hand-written.
 fn parts(steady: &UniformProblem, y: &[f64]) -> [[f64; 2]; 3] {
-    let (mut dy, mut jac, mut dfdt) = ([0.0; 4], [0.0; 16], [0.0; 4]);
+    let (mut dy, mut jac) = ([0.0; 4], Jacobian::new(4));
     let rhs_i = interpreted_rhs(y);
     let fresh = fresh_compiled();
     let mut dual = ReducedOde::for_problem(&fresh, false);
     let jac_i = per_call(&mut || {
-        dual.jacobian(0.0, black_box(y), &mut jac, &mut dfdt)
-            .expect("regular");
+        dual.jacobian(0.0, black_box(y), &mut jac).expect("regular");
         black_box(&jac);
     });
     let mut native = ReducedOde::for_problem(steady, false);
@@ -359,7 +358,7 @@ fn parts(steady: &UniformProblem, y: &[f64]) -> [[f64; 2]; 3] {
     });
     let jac_n = per_call(&mut || {
         native
-            .jacobian(0.0, black_box(y), &mut jac, &mut dfdt)
+            .jacobian(0.0, black_box(y), &mut jac)
             .expect("regular");
         black_box(&jac);
     });
@@ -369,8 +368,7 @@ fn parts(steady: &UniformProblem, y: &[f64]) -> [[f64; 2]; 3] {
         black_box(&dy);
     });
     let jac_h = per_call(&mut || {
-        full.jacobian(0.0, black_box(y), &mut jac, &mut dfdt)
-            .expect("finite");
+        full.jacobian(0.0, black_box(y), &mut jac).expect("finite");
         black_box(&jac);
     });
     [[rhs_i, jac_i], [rhs_n, jac_n], [rhs_h, jac_h]]
@@ -404,23 +402,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .iter()
         .map(|&a: &f64| [0.7 * a, 1.0 - 0.5 * a, p.v0 * a.cos(), -p.v0 * a.sin()])
         .collect();
-    let (mut jh, mut jc, mut dh, mut dc) = ([0.0; 16], [0.0; 16], [0.0; 4], [0.0; 4]);
+    let (mut jh, mut jc) = (Jacobian::new(4), Jacobian::new(4));
     for y in &states {
         let eq = pb.equations_at(0.0, &y[..2], &y[2..])?;
         let mut dy = [0.0; 4];
         full.rhs(0.0, y, &mut dy)?;
         let d = scaled_diff(&dy[2..], &eq.qdd, &[p.g; 2]);
         worst_rhs = worst_rhs.max(d);
-        full.jacobian(0.0, y, &mut jh, &mut dh)?;
-        dual.jacobian(0.0, y, &mut jc, &mut dc)?;
-        let dj = jacobian_diff(&jc, &jh).max(dc.iter().fold(0.0f64, |m, v| m.max(v.abs())));
+        full.jacobian(0.0, y, &mut jh)?;
+        dual.jacobian(0.0, y, &mut jc)?;
+        let dj =
+            jacobian_diff(&jc.dy, &jh.dy).max(jc.dt.iter().fold(0.0f64, |m, v| m.max(v.abs())));
         worst_dual = worst_dual.max(dj);
         if d.is_nan() || d > 1e-13 || dj.is_nan() || dj > 1e-12 {
             return Err(format!(
                 "hand-written and chetaev disagree at y = {y:?}: q̈ {:?} vs {:?} (relative {d:e}), \
-                 Jacobian {jh:?} vs {jc:?} (relative {dj:e})",
+                 Jacobian {:?} vs {:?} (relative {dj:e})",
                 &dy[2..],
-                eq.qdd
+                eq.qdd,
+                jh.dy,
+                jc.dy
             )
             .into());
         }
@@ -454,15 +455,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut native = ReducedOde::for_problem(&steady, false);
     let mut worst_native: f64 = 0.0;
     for y in &states {
-        full.jacobian(0.0, y, &mut jh, &mut dh)?;
-        native.rhs(0.0, y, &mut dc)?; // the Jacobian as machine code follows the right-hand side
-        native.jacobian(0.0, y, &mut jc, &mut dc)?;
-        let dj = jacobian_diff(&jc, &jh).max(dc.iter().fold(0.0f64, |m, v| m.max(v.abs())));
+        full.jacobian(0.0, y, &mut jh)?;
+        // The Jacobian as machine code follows the right-hand side.
+        native.rhs(0.0, y, &mut [0.0; 4])?;
+        native.jacobian(0.0, y, &mut jc)?;
+        let dj =
+            jacobian_diff(&jc.dy, &jh.dy).max(jc.dt.iter().fold(0.0f64, |m, v| m.max(v.abs())));
         worst_native = worst_native.max(dj);
         if dj.is_nan() || dj > 1e-12 {
             return Err(format!(
-                "hand-written Jacobian {jh:?} and chetaev's as machine code {jc:?} disagree at \
-                 y = {y:?} (relative {dj:e})"
+                "hand-written Jacobian {:?} and chetaev's as machine code {:?} disagree at \
+                 y = {y:?} (relative {dj:e})",
+                jh.dy, jc.dy
             )
             .into());
         }

@@ -6,7 +6,7 @@
 //! `chetaev`'s, which derives the same equations by automatic differentiation and a block solve at
 //! every evaluation. Both have the exact Jacobian written out as well, for `Rodas4`.
 
-use chetaev::integrate::system::OdeSystem;
+use chetaev::integrate::system::{Jacobian, OdeSystem};
 use chetaev::Error;
 
 /// Evaluations counted by a hand-written system.
@@ -69,13 +69,8 @@ impl OdeSystem for Reduced {
         dy[2] = -(self.g / v2) * s;
         Ok(())
     }
-    fn jacobian(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error> {
+    fn jacobian(&mut self, _t: f64, y: &[f64], out: &mut Jacobian) -> Result<(), Error> {
+        let Jacobian { dy: jac, dt: dfdt } = out;
         self.counts.jacobians += 1;
         let v2 = self.v0 * self.v0;
         let w = y[2];
@@ -136,13 +131,8 @@ impl OdeSystem for Full {
         dy[3] = c * yd - self.g;
         Ok(())
     }
-    fn jacobian(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error> {
+    fn jacobian(&mut self, _t: f64, y: &[f64], out: &mut Jacobian) -> Result<(), Error> {
+        let Jacobian { dy: jac, dt: dfdt } = out;
         self.counts.jacobians += 1;
         let (xd, yd, g) = (y[2], y[3], self.g);
         let s = xd * xd + yd * yd;
@@ -211,9 +201,9 @@ mod tests {
     /// Central differences of `rhs` against the hand-written Jacobian.
     fn check_jacobian<S: OdeSystem>(sys: &mut S, y: &[f64]) {
         let n = sys.dim();
-        let mut jac = vec![0.0; n * n];
-        let mut dfdt = vec![0.0; n];
-        sys.jacobian(0.0, y, &mut jac, &mut dfdt).expect("finite");
+        let mut jacobian = Jacobian::new(n);
+        sys.jacobian(0.0, y, &mut jacobian).expect("finite");
+        let jac = jacobian.dy;
         let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
         for j in 0..n {
             let h = 1e-6 * y[j].abs().max(1.0);

@@ -28,7 +28,7 @@
 //! [`Rodas4`]: super::Rodas4
 //! [`Rodas5P`]: super::Rodas5P
 
-use super::system::OdeSystem;
+use super::system::{Jacobian, OdeSystem};
 use super::{Step, Stepper, Trial};
 use crate::error::Error;
 
@@ -69,13 +69,11 @@ pub(crate) const fn lower<const S: usize>(row: &[f64]) -> [f64; S] {
 #[derive(Clone, Debug)]
 pub struct RosenbrockStepper<const S: usize, const D: usize> {
     tableau: &'static Tableau<S, D>,
-    /// `∂F/∂y`, row-major.
-    jac: Vec<f64>,
-    /// `∂F/∂t`.
-    dfdt: Vec<f64>,
+    /// `∂F/∂y` and `∂F/∂t`.
+    jacobian: Jacobian,
     /// `F(t, y)` at the point of the Jacobian.
     f0: Vec<f64>,
-    /// The point `(t, y)` of `jac`, `dfdt` and `f0`, valid when `jac_valid`.
+    /// The point `(t, y)` of `jacobian` and `f0`, valid when `jac_valid`.
     jac_t: f64,
     jac_y: Vec<f64>,
     jac_valid: bool,
@@ -98,8 +96,7 @@ impl<const S: usize, const D: usize> RosenbrockStepper<S, D> {
     pub(crate) fn new(tableau: &'static Tableau<S, D>, dim: usize) -> Self {
         Self {
             tableau,
-            jac: vec![0.0; dim * dim],
-            dfdt: vec![0.0; dim],
+            jacobian: Jacobian::new(dim),
             f0: vec![0.0; dim],
             jac_t: f64::NAN,
             jac_y: vec![0.0; dim],
@@ -117,10 +114,10 @@ impl<const S: usize, const D: usize> RosenbrockStepper<S, D> {
 
     /// Factors `I/(hγ) − J` into `self.lu`. Returns whether the matrix is invertible.
     fn decompose<Sys: OdeSystem>(&mut self, sys: &mut Sys, h: f64) -> bool {
-        let n = self.dfdt.len();
+        let n = self.jacobian.dt.len();
         let fac = 1.0 / (h * self.tableau.gamma);
         let m = &mut self.lu.a;
-        for (m, j) in m.iter_mut().zip(&self.jac) {
+        for (m, j) in m.iter_mut().zip(&self.jacobian.dy) {
             *m = -j;
         }
         for d in m.iter_mut().step_by(n + 1) {
@@ -145,7 +142,7 @@ impl<const S: usize, const D: usize> Stepper for RosenbrockStepper<S, D> {
         if !(self.jac_valid && self.jac_t == t && self.jac_y[..] == *y) {
             self.jac_valid = false;
             sys.rhs(t, y, &mut self.f0)?;
-            sys.jacobian(t, y, &mut self.jac, &mut self.dfdt)?;
+            sys.jacobian(t, y, &mut self.jacobian)?;
             self.jac_t = t;
             self.jac_y.copy_from_slice(y);
             self.jac_valid = true;
@@ -163,7 +160,7 @@ impl<const S: usize, const D: usize> Stepper for RosenbrockStepper<S, D> {
             return Ok(f64::INFINITY);
         }
         let Self {
-            dfdt,
+            jacobian: Jacobian { dt: dfdt, .. },
             f0,
             lu,
             k,

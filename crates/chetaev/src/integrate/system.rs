@@ -16,6 +16,25 @@ use crate::error::Error;
 use crate::model::{Model, Point};
 use crate::sensitivity::Variational;
 
+/// The Jacobian of a right-hand side `F(t, y)` at one point, as [`OdeSystem::jacobian`] writes it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Jacobian {
+    /// `∂F/∂y`, row-major `dim × dim`.
+    pub dy: Vec<f64>,
+    /// `∂F/∂t`, length `dim`.
+    pub dt: Vec<f64>,
+}
+
+impl Jacobian {
+    /// Zeros for a system of dimension `dim`.
+    pub fn new(dim: usize) -> Self {
+        Self {
+            dy: vec![0.0; dim * dim],
+            dt: vec![0.0; dim],
+        }
+    }
+}
+
 /// A first-order system `y' = F(t, y)` on flat slices.
 pub trait OdeSystem {
     /// Length of `y`.
@@ -24,15 +43,8 @@ pub trait OdeSystem {
     fn controlled_dim(&self) -> usize;
     /// `dy = F(t, y)`.
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error>;
-    /// The Jacobian `∂F/∂y` (row-major, `dim × dim`) and `∂F/∂t` (length `dim`). Only implicit
-    /// methods call it.
-    fn jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error>;
+    /// The Jacobian `∂F/∂y` and `∂F/∂t` at `(t, y)` into `out`. Only implicit methods call it.
+    fn jacobian(&mut self, t: f64, y: &[f64], out: &mut Jacobian) -> Result<(), Error>;
     /// Records one LU decomposition of an implicit method's iteration matrix.
     fn count_lu(&mut self) {}
     /// A step to `(t, y)` was accepted (its last evaluation of `F` was the step's last stage): a
@@ -541,14 +553,9 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         self.stats.lu_decompositions += 1;
     }
 
-    fn jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error> {
+    fn jacobian(&mut self, t: f64, y: &[f64], out: &mut Jacobian) -> Result<(), Error> {
         self.stats.jacobian_evaluations += 1;
+        let (jac, dfdt) = (&mut out.dy[..], &mut out.dt[..]);
         let (n, dim, e) = (self.n, self.dim(), self.quadratures());
         if self.sens.is_some() {
             jac.fill(0.0);

@@ -1,6 +1,6 @@
 //! Test systems and helpers shared by the methods' unit tests and the conformance suite.
 
-use super::system::OdeSystem;
+use super::system::{Jacobian, OdeSystem};
 use super::{ErrorNorm, Method, Stepper};
 use crate::error::Error;
 
@@ -63,15 +63,9 @@ where
         (self.f)(t, y, dy);
         Ok(())
     }
-    fn jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error> {
+    fn jacobian(&mut self, t: f64, y: &[f64], out: &mut Jacobian) -> Result<(), Error> {
         self.jacobian_evaluations += 1;
-        (self.j)(t, y, jac, dfdt);
+        (self.j)(t, y, &mut out.dy, &mut out.dt);
         Ok(())
     }
     fn count_lu(&mut self) {
