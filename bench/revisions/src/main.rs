@@ -1,7 +1,8 @@
 //! Times `solve` on the paper's scene (the README's model, to the impact event) with the static
 //! path of two revisions of chetaev, in one process, interleaved (A, B, A, B, ...), and prints the
 //! median time of each and their ratio, at equal tolerance and at equal error. Usage:
-//! `cargo run --release -- [--rounds N] [--event-samples N] [--i-controller] [--route dual] [--reuse]`.
+//! `cargo run --release -- [--rounds N] [--event-samples N] [--i-controller] [--route dual] [--reuse]`,
+//! or `--build-only` to time building the problem and compiling its equations alone.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -28,6 +29,25 @@ mod base {
         ) -> SVector<R, 1> {
             SVector::from([qd.dot(qd) - self.v0 * self.v0])
         }
+    }
+
+    /// Builds the problem and compiles its equations (what the first solve does before it
+    /// steps); returns the initial time, to be kept.
+    pub fn build() -> f64 {
+        let model = Uniform {
+            m: 1.0,
+            g: 10.0,
+            v0: 10.0,
+        };
+        let problem = Problem::new(
+            model,
+            0.0,
+            SVector::from([0.0, 5.0]),
+            SVector::from([10.0, 0.0]),
+        )
+        .expect("valid");
+        std::hint::black_box(problem.compiled());
+        problem.t0()
     }
 
     /// One solve to the impact; returns the impact time.
@@ -101,6 +121,13 @@ mod head {
         } else {
             problem
         }
+    }
+
+    /// [`super::base::build`] of this revision.
+    pub fn build() -> f64 {
+        let problem = problem();
+        std::hint::black_box(problem.compiled());
+        problem.t0()
     }
 
     /// One solve to the impact; returns the impact time. The problem (with its compiled
@@ -201,6 +228,24 @@ fn main() {
         .and_then(|i| args.get(i + 1))
         .and_then(|s| s.parse().ok())
         .unwrap_or(21);
+    if args.iter().any(|a| a == "--build-only") {
+        // Building the problem and compiling its equations alone, without a solve.
+        let n = ((2e-3 / time(20, &head::build)) as usize).max(5);
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for _ in 0..rounds {
+            a.push(time(n, &base::build));
+            b.push(time(n, &head::build));
+        }
+        let (a, b) = (median(&mut a), median(&mut b));
+        println!(
+            "building the paper's problem and compiling its equations, median of {rounds} \
+             interleaved rounds: base {:.2} µs, head {:.2} µs, head/base {:.3}",
+            a * 1e6,
+            b * 1e6,
+            b / a
+        );
+        return;
+    }
     let (samples, i_controller) = settings();
     println!(
         "head: event_samples = {samples}, controller = {}",
