@@ -31,39 +31,32 @@ mod base {
         }
     }
 
-    /// Builds the problem and compiles its equations (what the first solve does before it
-    /// steps); returns the initial time, to be kept.
-    pub fn build() -> f64 {
+    fn problem() -> Problem<chetaev_base::model::Fixed<Uniform, 2, 1>> {
         let model = Uniform {
             m: 1.0,
             g: 10.0,
             v0: 10.0,
         };
-        let problem = Problem::new(
+        Problem::new(
             model,
             0.0,
             SVector::from([0.0, 5.0]),
             SVector::from([10.0, 0.0]),
         )
-        .expect("valid");
+        .expect("valid")
+    }
+
+    /// Builds the problem and compiles its equations (what the first solve does before it
+    /// steps); returns the initial time, to be kept.
+    pub fn build() -> f64 {
+        let problem = problem();
         std::hint::black_box(problem.compiled());
         problem.t0()
     }
 
     /// One solve to the impact; returns the impact time.
     pub fn run(method: &str, tol: f64) -> f64 {
-        let model = Uniform {
-            m: 1.0,
-            g: 10.0,
-            v0: 10.0,
-        };
-        let problem = Problem::new(
-            model,
-            0.0,
-            SVector::from([0.0, 5.0]),
-            SVector::from([10.0, 0.0]),
-        )
-        .expect("valid");
+        let problem = problem();
         let impact = Event::new("impact", |_t, q, _qd| q[1]).falling().terminal();
         let o = Options::until(10.0)
             .tolerances(tol, tol)
