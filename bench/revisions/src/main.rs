@@ -159,13 +159,22 @@ mod head {
 
 /// `--route dual`: the head evaluates by dual numbers (no compiled equations).
 fn dual_route() -> bool {
-    std::env::args().any(|a| a == "dual")
+    flag("dual")
 }
 
 /// `--reuse`: the head builds its problem once (the compiled equations made once) instead of in
 /// every run.
 fn reuse() -> bool {
-    std::env::args().any(|a| a == "--reuse")
+    flag("--reuse")
+}
+
+/// Whether the command line has `word`, read once: reading it allocates, and the head asks in
+/// every run, which the base does not.
+fn flag(word: &str) -> bool {
+    static ARGS: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+    ARGS.get_or_init(|| std::env::args().collect())
+        .iter()
+        .any(|a| a == word)
 }
 
 /// Settings of the head's runs: `--event-samples N` (default 4, the library's default) and
