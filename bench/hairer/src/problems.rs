@@ -1,7 +1,7 @@
 //! The two benchmark problems: their data, references, and right-hand sides written by hand in
 //! Rust for chetaev's driver (the same expressions, in the same order, as `fortran/rhs.f`).
 
-use chetaev::integrate::system::OdeSystem;
+use chetaev::integrate::system::{Jacobian, OdeSystem};
 use chetaev::Error;
 use uniform_projectile::closed_form::{uniform, Params};
 
@@ -148,13 +148,8 @@ impl OdeSystem for ArenstorfRhs {
     /// `∂y1''/∂y1 = 1 − Σ m_i (1/r_i³ − 3 d_i²/r_i⁵)`, `∂y1''/∂y2 = ∂y2''/∂y1 = Σ 3 m_i d_i y2/r_i⁵`,
     /// `∂y2''/∂y2 = 1 − Σ m_i (1/r_i³ − 3 y2²/r_i⁵)`, `∂y1''/∂y2' = 2`, `∂y2''/∂y1' = −2`, with
     /// `m_1 = μ'`, `m_2 = μ`. Only implicit methods call it.
-    fn jacobian(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error> {
+    fn jacobian(&mut self, _t: f64, y: &[f64], out: &mut Jacobian) -> Result<(), Error> {
+        let Jacobian { dy: jac, dt: dfdt } = out;
         let (amu, amup) = (self.mu, 1.0 - self.mu);
         let (mut a11, mut a12, mut a22) = (1.0, 0.0, 1.0);
         for (m, d) in [(amup, y[0] + amu), (amu, y[0] - amup)] {
@@ -221,13 +216,8 @@ impl OdeSystem for ParticleRhs {
     /// `∂F/∂y`, row-major 4 × 4; with `s = |v|²`: `∂x''/∂vx = g vy (s − 2vx²)/s²`,
     /// `∂x''/∂vy = g vx (s − 2vy²)/s²`, `∂y''/∂vx = −2 g vx vy²/s²`, `∂y''/∂vy = 2 g vy vx²/s²`.
     /// Only implicit methods call it.
-    fn jacobian(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        jac: &mut [f64],
-        dfdt: &mut [f64],
-    ) -> Result<(), Error> {
+    fn jacobian(&mut self, _t: f64, y: &[f64], out: &mut Jacobian) -> Result<(), Error> {
+        let Jacobian { dy: jac, dt: dfdt } = out;
         let (vx, vy, g) = (y[2], y[3], self.g);
         let s = vx * vx + vy * vy;
         let s2 = s * s;
@@ -288,8 +278,9 @@ mod tests {
 
     fn jacobian_matches_differences<S: OdeSystem>(mut sys: S) -> Result<(), Error> {
         for y in states() {
-            let (mut jac, mut dfdt) = ([0.0; 16], [0.0; 4]);
-            sys.jacobian(0.0, &y, &mut jac, &mut dfdt)?;
+            let mut jacobian = Jacobian::new(4);
+            sys.jacobian(0.0, &y, &mut jacobian)?;
+            let jac = jacobian.dy;
             for j in 0..4 {
                 let h = 1e-6 * y[j].abs().max(1.0);
                 let (mut yp, mut ym) = (y, y);

@@ -243,7 +243,6 @@ where
 /// [`evaluate_with`] without the check of the sizes, for callers that made `ws`, `q`, `q̇` and
 /// `compiled` for `model` themselves (the integrator's right-hand side).
 #[inline]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn evaluate_with_unchecked<'w, M: Model + ?Sized, T: Real>(
     model: &M,
     compiled: Option<&Compiled>,
@@ -287,8 +286,8 @@ pub(crate) fn evaluate_compiled<'w, T: Real>(
     Ok(&ws.dynamics)
 }
 
-/// [`evaluate`] from the blocks of [`Model::lagrangian_blocks`] and [`Model::constraint_blocks`]
-/// on slices: the route of every model that has no faster one.
+/// [`evaluate`] at the point `x` from the blocks of [`Model::lagrangian_blocks`] and
+/// [`Model::constraint_blocks`] on slices: the route of every model that has no faster one.
 #[inline]
 pub fn evaluate_blocks<M, T>(
     model: &M,
@@ -372,7 +371,7 @@ where
 /// With the model's compiled equations (`plan`), only what their structure needs is evaluated: a
 /// constant `W` is never differentiated again (its factor is the plan's), a constant `r` needs no
 /// pass over `L` at all, `g`, `c` and `Q` are skipped where they are zero, and the block system is
-/// solved by the Schur complement. What `need` leaves out is not evaluated: `L`, `E` (which needs
+/// solved by the Schur complement. What the plan's `need` leaves out is not evaluated: `L`, `E` (which needs
 /// `p = ∂L/∂q̇`) and `Q` outside [`Need::All`], `Φ` and the rates of the energy balance under
 /// [`Need::Motion`]. Without a plan every block is evaluated, as for [`Need::All`].
 #[inline(always)]

@@ -17,6 +17,8 @@ use crate::model::{Model, Point};
 use crate::sensitivity::Variational;
 
 /// The Jacobian of a right-hand side `F(t, y)` at one point, as [`OdeSystem::jacobian`] writes it.
+/// An implicit method makes one for its dimension and keeps it across steps, so every call writes
+/// every entry of it, zeros included.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Jacobian {
     /// `∂F/∂y`, row-major `dim × dim`.
@@ -43,7 +45,8 @@ pub trait OdeSystem {
     fn controlled_dim(&self) -> usize;
     /// `dy = F(t, y)`.
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error>;
-    /// The Jacobian `∂F/∂y` and `∂F/∂t` at `(t, y)` into `out`. Only implicit methods call it.
+    /// The Jacobian `∂F/∂y` and `∂F/∂t` at `(t, y)` into `out`, every entry (`out` holds the
+    /// last call's values). Only implicit methods call it.
     fn jacobian(&mut self, t: f64, y: &[f64], out: &mut Jacobian) -> Result<(), Error>;
     /// Records one LU decomposition of an implicit method's iteration matrix.
     fn count_lu(&mut self) {}

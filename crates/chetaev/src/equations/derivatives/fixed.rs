@@ -96,6 +96,18 @@ pub fn constraint_derivatives<
     At::new(model, t, *q, *qd).constraints()
 }
 
+/// The forces not derivable from `L`, `Q(t, q, q̇) − ∂D/∂q̇` (shape `N`), `−∂D/∂q̇` by one gradient
+/// pass over `q̇`; `None` when the model has neither.
+#[inline(always)]
+pub fn forces<M: Lagrangian<N> + ?Sized, T: Real, const N: usize>(
+    model: &M,
+    t: T,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+) -> Option<SVector<T, N>> {
+    At::new(model, t, *q, *qd).forces()
+}
+
 /// A static model at one point `(t, q, q̇)`: the dual-number passes over its `L` and `f` are its
 /// methods, each with the smallest dual type that carries its result (see the module docs).
 pub(crate) struct At<'a, M: ?Sized, T, const N: usize> {
