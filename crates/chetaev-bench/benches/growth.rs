@@ -43,6 +43,7 @@ use std::time::{Duration, Instant};
 use chetaev::equations::compiled::Compiled;
 use chetaev::equations::{evaluate_with, Need, Workspace};
 use chetaev::prelude::*;
+use chetaev_catalogue::benchmarks::Gas;
 use criterion::{BenchmarkGroup, Criterion, SamplingMode};
 
 /// Sizes of the gas, `n = 3p` for `p = 10, 33, 100, 333, 1000` particles (30, 100, 300, 1000,
@@ -55,39 +56,9 @@ const DUAL_LIMIT: Duration = Duration::from_secs(1);
 /// The dual route's reference evaluation inside `Problem::dynamic` is repeated only below this.
 const REPEAT_LIMIT: Duration = Duration::from_secs(2);
 
-/// `p` unit-mass particles in 3D in harmonic wells `V = ½ |q_i|²`, at kinetic energy `K`.
-#[derive(Clone, Debug)]
-struct Gas {
-    n: usize,
-    /// `2K = |q̇0|²`.
-    two_k: f64,
-}
-
-impl DynModel for Gas {
-    fn sizes(&self) -> (usize, usize) {
-        (self.n, 1)
-    }
-
-    /// `L = ½ |q̇|² − ½ |q|²`.
-    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
-        let kinetic = qd.iter().fold(R::zero(), |acc, v| acc + *v * *v);
-        let potential = q.iter().fold(R::zero(), |acc, x| acc + *x * *x);
-        (kinetic - potential) * 0.5
-    }
-
-    /// `f = |q̇|² − 2K`.
-    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
-        f[0] = qd.iter().fold(R::zero(), |acc, v| acc + *v * *v) - self.two_k;
-    }
-}
-
 /// The gas with `n` coordinates (`n` a multiple of 3) and a fixed, irregular state.
 fn gas(n: usize) -> (Gas, Vec<f64>, Vec<f64>) {
-    assert_eq!(n % 3, 0, "the gas has three coordinates per particle");
-    let q: Vec<f64> = (0..n).map(|i| (0.7 * i as f64).sin()).collect();
-    let qd: Vec<f64> = (0..n).map(|i| 0.4 + 0.3 * (1.3 * i as f64).cos()).collect();
-    let two_k = qd.iter().map(|v| v * v).sum();
-    (Gas { n, two_k }, q, qd)
+    Gas::standard(n).expect("the gas has three coordinates per particle")
 }
 
 /// The hand-written right-hand side of the gas: `q̈ = F − (F·q̇ / q̇·q̇) q̇` with `F = −q`, into

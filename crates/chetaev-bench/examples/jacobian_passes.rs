@@ -32,6 +32,7 @@ use chetaev::model::Model;
 use chetaev::prelude::*;
 use chetaev_bench::measure::interleaved_batches;
 use chetaev_bench::scenes::STIFF;
+use chetaev_catalogue::benchmarks::Gas;
 use uniform_projectile::model::uniform_problem;
 
 /// The chain of `n` masses.
@@ -57,35 +58,6 @@ impl DynModel for Chain {
     fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
         f[0] = qd[0] * qd[0] + qd[1] * qd[1] - 1.0;
     }
-}
-
-/// `n / 3` unit-mass particles in 3D in harmonic wells, at constant kinetic energy:
-/// `L = ½ |q̇|² − ½ |q|²`, `f = |q̇|² − 2K`.
-#[derive(Clone)]
-struct Gas {
-    n: usize,
-    two_k: f64,
-}
-
-impl DynModel for Gas {
-    fn sizes(&self) -> (usize, usize) {
-        (self.n, 1)
-    }
-    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
-        let kinetic = qd.iter().fold(R::zero(), |acc, v| acc + *v * *v);
-        let potential = q.iter().fold(R::zero(), |acc, x| acc + *x * *x);
-        (kinetic - potential) * 0.5
-    }
-    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
-        f[0] = qd.iter().fold(R::zero(), |acc, v| acc + *v * *v) - self.two_k;
-    }
-}
-
-fn gas(n: usize) -> Result<Problem<Gas>, Error> {
-    let q: Vec<f64> = (0..n).map(|i| (0.7 * i as f64).sin()).collect();
-    let qd: Vec<f64> = (0..n).map(|i| 0.4 + 0.3 * (1.3 * i as f64).cos()).collect();
-    let two_k = qd.iter().map(|v| v * v).sum();
-    Problem::dynamic(Gas { n, two_k }, 0.0, q, qd)
 }
 
 fn chain(n: usize) -> Result<Problem<Chain>, Error> {
@@ -220,7 +192,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The isokinetic gas: every velocity reaches every row of q̈, so its columns are not grouped
     // beyond 64 of them; the time to find that out, once per problem.
     for n in [30, 300, 3000] {
-        let gas = gas(n)?;
+        let gas = Gas::problem(n)?;
         let compiled = gas.compiled().ok_or("the gas records")?;
         let start = Instant::now();
         let passes = compiled.jacobian_passes();

@@ -9,6 +9,7 @@
 //! | [`SteadyHorizontal`] | 2 | 1 | linear, satisfied by the free motion | closed form: the classical projectile, `μ = 0` ([`SteadyHorizontal::closed_form`]) |
 //! | [`Chain`] | any, static | `K ≤ N/2`, static | quadratic: speeds of pairs | none: it measures the cost of one right-hand side |
 //! | [`DynChain`] | any, at run time | `k ≤ n/2`, at run time | the same | the same equations as [`Chain`] |
+//! | [`Gas`] | `3p`, at run time | 1 | quadratic: constant kinetic energy of all particles | none: it measures how the cost grows with one constraint on every velocity |
 
 use std::f64::consts::{FRAC_PI_2, LN_2};
 
@@ -427,6 +428,67 @@ impl DynModel for DynChain {
     }
 }
 
+/// `p = n / 3` unit-mass particles in 3D in harmonic wells, held at constant total kinetic energy
+/// `K` (an isokinetic thermostat), a [`DynModel`]:
+///
+/// ```text
+/// L = ½ |q̇|² − ½ |q|²,      f = |q̇|² − 2K = 0.
+/// ```
+///
+/// Its one constraint reaches every velocity, so the Jacobian of the reduced equations has a row
+/// reached by every column: no two columns can share a pass. Built by [`Gas::standard`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Gas {
+    n: usize,
+    /// `2K = |q̇0|²`.
+    two_k: f64,
+}
+
+impl Gas {
+    /// The gas with `n` coordinates at a fixed, irregular state: the model and `(q, q̇)`, with
+    /// `2K = |q̇|²`. Fails unless `n` is a positive multiple of 3.
+    pub fn standard(n: usize) -> Result<(Self, Vec<f64>, Vec<f64>), Error> {
+        if n == 0 || n % 3 != 0 {
+            return Err(Error::InvalidParameter {
+                name: "n",
+                value: n as f64,
+                hint: "the gas has three coordinates per particle: give a positive multiple of 3",
+            });
+        }
+        let q: Vec<f64> = (0..n).map(|i| (0.7 * i as f64).sin()).collect();
+        let qd: Vec<f64> = (0..n).map(|i| 0.4 + 0.3 * (1.3 * i as f64).cos()).collect();
+        let two_k = qd.iter().map(|v| v * v).sum();
+        Ok((Self { n, two_k }, q, qd))
+    }
+
+    /// The problem of [`Gas::standard`]`(n)`, started at `t = 0`.
+    pub fn problem(n: usize) -> Result<Problem<Gas>, Error> {
+        let (model, q, qd) = Self::standard(n)?;
+        Ok(Problem::dynamic(model, 0.0, q, qd)?)
+    }
+
+    /// Twice the kinetic energy the constraint holds, `2K`.
+    pub fn two_k(&self) -> f64 {
+        self.two_k
+    }
+}
+
+impl DynModel for Gas {
+    fn sizes(&self) -> (usize, usize) {
+        (self.n, 1)
+    }
+
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        let kinetic = qd.iter().fold(R::zero(), |acc, v| acc + *v * *v);
+        let potential = q.iter().fold(R::zero(), |acc, x| acc + *x * *x);
+        (kinetic - potential) * 0.5
+    }
+
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd.iter().fold(R::zero(), |acc, v| acc + *v * *v) - self.two_k;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -600,5 +662,33 @@ mod tests {
             DynChain::standard(0, 0),
             Err(Error::InvalidParameter { name: "n", .. })
         ));
+    }
+
+    /// The gas's state satisfies its constraint, and its equations are those of the thermostat
+    /// written out: `q̈ = F − α q̇` with `F = −q`, `α = F·q̇ / |q̇|²`, and in the Newton form
+    /// (`q̈ = F + 2 μ q̇`) `μ = −α / 2`.
+    #[test]
+    fn the_gas_keeps_its_kinetic_energy_with_the_thermostat_written_out() {
+        for n in [3, 30] {
+            let problem = Gas::problem(n).expect("consistent");
+            let (q, qd) = (problem.q0(), problem.qd0());
+            let d = problem.equations_at(0.0, q, qd).expect("regular");
+            let (fv, vv) = q
+                .iter()
+                .zip(qd)
+                .fold((0.0, 0.0), |(fv, vv), (x, v)| (fv - x * v, vv + v * v));
+            let alpha = fv / vv;
+            for i in 0..n {
+                assert!((d.qdd[i] - (-q[i] - alpha * qd[i])).abs() < 1e-13, "{i}");
+            }
+            assert!((d.mu[0] - (-0.5 * alpha)).abs() < 1e-13);
+            assert!(d.f[0].abs() < 1e-12);
+        }
+        for n in [0, 4] {
+            assert!(matches!(
+                Gas::standard(n),
+                Err(Error::InvalidParameter { name: "n", .. })
+            ));
+        }
     }
 }
