@@ -443,6 +443,30 @@ fn the_equations_refuse_arguments_of_the_wrong_size_with_a_typed_error() {
         .map(ok)
         .expect("the right sizes evaluate");
 
+    // The block route alone (`evaluate_blocks`), for either flavour.
+    {
+        use chetaev::equations::evaluate_blocks;
+        use chetaev::model::Point;
+        let run_time = dynamic.model();
+        let mut ws_run_time = Workspace::for_model(run_time);
+        let at = |q, qd| Point::new(0.5, q, qd);
+        mismatch(
+            evaluate_blocks(run_time, &mut ws_run_time, at(&q[..1], &qd)),
+            "q",
+            2,
+            1,
+        );
+        mismatch(evaluate_blocks(model, &mut ws, at(&q, &qd[..1])), "q̇", 2, 1);
+        mismatch(
+            evaluate_blocks(model, &mut other, at(&q, &qd)),
+            "coordinates",
+            2,
+            3,
+        );
+        evaluate_blocks(run_time, &mut ws_run_time, at(&q, &qd)).expect("the right sizes evaluate");
+        ok(ws_run_time.dynamics());
+    }
+
     // Compiled equations of another model.
     let (dm, dc) = (
         dynamic.model(),

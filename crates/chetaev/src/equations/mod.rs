@@ -287,7 +287,9 @@ pub(crate) fn evaluate_compiled<'w, T: Real>(
 }
 
 /// [`evaluate`] at the point `x` from the blocks of [`Model::lagrangian_blocks`] and
-/// [`Model::constraint_blocks`] on slices: the route of every model that has no faster one.
+/// [`Model::constraint_blocks`] on slices: the route of every model that has no faster one. `q`,
+/// `q̇` or a workspace of other sizes than the model's give [`SaddleFailure::SizeMismatch`], and
+/// nothing is evaluated.
 #[inline]
 pub fn evaluate_blocks<M, T>(
     model: &M,
@@ -298,6 +300,8 @@ where
     M: Model + ?Sized,
     T: Real,
 {
+    // A few comparisons against passes over `L` that cost microseconds on this route.
+    ws.fits(model, x.q, x.qd)?;
     let Workspace {
         n,
         k,
