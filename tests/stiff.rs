@@ -112,8 +112,7 @@ fn dopri5_without_stiffness_detection_needs_millions_of_steps() {
     let exact = table(&STIFF).uniform;
     let problem = uniform_problem(&STIFF).expect("valid");
     let method = Dopri5 {
-        stiffness_detection: false,
-        ..Dopri5::default()
+        stiffness: StiffnessDetection::OFF,
     };
     let start = Instant::now();
     let sol = solve(&problem, method, &options(1e-10).max_steps(100_000_000)).expect("valid");

@@ -329,6 +329,35 @@ fn every_method_solves_the_paper_scene() {
 }
 
 #[test]
+fn stiffness_detection_sets_the_test_of_the_methods_that_have_one() {
+    use chetaev::prelude::{AnyMethod, Dop853, Dopri5, StiffnessDetection};
+    let method = |m: &str, extra: &str| {
+        let text = BASE.replace(
+            "t_end = 0.5",
+            &format!("t_end = 0.5\nmethod = \"{m}\"\n{extra}"),
+        );
+        Scene::parse(&text, "stiff.toml").map(|s| s.solve.method)
+    };
+    assert_eq!(
+        method("dop853", "stiffness_detection = false").expect("valid"),
+        AnyMethod::Dop853(Dop853 {
+            stiffness: StiffnessDetection::OFF
+        })
+    );
+    assert_eq!(
+        method("dopri5", "stiffness_detection = true").expect("valid"),
+        AnyMethod::Dopri5(Dopri5::default())
+    );
+    for m in ["tsit5", "rodas4", "rodas5p"] {
+        let e = method(m, "stiffness_detection = false").expect_err("no stiffness test");
+        assert!(
+            e.to_string().contains("applies to dopri5 and dop853 only"),
+            "{m}: {e}"
+        );
+    }
+}
+
+#[test]
 fn the_longest_expression_allowed_evaluates_with_every_dual_type() {
     // About 1000 tokens in one sum: the deepest tree an expression can give, differentiated by
     // the implicit method's nested dual numbers, on a test thread's stack.

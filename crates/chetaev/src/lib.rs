@@ -88,7 +88,8 @@ pub mod prelude {
     pub use crate::integrate::options::{Atol, Options, Output, Record};
     pub use crate::integrate::projection::Projection;
     pub use crate::integrate::{
-        AnyMethod, Controller, Dop853, Dopri5, Method, Rk4, Rodas4, Rodas5P, Tsit5,
+        AnyMethod, Controller, Dop853, Dopri5, Method, Rk4, Rodas4, Rodas5P, StiffnessDetection,
+        Tsit5,
     };
     pub use crate::model::{Constraints, DynModel, Lagrangian, Model, Real, Unconstrained};
     pub use crate::solution::Series;

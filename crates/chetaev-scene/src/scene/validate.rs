@@ -504,12 +504,17 @@ impl Builder {
             .map_err(|e| self.err(method_span.clone(), e.to_string()))?;
         let info = method.info();
         let fixed = info.fixed_step.is_some();
-        let detects_stiffness = matches!(method, AnyMethod::Dopri5(_) | AnyMethod::Dop853(_));
-        if let (Some(s), false) = (&raw.stiffness_detection, detects_stiffness) {
-            return Err(self.err(
-                s.span(),
-                "stiffness_detection applies to dopri5 and dop853 only; remove it",
-            ));
+        let mut method = method;
+        if let Some(s) = &raw.stiffness_detection {
+            match method.stiffness_detection_mut() {
+                Some(detection) => detection.enabled = *s.get_ref(),
+                None => {
+                    return Err(self.err(
+                        s.span(),
+                        "stiffness_detection applies to dopri5 and dop853 only; remove it",
+                    ))
+                }
+            }
         }
         let step = match (&raw.step, fixed) {
             (Some(s), true) => {
@@ -538,19 +543,9 @@ impl Builder {
             }
             (None, false) => 0.0,
         };
-        let stiffness = raw.stiffness_detection.as_ref().map(|s| *s.get_ref());
-        let method = match method {
-            AnyMethod::Dopri5(m) => AnyMethod::Dopri5(chetaev::integrate::Dopri5 {
-                stiffness_detection: stiffness.unwrap_or(m.stiffness_detection),
-                ..m
-            }),
-            AnyMethod::Dop853(m) => AnyMethod::Dop853(chetaev::integrate::Dop853 {
-                stiffness_detection: stiffness.unwrap_or(m.stiffness_detection),
-                ..m
-            }),
-            AnyMethod::Rk4(_) => AnyMethod::Rk4(chetaev::integrate::Rk4::new(step)),
-            other => other,
-        };
+        if let AnyMethod::Rk4(_) = method {
+            method = AnyMethod::Rk4(chetaev::integrate::Rk4::new(step));
+        }
         let t_end = self.number(&raw.t_end, constants, "solve.t_end")?;
         spans.insert("t_end", raw.t_end.span());
         let defaults = chetaev::prelude::Options::until(0.0);

@@ -20,9 +20,10 @@
 
 #![allow(clippy::excessive_precision)]
 
+use super::stiffness::{StiffnessDetection, StiffnessTest};
 use super::system::OdeSystem;
+use super::Trial;
 use super::{combine, weighted, Method, MethodInfo, Stage, Step, Stepper};
-use super::{StiffnessTest, Trial};
 use crate::error::Error;
 
 // The stages: the node c_i and the non-zero a_ij of each row, over the stages named where the row
@@ -276,24 +277,13 @@ const STIFF_H_LAMBDA: f64 = 6.1;
 ///
 /// Step-size control is the I controller with step ratios in `[0.2, 10]` (its step counts match
 /// those of Hairer's DOP853 within 1 %).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(default))]
 pub struct Dop853 {
-    /// Stop with [`Error::Stiff`] when the stiffness test fires on 15 accepted steps (default on).
-    pub stiffness_detection: bool,
-    /// Test every this many accepted steps until stiffness is suspected, then every step (1000, as
-    /// DOP853's `NSTIFF`).
-    pub stiffness_interval: u32,
-}
-
-impl Default for Dop853 {
-    fn default() -> Self {
-        Self {
-            stiffness_detection: true,
-            stiffness_interval: 1000,
-        }
-    }
+    /// The stiffness test, which stops the solve with [`Error::Stiff`] (on by default).
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub stiffness: StiffnessDetection,
 }
 
 impl Method for Dop853 {
@@ -311,11 +301,7 @@ impl Method for Dop853 {
         Dop853Stepper {
             work: vec![0.0; VECTORS * dim],
             dim,
-            stiffness: StiffnessTest::new(
-                self.stiffness_detection,
-                STIFF_H_LAMBDA,
-                self.stiffness_interval,
-            ),
+            stiffness: StiffnessTest::new(self.stiffness, STIFF_H_LAMBDA),
             err_sums: (0.0, 0.0),
             dense: true,
         }
@@ -663,8 +649,10 @@ mod tests {
         // Fixed steps with h·λ = 6.3, inside the stability interval (-6.39, 0) and above 6.1.
         let mut sys = Sys::explicit(1, f);
         let every_step = Dop853 {
-            stiffness_interval: 1,
-            ..Dop853::default()
+            stiffness: StiffnessDetection {
+                interval: 1,
+                ..StiffnessDetection::default()
+            },
         };
         let mut st = every_step.stepper(1);
         let norm = loose(1);
@@ -694,8 +682,7 @@ mod tests {
         // Switched off, never.
         let mut sys = Sys::explicit(1, f);
         let method = Dop853 {
-            stiffness_detection: false,
-            ..Dop853::default()
+            stiffness: StiffnessDetection::OFF,
         };
         assert_eq!(
             controlled(&mut sys, method, 0.0, &[1.0], 1.0, 1e-6, 2000)?,

@@ -5,9 +5,10 @@
 //! S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I*, 2nd ed., Springer 1993,
 //! Sections II.5, II.6 and IV.2 (the code DOPRI5).
 
+use super::stiffness::{StiffnessDetection, StiffnessTest};
 use super::system::OdeSystem;
 use super::{combine, weighted, Controller, Method, MethodInfo, Stage, Stages54, Step, Stepper};
-use super::{Pool, StiffnessTest, Trial};
+use super::{Pool, Trial};
 use crate::error::Error;
 
 // The stages 2 to 6 (stage 7 is the derivative at the new point, from the weights of the step).
@@ -80,24 +81,13 @@ const STIFF_H_LAMBDA: f64 = 3.25;
 /// The default choice for non-stiff problems at moderate tolerances (down to about `1e-10`).
 /// Step-size control is Hairer's DOPRI5's: a PI controller with `β = 0.04`, step ratios in
 /// `[0.2, 10]`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(default))]
 pub struct Dopri5 {
-    /// Stop with [`Error::Stiff`] when the stiffness test fires on 15 accepted steps (default on).
-    pub stiffness_detection: bool,
-    /// Test every this many accepted steps until stiffness is suspected, then every step (1000, as
-    /// DOPRI5's `NSTIFF`).
-    pub stiffness_interval: u32,
-}
-
-impl Default for Dopri5 {
-    fn default() -> Self {
-        Self {
-            stiffness_detection: true,
-            stiffness_interval: 1000,
-        }
-    }
+    /// The stiffness test, which stops the solve with [`Error::Stiff`] (on by default).
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub stiffness: StiffnessDetection,
 }
 
 impl Method for Dopri5 {
@@ -113,11 +103,7 @@ impl Method for Dopri5 {
     fn stepper(&self, dim: usize) -> Dopri5Stepper {
         Dopri5Stepper {
             pool: Pool::new(VECTORS, dim),
-            stiffness: StiffnessTest::new(
-                self.stiffness_detection,
-                STIFF_H_LAMBDA,
-                self.stiffness_interval,
-            ),
+            stiffness: StiffnessTest::new(self.stiffness, STIFF_H_LAMBDA),
             dense: true,
         }
     }

@@ -18,6 +18,7 @@ pub mod rk4;
 pub mod rodas4;
 pub mod rodas5p;
 pub mod rosenbrock;
+pub mod stiffness;
 pub mod system;
 pub mod tsit5;
 
@@ -31,6 +32,7 @@ pub use dopri5::Dopri5;
 pub use rk4::Rk4;
 pub use rodas4::Rodas4;
 pub use rodas5p::Rodas5P;
+pub use stiffness::StiffnessDetection;
 pub use tsit5::Tsit5;
 
 use crate::error::Error;
@@ -424,6 +426,19 @@ impl AnyMethod {
         ]
     }
 
+    /// The settings of the method's stiffness test, for a method that has one (`Dopri5`,
+    /// `Dop853`); `None` for the others.
+    pub fn stiffness_detection_mut(&mut self) -> Option<&mut StiffnessDetection> {
+        match self {
+            AnyMethod::Dopri5(m) => Some(&mut m.stiffness),
+            AnyMethod::Dop853(m) => Some(&mut m.stiffness),
+            AnyMethod::Tsit5(_)
+            | AnyMethod::Rk4(_)
+            | AnyMethod::Rodas4(_)
+            | AnyMethod::Rodas5P(_) => None,
+        }
+    }
+
     /// The method of this name (case-insensitive: `dopri5`, `dop853`, `tsit5`, `rodas4`, `rodas5p`; `rk4`
     /// takes its step `rk4_step`), with default options.
     pub fn from_name(name: &str, rk4_step: Option<f64>) -> Result<AnyMethod, Error> {
@@ -594,75 +609,6 @@ impl ErrorNorm {
     /// Whether no component is controlled.
     pub fn is_empty(&self) -> bool {
         self.atol.is_empty()
-    }
-}
-
-/// Hairer's stiffness test for explicit Runge–Kutta methods (Hairer & Wanner II, Section IV.2, and
-/// the codes DOPRI5 and DOP853): `h·|λ|` is estimated from two stages `k_a`, `k_b` evaluated at the
-/// same node from states `y_a`, `y_b`, as `|h|·|k_a − k_b| / |y_a − y_b|`; the problem is stiff
-/// after 15 tested steps above the boundary of the method's stability region, and the count
-/// restarts after 6 steps below it. As in the codes, only every `interval`-th accepted step is
-/// tested until one is found above the boundary; from then on every step is.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct StiffnessTest {
-    enabled: bool,
-    boundary: f64,
-    interval: u32,
-    accepted: u32,
-    stiff_steps: u32,
-    nonstiff_steps: u32,
-    h_lambda: f64,
-}
-
-impl StiffnessTest {
-    /// A test against the stability boundary `boundary` (3.25 for DOPRI5, 6.1 for DOP853), on
-    /// every `interval`-th step (1000 in the codes) until stiffness is suspected.
-    pub(crate) fn new(enabled: bool, boundary: f64, interval: u32) -> Self {
-        Self {
-            enabled,
-            boundary,
-            interval: interval.max(1),
-            accepted: 0,
-            stiff_steps: 0,
-            nonstiff_steps: 0,
-            h_lambda: 0.0,
-        }
-    }
-
-    /// Whether the step about to be accepted is tested (so the stepper computes the estimate).
-    #[inline]
-    pub(crate) fn wants_test(&mut self) -> bool {
-        if !self.enabled {
-            return false;
-        }
-        self.accepted += 1;
-        self.stiff_steps > 0 || self.accepted % self.interval == 0
-    }
-
-    /// Updates the test after an accepted step of size `h`; call only when [`Self::wants_test`].
-    pub(crate) fn observe(&mut self, h: f64, k_a: &[f64], k_b: &[f64], y_a: &[f64], y_b: &[f64]) {
-        let (mut num, mut den) = (0.0, 0.0);
-        for i in 0..k_a.len() {
-            num += (k_a[i] - k_b[i]).powi(2);
-            den += (y_a[i] - y_b[i]).powi(2);
-        }
-        if den > 0.0 {
-            self.h_lambda = h.abs() * (num / den).sqrt();
-        }
-        if self.h_lambda > self.boundary {
-            self.nonstiff_steps = 0;
-            self.stiff_steps += 1;
-        } else {
-            self.nonstiff_steps += 1;
-            if self.nonstiff_steps == 6 {
-                self.stiff_steps = 0;
-            }
-        }
-    }
-
-    /// `Some(h·|λ|)` once the problem has been found stiff.
-    pub(crate) fn detected(&self) -> Option<f64> {
-        (self.stiff_steps >= 15).then_some(self.h_lambda)
     }
 }
 
@@ -900,19 +846,29 @@ mod tests {
         for m in AnyMethod::all(0.01) {
             let text = serde_json::to_string(&m)?;
             let back: AnyMethod = serde_json::from_str(&text)?;
-            assert_eq!(back.info(), m.info(), "{text}");
+            assert_eq!(back, m, "{text}");
         }
         let m: AnyMethod = serde_json::from_str(r#"{"method": "dop853"}"#)?;
-        assert_eq!(m.name(), "Dop853");
+        assert_eq!(m, AnyMethod::Dop853(Dop853::default()));
+        // The stiffness test's settings stand beside the name, each defaulting on its own.
         let m: AnyMethod =
             serde_json::from_str(r#"{"method": "dopri5", "stiffness_detection": false}"#)?;
-        assert!(matches!(
+        assert_eq!(
             m,
             AnyMethod::Dopri5(Dopri5 {
-                stiffness_detection: false,
-                ..
+                stiffness: StiffnessDetection::OFF
             })
-        ));
+        );
+        let mut every = AnyMethod::Dop853(Dop853::default());
+        if let Some(s) = every.stiffness_detection_mut() {
+            s.interval = 7;
+        }
+        let text = serde_json::to_string(&every)?;
+        assert_eq!(
+            text,
+            r#"{"method":"dop853","stiffness_detection":true,"stiffness_interval":7}"#
+        );
+        assert_eq!(serde_json::from_str::<AnyMethod>(&text)?, every);
         Ok(())
     }
 }
