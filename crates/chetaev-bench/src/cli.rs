@@ -1,9 +1,10 @@
-//! What the binaries share: where their output goes by default, and how they end when the reader
-//! of their standard output has gone (`work-precision --quick | head -1`).
+//! What the binaries share: where their output goes, how they print their summary, and how they
+//! end, also when the reader of their standard output has gone (`work-precision --quick | head -1`).
 
 use std::error::Error;
-use std::io;
-use std::path::PathBuf;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 /// The folder a binary writes into when no `--out` is given: `chetaev-bench-out/<binary>` under
 /// the current directory, never the source tree (the committed `docs/performance` is regenerated
@@ -18,6 +19,38 @@ pub fn default_out(binary: &str) -> PathBuf {
 pub fn is_broken_pipe(e: &(dyn Error + 'static)) -> bool {
     e.downcast_ref::<io::Error>()
         .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe)
+}
+
+/// The folder a binary writes into, `out` or else [`default_out`] of `binary`, created (and made
+/// absolute where it can be, so the summary names it unambiguously).
+pub fn output_dir(out: Option<PathBuf>, binary: &str) -> Result<PathBuf, Box<dyn Error>> {
+    let out = out.unwrap_or_else(|| default_out(binary));
+    std::fs::create_dir_all(&out)
+        .map_err(|e| format!("cannot create the output directory {}: {e}", out.display()))?;
+    Ok(out.canonicalize().unwrap_or(out))
+}
+
+/// Prints a binary's summary on standard output and where its files were written. The files are
+/// written first: a reader that leaves early only shortens this summary.
+pub fn print_summary(summary: &str, out: &Path) -> Result<(), Box<dyn Error>> {
+    let mut stdout = io::stdout().lock();
+    write!(stdout, "{summary}")?;
+    writeln!(stdout, "written to {}", out.display())?;
+    stdout.flush()?;
+    Ok(())
+}
+
+/// How the binary `binary` ends after `result`: success, also when the reader of its output has
+/// gone ([`is_broken_pipe`]); otherwise the error on standard error, after the binary's name.
+pub fn exit(binary: &str, result: Result<(), Box<dyn Error>>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) if is_broken_pipe(e.as_ref()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let _ = writeln!(io::stderr(), "{binary}: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
 
 #[cfg(test)]
@@ -39,5 +72,24 @@ mod tests {
         assert!(!is_broken_pipe(e.as_ref()));
         let e: Box<dyn Error> = "broken pipe".into();
         assert!(!is_broken_pipe(e.as_ref()));
+    }
+
+    #[test]
+    fn a_binary_fails_on_an_error_and_not_on_a_closed_pipe() {
+        assert_eq!(exit("test", Ok(())), ExitCode::SUCCESS);
+        let pipe: Box<dyn Error> = io::Error::from(io::ErrorKind::BrokenPipe).into();
+        assert_eq!(exit("test", Err(pipe)), ExitCode::SUCCESS);
+        assert_eq!(exit("test", Err("no such scene".into())), ExitCode::FAILURE);
+    }
+
+    #[test]
+    fn the_output_folder_is_created() -> Result<(), Box<dyn Error>> {
+        let root = std::env::temp_dir().join(format!("chetaev-bench-cli-{}", std::process::id()));
+        let dir = root.join("a/b");
+        let made = output_dir(Some(dir.clone()), "test")?;
+        assert!(made.is_dir() && made.is_absolute(), "{}", made.display());
+        assert_eq!(made, dir.canonicalize()?);
+        std::fs::remove_dir_all(&root)?;
+        Ok(())
     }
 }

@@ -19,7 +19,9 @@
 //! Measurements of time (the fields ending in `seconds`, the `repeats` they took and each shard's
 //! `about`) differ from run to run; everything else is a function of the settings.
 
+use std::error::Error;
 use std::fmt;
+use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 use serde_json::{json, Map, Value};
@@ -240,6 +242,30 @@ impl Part {
             }
             _ => format!("{}.json", self.sweep),
         }
+    }
+
+    /// Writes the part into the folder `dir`, as [`Part::file_name`].
+    pub fn write_into(&self, dir: &Path) -> Result<(), Box<dyn Error>> {
+        let path = dir.join(self.file_name());
+        std::fs::write(&path, self.to_json())
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        Ok(())
+    }
+
+    /// Reads the part files `files` and joins them ([`merge`]) into the whole of the sweep
+    /// `sweep`; an error names the file it is about.
+    pub fn read_merged(files: &[PathBuf], sweep: &str) -> Result<Self, Box<dyn Error>> {
+        let mut parts = Vec::new();
+        for f in files {
+            let text = std::fs::read_to_string(f)
+                .map_err(|e| format!("cannot read {}: {e}", f.display()))?;
+            parts.push(Part::from_json(&text).map_err(|e| format!("{}: {e}", f.display()))?);
+        }
+        let whole = merge(parts)?;
+        if whole.sweep != sweep {
+            return Err(format!("a part of `{}`, not of `{sweep}`", whole.sweep).into());
+        }
+        Ok(whole)
     }
 
     /// The part as pretty-printed JSON.
@@ -739,6 +765,41 @@ mod tests {
         assert_eq!(again, merged);
         assert_eq!(part("2/3", 10).file_name(), "demo.part-2-of-3.json");
         assert_eq!(merged.file_name(), "demo.json");
+    }
+
+    #[test]
+    fn part_files_are_written_read_and_checked_against_their_sweep() -> Result<(), Box<dyn Error>> {
+        let dir = std::env::temp_dir().join(format!("chetaev-bench-parts-{}", std::process::id()));
+        std::fs::create_dir_all(&dir)?;
+        let files: Vec<PathBuf> = ["1/2", "2/2"]
+            .iter()
+            .map(|k| {
+                let p = part(k, 10);
+                p.write_into(&dir).map(|()| dir.join(p.file_name()))
+            })
+            .collect::<Result<_, _>>()?;
+        assert_eq!(
+            Part::read_merged(&files, "demo")?,
+            merge(vec![part("1/2", 10), part("2/2", 10)])?
+        );
+        let e = Part::read_merged(&files, "ensemble").expect_err("another sweep");
+        assert_eq!(e.to_string(), "a part of `demo`, not of `ensemble`");
+        let missing = dir.join("absent.json");
+        let e = Part::read_merged(std::slice::from_ref(&missing), "demo").expect_err("no file");
+        assert!(
+            e.to_string()
+                .starts_with(&format!("cannot read {}", missing.display())),
+            "{e}"
+        );
+        std::fs::write(&files[1], "{}")?;
+        let e = Part::read_merged(&files, "demo").expect_err("not a part");
+        assert!(
+            e.to_string()
+                .starts_with(&format!("{}: ", files[1].display())),
+            "{e}"
+        );
+        std::fs::remove_dir_all(&dir)?;
+        Ok(())
     }
 
     #[test]

@@ -19,7 +19,7 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use chetaev_bench::cli::{default_out, is_broken_pipe};
+use chetaev_bench::cli::{exit, output_dir};
 use chetaev_bench::criterion_results::{default_criterion_dir, parse_size, read_group, Estimate};
 use chetaev_bench::measure::log_slope;
 use chetaev_bench::report::format_seconds;
@@ -40,14 +40,7 @@ struct Args {
 }
 
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) if is_broken_pipe(e.as_ref()) => ExitCode::SUCCESS,
-        Err(e) => {
-            let _ = writeln!(std::io::stderr(), "bench-report: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    exit("bench-report", run())
 }
 
 /// The number of constraints of a size class as a function of `n`.
@@ -65,10 +58,7 @@ fn ns(e: &Estimate) -> String {
 fn run() -> Result<(), Box<dyn Error>> {
     let args = Args::parse();
     let criterion = args.criterion.unwrap_or_else(default_criterion_dir);
-    let out = args.out.unwrap_or_else(|| default_out("bench-report"));
-    std::fs::create_dir_all(&out)
-        .map_err(|e| format!("cannot create the output directory {}: {e}", out.display()))?;
-    let out = out.canonicalize().unwrap_or(out);
+    let out = output_dir(args.out, "bench-report")?;
     let mut md = String::new();
 
     let stat = read_group(&criterion, "rhs_cost")?;

@@ -18,14 +18,14 @@
 
 use std::error::Error;
 use std::fmt::Write as _;
-use std::io::{IsTerminal, Write as _};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use chetaev_bench::cli::{default_out, is_broken_pipe};
+use chetaev_bench::cli::{exit, output_dir, print_summary};
 use chetaev_bench::ensemble::{grid, sweep, SweepPoint};
 use chetaev_bench::parts::{
-    merge, number, sweep_point_from_json, sweep_point_to_json, Fields, Part, Shard,
+    number, sweep_point_from_json, sweep_point_to_json, Fields, Part, Shard,
 };
 use chetaev_bench::report::{csv_field, format_seconds};
 use chetaev_plot::{Figure, Style};
@@ -126,14 +126,7 @@ impl Settings {
 }
 
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) if is_broken_pipe(e.as_ref()) => ExitCode::SUCCESS,
-        Err(e) => {
-            let _ = writeln!(std::io::stderr(), "ensemble: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    exit("ensemble", run())
 }
 
 fn bar(len: usize, label: &str) -> ProgressBar {
@@ -155,37 +148,17 @@ fn run() -> Result<(), Box<dyn Error>> {
     let cli = Cli::parse();
     let (out, summary) = match cli.command {
         Some(Command::Merge(m)) => {
-            let out = prepare(m.out)?;
+            let out = output_dir(m.out, "ensemble")?;
             let summary = merge_parts(&m.parts, &out)?;
             (out, summary)
         }
         None => {
-            let out = prepare(cli.run.out.clone())?;
+            let out = output_dir(cli.run.out.clone(), "ensemble")?;
             let summary = solve_sweep(&cli.run, &out)?;
             (out, summary)
         }
     };
-    // The files are written; a reader that leaves early only shortens this summary.
-    let mut stdout = std::io::stdout().lock();
-    write!(stdout, "{summary}")?;
-    writeln!(stdout, "written to {}", out.display())?;
-    stdout.flush()?;
-    Ok(())
-}
-
-/// The output directory, created.
-fn prepare(out: Option<PathBuf>) -> Result<PathBuf, Box<dyn Error>> {
-    let out = out.unwrap_or_else(|| default_out("ensemble"));
-    std::fs::create_dir_all(&out)
-        .map_err(|e| format!("cannot create the output directory {}: {e}", out.display()))?;
-    Ok(out.canonicalize().unwrap_or(out))
-}
-
-fn write_part(part: &Part, out: &Path) -> Result<(), Box<dyn Error>> {
-    let path = out.join(part.file_name());
-    std::fs::write(&path, part.to_json())
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    Ok(())
+    print_summary(&summary, &out)
 }
 
 /// Solves the sweep (or one shard of it); writes the part file, and for the whole sweep the
@@ -238,7 +211,7 @@ fn solve_sweep(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
             .map(|(&i, p)| (i, sweep_point_to_json(p)))
             .collect(),
     );
-    write_part(&part, out)?;
+    part.write_into(out)?;
     if shard == Shard::WHOLE {
         return report(&settings, solved, *t1, *tn, 1, out);
     }
@@ -253,16 +226,7 @@ fn solve_sweep(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
 
 /// Joins the parts and writes the report of the whole sweep.
 fn merge_parts(files: &[PathBuf], out: &Path) -> Result<String, Box<dyn Error>> {
-    let mut parts = Vec::new();
-    for f in files {
-        let text =
-            std::fs::read_to_string(f).map_err(|e| format!("cannot read {}: {e}", f.display()))?;
-        parts.push(Part::from_json(&text).map_err(|e| format!("{}: {e}", f.display()))?);
-    }
-    let whole = merge(parts)?;
-    if whole.sweep != "ensemble" {
-        return Err(format!("a part of `{}`, not of `ensemble`", whole.sweep).into());
-    }
+    let whole = Part::read_merged(files, "ensemble")?;
     let settings = Settings::from_json(&whole.settings)?;
     let points = whole
         .items
@@ -275,7 +239,7 @@ fn merge_parts(files: &[PathBuf], out: &Path) -> Result<String, Box<dyn Error>> 
         t1 += about.f64("serial_seconds")?;
         tn += about.f64("parallel_seconds")?;
     }
-    write_part(&whole, out)?;
+    whole.write_into(out)?;
     report(&settings, &points, t1, tn, whole.runs.len(), out)
 }
 

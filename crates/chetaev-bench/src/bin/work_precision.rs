@@ -26,12 +26,12 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use chetaev::prelude::*;
-use chetaev_bench::cli::{default_out, is_broken_pipe};
+use chetaev_bench::cli::{exit, output_dir, print_summary};
 use chetaev_bench::measure::{ratio_at_error, Budget};
 use chetaev_bench::overhead::{constraint_overhead, diagnostics_overhead, Comparison};
 use chetaev_bench::parts::{
-    comparison_from_json, comparison_to_json, merge, number, point_from_json, point_to_json,
-    read_number, Fields, Part, Shard,
+    comparison_from_json, comparison_to_json, number, point_from_json, point_to_json, read_number,
+    Fields, Part, Shard,
 };
 use chetaev_bench::report::{
     format_ratio, format_seconds, points_csv, points_markdown, ratio_at_tolerance_markdown,
@@ -125,14 +125,7 @@ const SCENE_ORDER: [&str; 7] = [
 const OVERHEADS: usize = 6;
 
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) if is_broken_pipe(e.as_ref()) => ExitCode::SUCCESS,
-        Err(e) => {
-            let _ = writeln!(std::io::stderr(), "work-precision: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    exit("work-precision", run())
 }
 
 /// Progress on stderr; a closed stderr only silences it.
@@ -144,37 +137,17 @@ fn run() -> Result<(), Box<dyn Error>> {
     let cli = Cli::parse();
     let (out, summary) = match cli.command {
         Some(Command::Merge(m)) => {
-            let out = prepare(m.out)?;
+            let out = output_dir(m.out, "work-precision")?;
             let summary = merge_parts(&m.parts, &out)?;
             (out, summary)
         }
         None => {
-            let out = prepare(cli.run.out.clone())?;
+            let out = output_dir(cli.run.out.clone(), "work-precision")?;
             let summary = run_study(&cli.run, &out)?;
             (out, summary)
         }
     };
-    // The files are written; a reader that leaves early only shortens this summary.
-    let mut stdout = std::io::stdout().lock();
-    write!(stdout, "{summary}")?;
-    writeln!(stdout, "written to {}", out.display())?;
-    stdout.flush()?;
-    Ok(())
-}
-
-/// The output directory, created.
-fn prepare(out: Option<PathBuf>) -> Result<PathBuf, Box<dyn Error>> {
-    let out = out.unwrap_or_else(|| default_out("work-precision"));
-    std::fs::create_dir_all(&out)
-        .map_err(|e| format!("cannot create the output directory {}: {e}", out.display()))?;
-    Ok(out.canonicalize().unwrap_or(out))
-}
-
-fn write_part(part: &Part, out: &Path) -> Result<(), Box<dyn Error>> {
-    let path = out.join(part.file_name());
-    std::fs::write(&path, part.to_json())
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    Ok(())
+    print_summary(&summary, &out)
 }
 
 /// What defines the study's items, equal in all parts of one run.
@@ -528,7 +501,7 @@ fn run_study(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
         json!({ "machine": machine(), "seconds": number(elapsed) }),
         items,
     );
-    write_part(&part, out)?;
+    part.write_into(out)?;
     if shard == Shard::WHOLE {
         return report(&study, &part, out);
     }
@@ -542,18 +515,9 @@ fn run_study(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
 
 /// Joins the parts and writes the report of the whole study.
 fn merge_parts(files: &[PathBuf], out: &Path) -> Result<String, Box<dyn Error>> {
-    let mut parts = Vec::new();
-    for f in files {
-        let text =
-            std::fs::read_to_string(f).map_err(|e| format!("cannot read {}: {e}", f.display()))?;
-        parts.push(Part::from_json(&text).map_err(|e| format!("{}: {e}", f.display()))?);
-    }
-    let whole = merge(parts)?;
-    if whole.sweep != "work-precision" {
-        return Err(format!("a part of `{}`, not of `work-precision`", whole.sweep).into());
-    }
+    let whole = Part::read_merged(files, "work-precision")?;
     let study = Study::new(&Settings::from_json(&whole.settings)?)?;
-    write_part(&whole, out)?;
+    whole.write_into(out)?;
     report(&study, &whole, out)
 }
 
