@@ -11,8 +11,8 @@ use std::process::ExitCode;
 
 use chetaev::prelude::*;
 use chetaev_catalogue::chaplygin_sleigh::{self, body_velocities};
-use chetaev_catalogue::{compare, max_energy_balance, Reference};
-use chetaev_suite::finish;
+use chetaev_catalogue::{compare, Reference};
+use chetaev_suite::{finish, run_summary};
 use clap::Parser;
 
 /// The Chaplygin sleigh against the closed form of its body velocities (Bloch, §1.7).
@@ -57,10 +57,7 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
             &SVector::from_column_slice(q),
             &SVector::from_column_slice(qd),
         );
-        let error = cf
-            .checks_at(t, q, qd, Some(mu))?
-            .iter()
-            .fold(0.0f64, |acc, c| acc.max(c.error()));
+        let error = cf.error_at(t, q, qd, Some(mu))?;
         writeln!(
             out,
             "{t:>5.2} {u:>14.11} {:>14.11} {w:>14.11} {:>14.11} {:>13.10} {:>13.10} {error:>9.1e}",
@@ -77,13 +74,6 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
          (V, V √(m/(I + m a²)), ...): {:.2e}",
         compare(&sol, cf)?.max()
     )?;
-    writeln!(
-        out,
-        "constraint residual {:.1e}, energy balance {:.1e}, {} steps, status {:?}",
-        sol.max_residual(),
-        max_energy_balance(&sol),
-        sol.stats.accepted_steps,
-        sol.status
-    )?;
+    writeln!(out, "{}", run_summary(&sol, ""))?;
     Ok(())
 }

@@ -12,7 +12,7 @@ use std::process::ExitCode;
 
 use chetaev::integrate::system::Stats;
 use chetaev::prelude::*;
-use chetaev_suite::finish;
+use chetaev_suite::{finish, sci};
 use clap::Parser;
 use uniform_projectile::closed_form::Params;
 use uniform_projectile::model::{uniform_problem, UniformProblem};
@@ -33,15 +33,6 @@ struct Cli {}
 fn main() -> ExitCode {
     Cli::parse();
     finish(run(&mut io::stdout().lock()))
-}
-
-/// A small error: `0` when exact, otherwise two significant digits (`3.6e-16`).
-fn sci(v: f64) -> String {
-    if v == 0.0 {
-        "0".into()
-    } else {
-        format!("{v:.1e}")
-    }
 }
 
 fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {

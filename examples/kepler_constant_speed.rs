@@ -11,8 +11,8 @@ use std::process::ExitCode;
 
 use chetaev::prelude::*;
 use chetaev_catalogue::kepler_constant_speed::{self, invariant, Params};
-use chetaev_catalogue::{compare, max_energy_balance, Kind};
-use chetaev_suite::finish;
+use chetaev_catalogue::{compare, Kind};
+use chetaev_suite::{finish, run_summary, sci};
 use clap::Parser;
 
 /// A particle at constant speed in a Kepler field: its invariant and its orbit against the quadratures.
@@ -22,15 +22,6 @@ struct Cli {}
 fn main() -> ExitCode {
     Cli::parse();
     finish(run(&mut io::stdout().lock()))
-}
-
-/// A small error: `0` when exact, otherwise two significant digits (`3.6e-16`).
-fn sci(v: f64) -> String {
-    if v == 0.0 {
-        "0".into()
-    } else {
-        format!("{v:.1e}")
-    }
 }
 
 fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
@@ -111,12 +102,11 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
     )?;
     writeln!(
         out,
-        "constraint residual {:.1e}, energy balance {:.1e} (E = ½ m v0² − k m/r changes by the work of Φ = 2μ q̇), \
-         {} steps, status {:?}",
-        sol.max_residual(),
-        max_energy_balance(&sol),
-        sol.stats.accepted_steps,
-        sol.status
+        "{}",
+        run_summary(
+            &sol,
+            " (E = ½ m v0² − k m/r changes by the work of Φ = 2μ q̇)"
+        )
     )?;
     Ok(())
 }

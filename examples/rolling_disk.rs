@@ -9,8 +9,8 @@ use std::io::{self, Write};
 use std::process::ExitCode;
 
 use chetaev::prelude::*;
-use chetaev_catalogue::{compare, max_energy_balance, rolling_disk, Reference};
-use chetaev_suite::finish;
+use chetaev_catalogue::{compare, rolling_disk, Reference};
+use chetaev_suite::{finish, run_summary, sci};
 use clap::Parser;
 
 /// The vertical rolling disk against its closed form (Bloch, §1.4).
@@ -20,15 +20,6 @@ struct Cli {}
 fn main() -> ExitCode {
     Cli::parse();
     finish(run(&mut io::stdout().lock()))
-}
-
-/// A small error: `0` when exact, otherwise two significant digits (`3.6e-16`).
-fn sci(v: f64) -> String {
-    if v == 0.0 {
-        "0".into()
-    } else {
-        format!("{v:.1e}")
-    }
 }
 
 fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
@@ -66,10 +57,7 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
     for i in 0..sol.len() {
         let (t, q, qd, mu) = (sol.t[i], &sol.q[i], &sol.qd[i], &sol.mu[i]);
         let (exact, mu_exact) = (cf.position(t), cf.multiplier(t));
-        let error = cf
-            .checks_at(t, q, qd, Some(mu))?
-            .iter()
-            .fold(0.0f64, |acc, c| acc.max(c.error()));
+        let error = cf.error_at(t, q, qd, Some(mu))?;
         writeln!(
             out,
             "{t:>5.2} {:>13.9} {:>13.9} {:>13.9} {:>13.9} {:>11.7} {:>13.9} {:>13.9} {:>9}",
@@ -90,13 +78,6 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
          (ρ, R ω, m R ω Ω, E, ...): {:.2e}",
         compare(&sol, cf)?.max()
     )?;
-    writeln!(
-        out,
-        "constraint residual {:.1e}, energy balance {:.1e}, {} steps, status {:?}",
-        sol.max_residual(),
-        max_energy_balance(&sol),
-        sol.stats.accepted_steps,
-        sol.status
-    )?;
+    writeln!(out, "{}", run_summary(&sol, ""))?;
     Ok(())
 }

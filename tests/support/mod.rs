@@ -18,6 +18,28 @@ pub fn finish(result: Result<(), Box<dyn std::error::Error>>) -> std::process::E
     }
 }
 
+/// A small error for a table: `0` when exact, otherwise two significant digits (`3.6e-16`).
+pub fn sci(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+/// The line an example ends with: the largest constraint residual and energy-balance error of
+/// `sol`, then `note` (empty, or what the balance means for the model, in parentheses), its
+/// accepted steps and its status.
+pub fn run_summary(sol: &chetaev::Solution, note: &str) -> String {
+    format!(
+        "constraint residual {:.1e}, energy balance {:.1e}{note}, {} steps, status {:?}",
+        sol.max_residual(),
+        chetaev_catalogue::max_energy_balance(sol),
+        sol.stats.accepted_steps,
+        sol.status
+    )
+}
+
 /// Relative difference `|a − b| / max(|b|, tiny)`.
 pub fn rel_err(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)

@@ -121,6 +121,24 @@ pub trait Reference<const N: usize, const K: usize> {
         let mu = mu.map(|mu| vector::<K>("μ", mu)).transpose()?;
         Ok(self.checks(t, &q, &qd, mu.as_ref()))
     }
+
+    /// The largest [`Check::error`] of [`Reference::checks_at`] at one recorded point; a NaN (a
+    /// reference or a motion that left its domain) counts as infinite, as in [`compare`].
+    fn error_at(&self, t: f64, q: &[f64], qd: &[f64], mu: Option<&[f64]>) -> Result<f64, Error> {
+        Ok(self
+            .checks_at(t, q, qd, mu)?
+            .iter()
+            .fold(0.0, |acc, c| acc.max(counted(c.error()))))
+    }
+}
+
+/// An error as the comparisons count it: a NaN as the worst, infinite.
+fn counted(e: f64) -> f64 {
+    if e.is_nan() {
+        f64::INFINITY
+    } else {
+        e
+    }
 }
 
 /// `v` as an `SVector` of length `L`, or [`Error::WrongLength`].
@@ -210,12 +228,7 @@ where
             solution.mu.get(i),
         )?;
         for c in checks {
-            // A NaN (a reference or a motion that left its domain) counts as the worst error.
-            let e = if c.error().is_nan() {
-                f64::INFINITY
-            } else {
-                c.error()
-            };
+            let e = counted(c.error());
             match out.quantities.iter_mut().find(|q| q.name == c.name) {
                 Some(q) if e > q.error => {
                     q.error = e;
@@ -307,5 +320,15 @@ mod tests {
             Some(&SVector::from_column_slice(&sol.mu[i])),
         );
         assert_eq!(by_slices, by_vectors);
+        // The error at a point is the largest of its checks; a point outside the reference's
+        // domain (here a NaN state) is the worst, not a NaN that every comparison would pass.
+        let at = |q: &[f64]| {
+            knife
+                .reference
+                .error_at(sol.t[i], q, &sol.qd[i], sol.mu.get(i))
+        };
+        let largest = by_slices.iter().map(Check::error).fold(0.0, f64::max);
+        assert_eq!(at(&sol.q[i]), Ok(largest));
+        assert_eq!(at(&[f64::NAN, 0.0, 0.0]), Ok(f64::INFINITY));
     }
 }
