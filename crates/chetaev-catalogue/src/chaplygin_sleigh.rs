@@ -38,19 +38,17 @@ use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 use crate::error::{check, finite, positive, Error};
-use crate::reference::{Check, Entry, Kind, Reference, Source};
+use crate::reference::{works, Check, Entry, Kind, Reference, Source};
 use crate::special::gd;
 
 /// Where the reduced equations and their solution come from.
 pub const SOURCES: &[Source] = &[
     Source {
-        work: "A. M. Bloch, Nonholonomic Mechanics and Control, Springer (2003)",
+        work: works::BLOCH,
         location: "§1.7 The Chaplygin Sleigh",
     },
     Source {
-        work:
-            "Ju. I. Neimark, N. A. Fufaev, Dynamics of Nonholonomic Systems, AMS Translations of \
-               Mathematical Monographs 33 (1972)",
+        work: works::NEIMARK_FUFAEV,
         location: "Chaplygin's sleigh (Chapter III)",
     },
 ];

@@ -34,19 +34,17 @@ use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 use crate::error::{check, positive, Error};
-use crate::reference::{Check, Entry, Kind, Reference, Source};
+use crate::reference::{works, Check, Entry, Kind, Reference, Source};
 use crate::special::{sinc, u_minus_sin_over_u2};
 
 /// Where the closed form comes from.
 pub const SOURCES: &[Source] = &[
     Source {
-        work: "A. M. Bloch, Nonholonomic Mechanics and Control, Springer (2003)",
+        work: works::BLOCH,
         location: "§1.6 The Knife Edge",
     },
     Source {
-        work:
-            "Ju. I. Neimark, N. A. Fufaev, Dynamics of Nonholonomic Systems, AMS Translations of \
-               Mathematical Monographs 33 (1972)",
+        work: works::NEIMARK_FUFAEV,
         location: "the skate on an inclined plane (Chapter I)",
     },
 ];

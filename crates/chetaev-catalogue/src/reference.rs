@@ -28,6 +28,16 @@ pub struct Source {
     pub location: &'static str,
 }
 
+/// Works several entries cite, written once.
+pub mod works {
+    /// Bloch's book, which treats the knife edge, the rolling disk and the Chaplygin sleigh.
+    pub const BLOCH: &str = "A. M. Bloch, Nonholonomic Mechanics and Control, Springer (2003)";
+    /// Neimark and Fufaev's monograph.
+    pub const NEIMARK_FUFAEV: &str =
+        "Ju. I. Neimark, N. A. Fufaev, Dynamics of Nonholonomic Systems, AMS Translations of \
+         Mathematical Monographs 33 (1972)";
+}
+
 impl fmt::Display for Source {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}, {}", self.work, self.location)

@@ -32,12 +32,12 @@ use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
 use crate::error::{finite, positive, Error};
-use crate::reference::{Check, Entry, Kind, Reference, Source};
+use crate::reference::{works, Check, Entry, Kind, Reference, Source};
 use crate::special::sinc;
 
 /// Where the closed form comes from.
 pub const SOURCES: &[Source] = &[Source {
-    work: "A. M. Bloch, Nonholonomic Mechanics and Control, Springer (2003)",
+    work: works::BLOCH,
     location: "§1.4 The Vertical Rolling Disk",
 }];
 

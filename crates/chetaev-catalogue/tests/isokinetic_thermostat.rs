@@ -8,8 +8,7 @@ mod common;
 use chetaev::equations::{evaluate, Workspace};
 use chetaev::prelude::*;
 use chetaev_catalogue::isokinetic_thermostat::{entry, friction_coefficient, ClosedForm, Params};
-use chetaev_catalogue::Kind;
-use common::{assert_energy_balance, run, TOLERANCES};
+use common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 use uniform_projectile::closed_form::{uniform, Params as Paper};
 
 /// Eight particles in 3D (`N = 24`) with masses 1…8 and alternating charges in a tilted field.
@@ -39,18 +38,7 @@ fn check_against_closed_form<const N: usize>(p: &Params<N>, t_end: f64, toleranc
         // Observed ≤ 1.1 tol for positions (against √(2K0/m_k) · max(t, 1/√b)), velocities
         // (against √(2K0/m_k)), μ (against √b) and K (against K0), from 1e-6 to 1e-12. The stated
         // bound is 10 tol.
-        for kind in [
-            Kind::Position,
-            Kind::Velocity,
-            Kind::Multiplier,
-            Kind::Invariant,
-        ] {
-            let err = cmp.max_of(kind);
-            assert!(
-                err <= 10.0 * tol,
-                "N = {N}, tol {tol:e}: {kind:?} error {err:e}"
-            );
-        }
+        assert_within(&cmp, &KINDS, 10.0 * tol, &format!("N = {N}, tol {tol:e}"));
         // f = K − K0 against K0 (observed ≤ 1.1 tol).
         assert!(sol.max_residual() <= 10.0 * tol * k0, "tol {tol:e}");
         assert_energy_balance(&sol, tol);

@@ -7,8 +7,8 @@ mod common;
 use chetaev::equations::{evaluate, Workspace};
 use chetaev::prelude::*;
 use chetaev_catalogue::knife_edge::{entry, ClosedForm, Params};
-use chetaev_catalogue::{Error, Kind};
-use common::{assert_energy_balance, run, TOLERANCES};
+use chetaev_catalogue::Error;
+use common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 
 /// Three turns of the blade (`ω t_end ≈ 3.2 · 2π`).
 const T_END: f64 = 20.0;
@@ -25,15 +25,7 @@ fn motion_follows_the_closed_form_within_the_tolerance_asked() {
         // positions, 5 tol for the velocities and μ, 12 tol for E); 50 tol leaves a margin of 4.
         // Positions against g sin α / ω², velocities against g sin α / ω, μ against m g sin α,
         // E against ½ I ω² + ½ m (g sin α / ω)².
-        for kind in [
-            Kind::Position,
-            Kind::Velocity,
-            Kind::Multiplier,
-            Kind::Invariant,
-        ] {
-            let err = cmp.max_of(kind);
-            assert!(err <= 50.0 * tol, "tol {tol:e}: {kind:?} error {err:e}");
-        }
+        assert_within(&cmp, &KINDS, 50.0 * tol, &format!("tol {tol:e}"));
         // f = ẋ sin φ − ẏ cos φ is a velocity: its drift against g sin α / ω (observed ≤ 0.6 tol).
         assert!(sol.max_residual() <= 50.0 * tol * speed, "tol {tol:e}");
         assert_energy_balance(&sol, tol);

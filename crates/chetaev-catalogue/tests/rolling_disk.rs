@@ -5,8 +5,7 @@ mod common;
 
 use chetaev::equations::{evaluate, Workspace};
 use chetaev_catalogue::rolling_disk::{entry, ClosedForm, Params};
-use chetaev_catalogue::Kind;
-use common::{assert_energy_balance, run, TOLERANCES};
+use common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 
 /// A little over three laps of the circle (`Ω t_end = 20`).
 const T_END: f64 = 20.0;
@@ -21,15 +20,7 @@ fn motion_follows_the_closed_form_within_the_tolerance_asked() {
         // Uniform rotation is integrated almost exactly (observed ≤ 0.5 tol of the circle's radius
         // for positions, ≤ 0.1 tol for velocities and E against R ω, and E); 10 tol is the stated
         // bound.
-        for kind in [
-            Kind::Position,
-            Kind::Velocity,
-            Kind::Multiplier,
-            Kind::Invariant,
-        ] {
-            let err = cmp.max_of(kind);
-            assert!(err <= 10.0 * tol, "tol {tol:e}: {kind:?} error {err:e}");
-        }
+        assert_within(&cmp, &KINDS, 10.0 * tol, &format!("tol {tol:e}"));
         // Both constraints are velocities: drift against R ω (observed ≤ 0.1 tol).
         assert!(sol.max_residual() <= 10.0 * tol * speed, "tol {tol:e}");
         assert_energy_balance(&sol, tol);

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use chetaev::prelude::*;
-use chetaev_catalogue::{compare, Comparison, Entry, Reference};
+use chetaev_catalogue::{compare, Comparison, Entry, Kind, Reference};
 
 /// Solves `entry` to `t_end` by `Dop853` at `rtol = atol = tol`, requires success, and compares
 /// every recorded step with the reference.
@@ -47,4 +47,21 @@ pub fn assert_energy_balance(sol: &Solution, tol: f64) {
         balance <= 5.0 * tol * scale,
         "tol {tol:e}: energy balance {balance:e}, scale {scale:e}"
     );
+}
+
+/// Every kind of quantity but times: positions, velocities, multipliers, invariants.
+pub const KINDS: [Kind; 4] = [
+    Kind::Position,
+    Kind::Velocity,
+    Kind::Multiplier,
+    Kind::Invariant,
+];
+
+/// Asserts that the largest error of each of `kinds` in `cmp` is at most `bound`; `what` names the
+/// run in the message, which also names the kind and its error.
+pub fn assert_within(cmp: &Comparison, kinds: &[Kind], bound: f64, what: &str) {
+    for &kind in kinds {
+        let err = cmp.max_of(kind);
+        assert!(err <= bound, "{what}: {kind:?} error {err:e}");
+    }
 }
