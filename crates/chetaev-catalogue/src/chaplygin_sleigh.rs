@@ -304,13 +304,7 @@ impl Reference<3, 1> for ClosedForm {
         ];
         if let Some(mu) = mu {
             let scale = p.m * p.inertia * self.v * w_scale / p.i_contact();
-            out.push(Check::new(
-                "μ",
-                Kind::Multiplier,
-                mu[0],
-                self.multiplier(t),
-                scale,
-            ));
+            out.push(Check::multiplier(mu[0], self.multiplier(t), scale));
         }
         out
     }

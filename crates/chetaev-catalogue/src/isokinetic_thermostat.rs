@@ -454,13 +454,7 @@ impl<const N: usize> Reference<N, 1> for ClosedForm<N> {
         if let Some(mu) = mu {
             // |α| ≤ √b (Cauchy–Schwarz), so √b is the multiplier's scale.
             let scale = self.b.sqrt();
-            out.push(Check::new(
-                "μ",
-                Kind::Multiplier,
-                mu[0],
-                self.multiplier(t),
-                scale,
-            ));
+            out.push(Check::multiplier(mu[0], self.multiplier(t), scale));
         }
         out
     }

@@ -381,9 +381,7 @@ impl Reference<3, 1> for Invariant {
         if let Some(mu) = mu {
             let r = q.norm();
             let scale = self.p.k * self.p.m / (2.0 * v0 * r * r);
-            out.push(Check::new(
-                "μ",
-                Kind::Multiplier,
+            out.push(Check::multiplier(
                 mu[0],
                 multiplier_at(&self.p, q, qd),
                 scale,

@@ -243,13 +243,7 @@ impl Reference<3, 1> for ClosedForm {
             Check::new("E", Kind::Invariant, self.energy(q, qd), e0, energy_scale),
         ];
         if let Some(mu) = mu {
-            out.push(Check::new(
-                "μ",
-                Kind::Multiplier,
-                mu[0],
-                self.multiplier(t),
-                p.m * p.a(),
-            ));
+            out.push(Check::multiplier(mu[0], self.multiplier(t), p.m * p.a()));
         }
         out
     }

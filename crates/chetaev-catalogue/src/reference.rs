@@ -92,6 +92,11 @@ impl Check {
         }
     }
 
+    /// The check of the multiplier `μ` of a single constraint (named `"μ"`).
+    pub fn multiplier(computed: f64, reference: f64, scale: f64) -> Self {
+        Self::new("μ", Kind::Multiplier, computed, reference, scale)
+    }
+
     /// `|computed − reference| / scale`.
     pub fn error(&self) -> f64 {
         (self.computed - self.reference).abs() / self.scale
