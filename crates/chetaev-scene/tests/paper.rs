@@ -43,6 +43,26 @@ fn same_steps(o: &Outcome, rust: &Stats) {
     );
 }
 
+/// Asserts that the rows agree column by column to `tol`, relative to `want`.
+fn assert_row(got: [f64; 4], want: [f64; 4], tol: f64) {
+    for i in 0..4 {
+        assert!(
+            rel(got[i], want[i]) < tol,
+            "column {i}: {} vs {}",
+            got[i],
+            want[i]
+        );
+    }
+}
+
+/// The Rust model solved as the scene files solve it: Dop853, `rtol = atol = 1e-12`, to the impact.
+fn solve_to_impact<M: Model>(problem: &Problem<M>) -> Solution {
+    let options = Options::until(10.0)
+        .tolerances(1e-12, 1e-12)
+        .event(impact());
+    solve(problem, Dop853::default(), &options).expect("solves")
+}
+
 fn closed_row(k: &Kinematics) -> [f64; 4] {
     [k.t_impact, k.range, k.impact_speed, k.impact_angle_deg()]
 }
@@ -62,33 +82,10 @@ fn uniform_scene_reproduces_table_42_1_and_the_rust_model() {
     let (_, o) = scene("uniform-projectile.toml");
     let p = Params::PAPER;
     let got = impact_row(&o);
-    let closed = closed_row(&table(&p).uniform);
-    for i in 0..4 {
-        assert!(
-            rel(got[i], closed[i]) < 1e-10,
-            "column {i}: {} vs {}",
-            got[i],
-            closed[i]
-        );
-    }
+    assert_row(got, closed_row(&table(&p).uniform), 1e-10);
     // The Rust model with the same method, tolerances and event.
-    let rust = solve(
-        &uniform_problem(&p).expect("problem"),
-        Dop853::default(),
-        &Options::until(10.0)
-            .tolerances(1e-12, 1e-12)
-            .event(impact()),
-    )
-    .expect("solves");
-    let want = rust_row(&rust);
-    for i in 0..4 {
-        assert!(
-            rel(got[i], want[i]) < 1e-13,
-            "column {i}: {} vs {}",
-            got[i],
-            want[i]
-        );
-    }
+    let rust = solve_to_impact(&uniform_problem(&p).expect("problem"));
+    assert_row(got, rust_row(&rust), 1e-13);
     same_steps(&o, &rust.stats);
     // The multiplier along the motion against (42.40), μ = −(m g / 2 v0) tanh(g t / v0).
     assert_eq!(o.mu.len(), o.t.len());
@@ -110,32 +107,9 @@ fn classical_scene_reproduces_table_42_1_and_the_rust_model() {
     assert_eq!(scene.k(), 0);
     let p = Params::PAPER;
     let got = impact_row(&o);
-    let closed = closed_row(&table(&p).classical);
-    for i in 0..4 {
-        assert!(
-            rel(got[i], closed[i]) < 1e-10,
-            "column {i}: {} vs {}",
-            got[i],
-            closed[i]
-        );
-    }
-    let rust = solve(
-        &classical_problem(&p).expect("problem"),
-        Dop853::default(),
-        &Options::until(10.0)
-            .tolerances(1e-12, 1e-12)
-            .event(impact()),
-    )
-    .expect("solves");
-    let want = rust_row(&rust);
-    for i in 0..4 {
-        assert!(
-            rel(got[i], want[i]) < 1e-13,
-            "column {i}: {} vs {}",
-            got[i],
-            want[i]
-        );
-    }
+    assert_row(got, closed_row(&table(&p).classical), 1e-10);
+    let rust = solve_to_impact(&classical_problem(&p).expect("problem"));
+    assert_row(got, rust_row(&rust), 1e-13);
     same_steps(&o, &rust.stats);
 }
 
