@@ -29,14 +29,6 @@ impl Lagrangian<2> for Pendulum {
 }
 
 impl Constraints<2, 0> for Pendulum {
-    fn constraints<R: Real>(
-        &self,
-        _t: R,
-        _q: &SVector<R, 2>,
-        _qd: &SVector<R, 2>,
-    ) -> SVector<R, 0> {
-        SVector::zeros()
-    }
     fn holonomic_count(&self) -> usize {
         1
     }

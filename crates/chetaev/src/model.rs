@@ -114,7 +114,7 @@ pub trait Lagrangian<const N: usize> {
 /// Jacobian `J = ∂f/∂q̇` (shape `K × N`) must have full row rank along the motion.
 ///
 /// The unconstrained motion of any Lagrangian needs no extra code: wrap it in [`Unconstrained`]
-/// (`K = 0`), which pays for no multiplier work.
+/// (`K = 0`), which pays for no multiplier work, or write `impl Constraints<N, 0> for Model {}`.
 ///
 /// ```
 /// use chetaev::prelude::*;
@@ -130,7 +130,34 @@ pub trait Lagrangian<const N: usize> {
 /// ```
 pub trait Constraints<const N: usize, const K: usize> {
     /// `f(t, q, q̇)`, shape `K`.
-    fn constraints<R: Real>(&self, t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> SVector<R, K>;
+    ///
+    /// Provided only for `K = 0`: a model with holonomic constraints alone, or none, writes
+    /// `impl Constraints<N, 0> for Model {}` and at most the holonomic methods. A model with
+    /// `K > 0` that leaves it out does not compile (the message names this method):
+    ///
+    /// ```compile_fail,E0080
+    /// use chetaev::prelude::*;
+    ///
+    /// struct Forgotten;
+    /// impl Lagrangian<2> for Forgotten {
+    ///     fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+    ///         qd.dot(qd) * 0.5
+    ///     }
+    /// }
+    /// impl Constraints<2, 1> for Forgotten {}
+    ///
+    /// let problem = Problem::new(Forgotten, 0.0, SVector::zeros(), SVector::from([1.0, 0.0]));
+    /// ```
+    fn constraints<R: Real>(&self, t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> SVector<R, K> {
+        const {
+            assert!(
+                K == 0,
+                "a model with K > 0 velocity constraints must implement Constraints::constraints"
+            )
+        };
+        let _ = (t, q, qd);
+        SVector::zeros()
+    }
 
     /// The number `H` of holonomic constraints `h(t, q) = 0` besides the `K` velocity constraints
     /// (0, the default, for none). See [`Constraints::holonomic`].
@@ -174,17 +201,7 @@ impl<M: Lagrangian<N>, const N: usize> Lagrangian<N> for Unconstrained<M> {
     }
 }
 
-impl<M, const N: usize> Constraints<N, 0> for Unconstrained<M> {
-    #[inline(always)]
-    fn constraints<R: Real>(
-        &self,
-        _t: R,
-        _q: &SVector<R, N>,
-        _qd: &SVector<R, N>,
-    ) -> SVector<R, 0> {
-        SVector::zeros()
-    }
-}
+impl<M, const N: usize> Constraints<N, 0> for Unconstrained<M> {}
 
 /// A Lagrangian with `K` constraints on `N` coordinates, sizes known only at run time (scene
 /// files, generated models). Every `DynModel` is a [`Model`]; build its problem with
