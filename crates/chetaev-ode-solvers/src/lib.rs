@@ -184,8 +184,8 @@ pub fn solve_with_ode_solvers<M: Model>(
     options: &Options,
 ) -> Result<Solution, BackendError> {
     let t0 = problem.t0();
-    let settings = Settings::new(options, method, t0)?;
     let (n, k) = problem.sizes();
+    let settings = Settings::new(options, method, t0, n)?;
     let tau_end = (options.t_end - t0).abs();
     if !tau_end.is_finite() {
         return Err(Error::NonFiniteInput {
@@ -301,9 +301,9 @@ struct Settings {
 }
 
 impl Settings {
-    /// Refuses what `ode_solvers` cannot honour, then checks the numbers as [`chetaev::solve`]
-    /// does.
-    fn new(o: &Options, method: OdeSolversMethod, t0: f64) -> Result<Self, BackendError> {
+    /// Refuses what `ode_solvers` cannot honour, then checks the options as [`chetaev::solve`]
+    /// does ([`Options::validate`], for `n` coordinates from `t0`).
+    fn new(o: &Options, method: OdeSolversMethod, t0: f64, n: usize) -> Result<Self, BackendError> {
         if !o.events.is_empty() {
             return Err(BackendError::Events {
                 count: o.events.len(),
@@ -337,78 +337,9 @@ impl Settings {
             });
         }
 
-        if !o.t_end.is_finite() {
-            return Err(Error::NonFiniteInput {
-                what: "t_end".to_string(),
-                value: o.t_end,
-            }
-            .into());
-        }
-        let invalid = |name: &'static str, value: f64, hint: &'static str| {
-            BackendError::Chetaev(Error::InvalidOption { name, value, hint })
-        };
-        if !(o.rtol.is_finite() && o.rtol >= 0.0) {
-            return Err(invalid(
-                "rtol",
-                o.rtol,
-                "the relative tolerance must be finite and non-negative; 1e-6 to 1e-13 are typical",
-            ));
-        }
-        if o.rtol < 100.0 * f64::EPSILON && o.rtol != 0.0 {
-            return Err(invalid(
-                "rtol",
-                o.rtol,
-                "below 100 ulps (2.2e-14) no step size can meet the tolerance in f64; use 1e-13 or more",
-            ));
-        }
-        if !(atol.is_finite() && atol >= 0.0) {
-            return Err(invalid(
-                "atol",
-                atol,
-                "absolute tolerances must be finite and non-negative",
-            ));
-        }
-        if o.rtol == 0.0 && atol < 1e-300 {
-            return Err(invalid(
-                "atol",
-                atol,
-                "with rtol = 0 the absolute tolerance alone sets the accuracy, and it must be positive and \
-                 representable; give rtol > 0, or an atol such as 1e-12",
-            ));
-        }
+        o.validate(t0, n)?;
         if atol == 0.0 {
             return Err(BackendError::ZeroAtol);
-        }
-        if let Some(h) = o.initial_step {
-            if !(h.is_finite() && h != 0.0) {
-                return Err(invalid("initial_step", h, "a finite non-zero first step"));
-            }
-        }
-        if let Some(h) = o.max_step {
-            if !(h.is_finite() && h > 0.0) {
-                return Err(invalid("max_step", h, "a finite positive bound"));
-            }
-        }
-        if o.max_steps == 0 {
-            return Err(invalid("max_steps", 0.0, "allow at least one step"));
-        }
-        if let Output::Times(ts) = &o.output {
-            if let Some(&value) = ts.iter().find(|s| !s.is_finite()) {
-                return Err(Error::NonFiniteInput {
-                    what: "output time".to_string(),
-                    value,
-                }
-                .into());
-            }
-            let (lo, hi) = (t0.min(o.t_end), t0.max(o.t_end));
-            if let Some(&time) = ts.iter().find(|&&s| s < lo || s > hi) {
-                return Err(Error::OutputTimeOutOfRange {
-                    time,
-                    t0,
-                    t_end: o.t_end,
-                }
-                .into());
-            }
         }
         // Dopri5 of ode_solvers stops when more than `n_max` attempts were made, Dop853 when
         // `n_max` were.

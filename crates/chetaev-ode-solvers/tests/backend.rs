@@ -287,6 +287,45 @@ fn bad_input_is_chetaev_error() {
     );
 }
 
+/// Options both integrators take are checked alike: the backend refuses bad numbers with the very
+/// error `chetaev::solve` returns for them (per-component `atol` and `atol = 0` aside, which only
+/// the backend refuses).
+#[test]
+fn bad_numbers_get_the_answer_chetaev_gives() {
+    let problem = forced_problem(0.0);
+    for options in [
+        Options::until(1.0).tolerances(-1e-6, 1e-9),
+        Options::until(1.0).tolerances(1e-16, 1e-9),
+        Options::until(1.0).tolerances(1e-6, f64::NAN),
+        Options::until(1.0).tolerances(0.0, 1e-301),
+        Options::until(f64::NAN),
+        Options::until(1.0).max_steps(0),
+        Options::until(1.0).initial_step(f64::NAN),
+        Options::until(1.0).max_step(-1.0),
+        Options::until(1.0).output_times(vec![0.5, 2.0]),
+        Options::until(1.0).output_times(vec![0.5, f64::NAN]),
+        Options::until(1.0).controller(Controller::pi(0.2, 10.0, 0.5)),
+        Options {
+            rank_tolerance: 1.5,
+            ..Options::until(1.0)
+        },
+    ] {
+        let theirs = solve(&problem, Dopri5::default(), &options).map(|_| ());
+        let Err(expected) = theirs else {
+            panic!("{options:?}: chetaev accepts it")
+        };
+        let ours = solve_with_ode_solvers(&problem, OdeSolversMethod::Dopri5, &options);
+        match ours {
+            // By their messages, which name the option, its value and the hint (a NaN value is
+            // not equal to itself).
+            Err(BackendError::Chetaev(e)) => {
+                assert_eq!(e.to_string(), expected.to_string(), "{options:?}")
+            }
+            other => panic!("{options:?}: {other:?}, expected {expected:?}"),
+        }
+    }
+}
+
 #[test]
 fn zero_interval_records_the_start() {
     let problem = forced_problem(0.5);

@@ -2,7 +2,7 @@
 //! every model.
 
 use super::events::{crosses, locate_root, Direction, EventHit};
-use super::options::{Atol, Options, Output, Record};
+use super::options::{Options, Output, Record};
 use super::projection::{project_positions, project_velocity};
 use super::system::{OdeSystem, ReducedOde, Stats};
 use super::{Controller, ErrorNorm, Method, MethodInfo, Stepper};
@@ -129,101 +129,8 @@ impl<'o> LoopSettings<'o> {
         method.validate()?;
         let info = method.info();
         info.validate()?;
-        check_finite("t_end", std::slice::from_ref(&o.t_end))?;
-        let positive = |name: &'static str, v: f64, hint: &'static str| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(Error::InvalidOption {
-                    name,
-                    value: v,
-                    hint,
-                })
-            }
-        };
-        if !(o.rtol.is_finite() && o.rtol >= 0.0) {
-            return Err(Error::InvalidOption {
-                name: "rtol",
-                value: o.rtol,
-                hint: "the relative tolerance must be finite and non-negative; 1e-6 to 1e-13 are typical",
-            });
-        }
-        if o.rtol < 100.0 * f64::EPSILON && o.rtol != 0.0 {
-            return Err(Error::InvalidOption {
-                name: "rtol",
-                value: o.rtol,
-                hint: "below 100 ulps (2.2e-14) no step size can meet the tolerance in f64; use 1e-13 or more",
-            });
-        }
-        let atol = match &o.atol {
-            Atol::Scalar(a) => vec![*a; controlled],
-            Atol::PerComponent(v) => {
-                if v.len() != block {
-                    return Err(Error::InvalidOption {
-                        name: "atol (length)",
-                        value: v.len() as f64,
-                        hint: "give one absolute tolerance per controlled component: for a model, the n \
-                               positions then the n velocities, 2n in all",
-                    });
-                }
-                v.iter().copied().cycle().take(controlled).collect()
-            }
-        };
-        for &a in &atol {
-            if !(a.is_finite() && a >= 0.0) {
-                return Err(Error::InvalidOption {
-                    name: "atol",
-                    value: a,
-                    hint: "absolute tolerances must be finite and non-negative",
-                });
-            }
-            if o.rtol == 0.0 && a < 1e-300 {
-                return Err(Error::InvalidOption {
-                    name: "atol",
-                    value: a,
-                    hint: "with rtol = 0 the absolute tolerance alone sets the accuracy, and it must be \
-                           positive and representable; give rtol > 0, or an atol such as 1e-12",
-                });
-            }
-        }
-        if let Some(h) = o.initial_step {
-            positive("initial_step", h.abs(), "a finite non-zero first step")?;
-        }
-        if let Some(h) = o.max_step {
-            positive("max_step", h, "a finite positive bound")?;
-        }
-        if o.max_steps == 0 {
-            return Err(Error::InvalidOption {
-                name: "max_steps",
-                value: 0.0,
-                hint: "allow at least one step",
-            });
-        }
-        if let Output::Times(ts) = &o.output {
-            check_finite("output time", ts)?;
-            let (lo, hi) = (t0.min(o.t_end), t0.max(o.t_end));
-            if let Some(&time) = ts.iter().find(|&&s| s < lo || s > hi) {
-                return Err(Error::OutputTimeOutOfRange {
-                    time,
-                    t0,
-                    t_end: o.t_end,
-                });
-            }
-        }
-        if !(o.rank_tolerance.is_finite() && (0.0..1.0).contains(&o.rank_tolerance)) {
-            return Err(Error::InvalidOption {
-                name: "rank_tolerance",
-                value: o.rank_tolerance,
-                hint: "a fraction in [0, 1), such as the default 1e-8 (0 turns the singular-point check off)",
-            });
-        }
-        if let Some(p) = &o.projection {
-            positive(
-                "projection tol",
-                p.tol,
-                "a small positive relative residual such as 1e-14",
-            )?;
-        }
+        o.validate_components(t0, block)?;
+        let atol = o.atol_of(controlled);
         let controller = o.controller.unwrap_or(info.controller);
         controller.validate()?;
         Ok(Self {

@@ -5,6 +5,8 @@ use std::sync::Arc;
 use super::events::Event;
 use super::projection::Projection;
 use super::Controller;
+use crate::error::Error;
+use crate::problem::check_finite;
 use crate::sensitivity::Seed;
 
 /// Absolute tolerance: one number for every component, or one per component of `(q, q̇)`
@@ -107,6 +109,124 @@ impl Options {
             controller: None,
             sensitivities: Vec::new(),
             sensitivity_control: false,
+        }
+    }
+
+    /// Checks every option that does not depend on the method, for a model with `n` coordinates
+    /// whose motion starts at `t0`: finite `t_end`, tolerances (a per-component `atol` of length
+    /// `2n`), step bounds, the step limit, output times between `t0` and `t_end`, the rank
+    /// tolerance, the projection's tolerance and the controller. The error names the option and
+    /// what to try.
+    ///
+    /// [`solve`](crate::solve) calls it before it takes a step (with the method's own checks); an
+    /// integrator outside the crate calls it so that its users get the same answers for the same
+    /// options, then refuses what it cannot honour itself.
+    pub fn validate(&self, t0: f64, n: usize) -> Result<(), Error> {
+        self.validate_components(t0, 2 * n)
+    }
+
+    /// [`Options::validate`] for a system whose per-component `atol` has `block` entries.
+    pub(crate) fn validate_components(&self, t0: f64, block: usize) -> Result<(), Error> {
+        let invalid = |name: &'static str, value: f64, hint: &'static str| {
+            Err(Error::InvalidOption { name, value, hint })
+        };
+        let positive = |name: &'static str, v: f64, hint: &'static str| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                invalid(name, v, hint)
+            }
+        };
+        check_finite("t_end", std::slice::from_ref(&self.t_end))?;
+        if !(self.rtol.is_finite() && self.rtol >= 0.0) {
+            return invalid(
+                "rtol",
+                self.rtol,
+                "the relative tolerance must be finite and non-negative; 1e-6 to 1e-13 are typical",
+            );
+        }
+        if self.rtol < 100.0 * f64::EPSILON && self.rtol != 0.0 {
+            return invalid(
+                "rtol",
+                self.rtol,
+                "below 100 ulps (2.2e-14) no step size can meet the tolerance in f64; use 1e-13 or more",
+            );
+        }
+        let atol = match &self.atol {
+            Atol::Scalar(a) => std::slice::from_ref(a),
+            Atol::PerComponent(v) if v.len() != block => {
+                return invalid(
+                    "atol (length)",
+                    v.len() as f64,
+                    "give one absolute tolerance per controlled component: for a model, the n \
+                     positions then the n velocities, 2n in all",
+                );
+            }
+            Atol::PerComponent(v) => v.as_slice(),
+        };
+        for &a in atol {
+            if !(a.is_finite() && a >= 0.0) {
+                return invalid(
+                    "atol",
+                    a,
+                    "absolute tolerances must be finite and non-negative",
+                );
+            }
+            if self.rtol == 0.0 && a < 1e-300 {
+                return invalid(
+                    "atol",
+                    a,
+                    "with rtol = 0 the absolute tolerance alone sets the accuracy, and it must be \
+                     positive and representable; give rtol > 0, or an atol such as 1e-12",
+                );
+            }
+        }
+        if let Some(h) = self.initial_step {
+            positive("initial_step", h.abs(), "a finite non-zero first step")?;
+        }
+        if let Some(h) = self.max_step {
+            positive("max_step", h, "a finite positive bound")?;
+        }
+        if self.max_steps == 0 {
+            return invalid("max_steps", 0.0, "allow at least one step");
+        }
+        if let Output::Times(ts) = &self.output {
+            check_finite("output time", ts)?;
+            let (lo, hi) = (t0.min(self.t_end), t0.max(self.t_end));
+            if let Some(&time) = ts.iter().find(|&&s| s < lo || s > hi) {
+                return Err(Error::OutputTimeOutOfRange {
+                    time,
+                    t0,
+                    t_end: self.t_end,
+                });
+            }
+        }
+        if !(self.rank_tolerance.is_finite() && (0.0..1.0).contains(&self.rank_tolerance)) {
+            return invalid(
+                "rank_tolerance",
+                self.rank_tolerance,
+                "a fraction in [0, 1), such as the default 1e-8 (0 turns the singular-point check off)",
+            );
+        }
+        if let Some(p) = &self.projection {
+            positive(
+                "projection tol",
+                p.tol,
+                "a small positive relative residual such as 1e-14",
+            )?;
+        }
+        if let Some(c) = &self.controller {
+            c.validate()?;
+        }
+        Ok(())
+    }
+
+    /// The absolute tolerance of each of `controlled` components: the scalar, or the
+    /// per-component tolerances repeated (for the sensitivities that follow the state).
+    pub(crate) fn atol_of(&self, controlled: usize) -> Vec<f64> {
+        match &self.atol {
+            Atol::Scalar(a) => vec![*a; controlled],
+            Atol::PerComponent(v) => v.iter().copied().cycle().take(controlled).collect(),
         }
     }
 
