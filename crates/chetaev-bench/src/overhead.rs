@@ -8,7 +8,7 @@ use chetaev_catalogue::benchmarks::SteadyHorizontal;
 use uniform_projectile::closed_form::{table, Params};
 use uniform_projectile::model::{classical_problem, uniform_problem};
 
-use crate::measure::{time_interleaved, Budget, Run, Timing};
+use crate::measure::{time_interleaved, Budget, Run};
 
 /// Two ways to run the same motion, timed.
 #[derive(Clone, Debug, PartialEq)]
@@ -82,25 +82,32 @@ fn end_difference(a: &Solution, b: &Solution) -> f64 {
     }
 }
 
-/// Two runs timed interleaved ([`time_interleaved`]).
-fn time_pair<A, B>(
+/// The comparison `what` of two ways to the same motion: each solved once for its statistics and
+/// end state (a failed solve is the error), then both timed interleaved ([`time_interleaved`]).
+fn compare_runs(
+    what: &str,
+    setting: String,
     budget: &Budget,
-    mut lean: impl FnMut() -> Result<A, chetaev::Error>,
-    mut costly: impl FnMut() -> Result<B, chetaev::Error>,
-) -> Result<[Timing; 2], chetaev::Error> {
+    mut lean: impl FnMut() -> Result<Solution, chetaev::Error>,
+    mut costly: impl FnMut() -> Result<Solution, chetaev::Error>,
+) -> Result<Comparison, chetaev::Error> {
+    let (a, b) = (lean()?.ok()?, costly()?.ok()?);
     let mut runs: Vec<Run<'_, chetaev::Error>> = vec![
         Box::new(|| lean().map(|_| ())),
         Box::new(|| costly().map(|_| ())),
     ];
     let t = time_interleaved(budget, &mut runs)?;
-    Ok([t[0], t[1]])
-}
-
-fn failed(sol: &Solution) -> Result<(), chetaev::Error> {
-    match sol.error() {
-        Some(e) => Err(e.clone()),
-        None => Ok(()),
-    }
+    Ok(Comparison {
+        what: what.to_string(),
+        setting,
+        lean_seconds: t[0].median,
+        costly_seconds: t[1].median,
+        lean_rhs: a.stats.rhs_evaluations,
+        costly_rhs: b.stats.rhs_evaluations,
+        lean_output: a.stats.output_evaluations,
+        costly_output: b.stats.output_evaluations,
+        end_difference: end_difference(&a, &b),
+    })
 }
 
 /// The classical motion of the paper's particle to its impact, once as `Problem::unconstrained`
@@ -119,28 +126,13 @@ pub fn constraint_overhead<Me: Method + Copy>(
         .record(Record::State);
     let free = classical_problem(p)?;
     let held = steady_horizontal_problem(p)?;
-    let (a, b) = (
-        solve(&free, method, &options)?,
-        solve(&held, method, &options)?,
-    );
-    let [ta, tb] = time_pair(
+    Ok(compare_runs(
+        "K = 0 (Problem::unconstrained) → K = 1 (ẋ − v0 = 0, same motion)",
+        format!("{} at {tol:.0e}", method.name()),
         budget,
         || solve(&free, method, &options),
         || solve(&held, method, &options),
-    )?;
-    failed(&a)?;
-    failed(&b)?;
-    Ok(Comparison {
-        what: "K = 0 (Problem::unconstrained) → K = 1 (ẋ − v0 = 0, same motion)".to_string(),
-        setting: format!("{} at {tol:.0e}", method.name()),
-        lean_seconds: ta.median,
-        costly_seconds: tb.median,
-        lean_rhs: a.stats.rhs_evaluations,
-        costly_rhs: b.stats.rhs_evaluations,
-        lean_output: a.stats.output_evaluations,
-        costly_output: b.stats.output_evaluations,
-        end_difference: end_difference(&a, &b),
-    })
+    )?)
 }
 
 /// The paper's uniform motion to its impact time with diagnostics off (`Record::State`,
@@ -156,27 +148,11 @@ pub fn diagnostics_overhead<Me: Method + Copy>(
     let off = base.clone().output_final().record(Record::State);
     let on = base.record(Record::Energy);
     let problem = uniform_problem(p)?;
-    let (a, b) = (
-        solve(&problem, method, &off)?,
-        solve(&problem, method, &on)?,
-    );
-    let [ta, tb] = time_pair(
+    Ok(compare_runs(
+        "diagnostics off (Record::State, output_final) → on (Record::Energy, every step)",
+        format!("{} at {tol:.0e}", method.name()),
         budget,
         || solve(&problem, method, &off),
         || solve(&problem, method, &on),
-    )?;
-    failed(&a)?;
-    failed(&b)?;
-    Ok(Comparison {
-        what: "diagnostics off (Record::State, output_final) → on (Record::Energy, every step)"
-            .to_string(),
-        setting: format!("{} at {tol:.0e}", method.name()),
-        lean_seconds: ta.median,
-        costly_seconds: tb.median,
-        lean_rhs: a.stats.rhs_evaluations,
-        costly_rhs: b.stats.rhs_evaluations,
-        lean_output: a.stats.output_evaluations,
-        costly_output: b.stats.output_evaluations,
-        end_difference: end_difference(&a, &b),
-    })
+    )?)
 }
