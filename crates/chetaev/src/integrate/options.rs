@@ -122,7 +122,7 @@ impl Options {
     /// integrator outside the crate calls it so that its users get the same answers for the same
     /// options, then refuses what it cannot honour itself.
     pub fn validate(&self, t0: f64, n: usize) -> Result<(), Error> {
-        self.validate_components(t0, 2 * n)
+        self.validate_components(t0, n.saturating_mul(2))
     }
 
     /// [`Options::validate`] for a system whose per-component `atol` has `block` entries.
