@@ -33,6 +33,18 @@ pub(crate) struct Tick {
     pub label: Option<String>,
 }
 
+/// A labelled tick at each of `positions`, with the label beside it.
+fn labelled(positions: &[f64], labels: Vec<String>) -> Vec<Tick> {
+    positions
+        .iter()
+        .zip(labels)
+        .map(|(&pos, label)| Tick {
+            pos,
+            label: Some(label),
+        })
+        .collect()
+}
+
 /// A resolved axis: the range in axis units and the ticks inside it.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Axis {
@@ -183,14 +195,7 @@ pub(crate) fn linear(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
             .collect();
         let labels = format_linear(&values, step);
         let spacing = room.length_px * step / (b - a);
-        let ticks: Vec<Tick> = values
-            .iter()
-            .zip(labels)
-            .map(|(&pos, label)| Tick {
-                pos,
-                label: Some(label),
-            })
-            .collect();
+        let ticks = labelled(&values, labels);
         let axis = Axis {
             log: false,
             lo: a,
@@ -255,14 +260,7 @@ pub(crate) fn log(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
     if decades.len() < 2 && fixed {
         return log_narrow(a, b, room);
     }
-    let mut ticks: Vec<Tick> = decades
-        .iter()
-        .zip(labels)
-        .map(|(&pos, label)| Tick {
-            pos,
-            label: Some(label),
-        })
-        .collect();
+    let mut ticks = labelled(&decades, labels);
     // Minor ticks at 2..9 × 10^d, if decades are labelled one by one and they fit.
     let px_per_decade = room.length_px / (b - a);
     if k == 1.0 && px_per_decade * (10f64.log10() - 9f64.log10()) >= 2.5 {
