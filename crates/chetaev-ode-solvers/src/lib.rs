@@ -43,7 +43,9 @@
 //! ## Options
 //!
 //! [`solve_with_ode_solvers`] takes chetaev's [`Options`]. What `ode_solvers` cannot carry out is
-//! refused with a [`BackendError`] that names the option and what to do instead, never ignored:
+//! refused with a [`BackendError`] that names the option and what to do instead, never ignored;
+//! the numbers are then checked by [`Options::validate`], so bad ones get the error
+//! [`chetaev::solve`] gives them:
 //!
 //! | option | here |
 //! |---|---|
