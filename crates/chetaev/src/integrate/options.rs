@@ -71,7 +71,7 @@ pub struct Options {
     /// (besides the step's end), so that a function crossing zero twice within one step is seen
     /// when its zeros are more than `h/(event_samples + 1)` apart. Default 4.
     pub event_samples: usize,
-    /// Singular points: the run stops with [`Error::SingularPoint`](crate::Error::SingularPoint)
+    /// Singular points: the run stops with [`Error::SingularPoint`]
     /// where a constraint's gradient `|∂f_a/∂q̇|` or the size of `W = ∂²L/∂q̇²` falls below this
     /// fraction of its size at the start, or grows beyond its inverse. Default `1e-8`; `0` turns
     /// the check off.
