@@ -159,21 +159,27 @@ impl<M: Model> System<f64, DVector<f64>> for Callback<'_, '_, M> {
         self.0.derivative(z.as_slice(), dz.as_mut_slice());
     }
 
-    /// Takes each accepted step (recording it for `Output::Steps`); stops `ode_solvers` once the
-    /// model has failed.
+    /// Takes each accepted step: the system's check of it (the singular-point check of
+    /// `Options::rank_tolerance`, on the step's last evaluation, which both methods make at the
+    /// new point before calling this), then its record for `Output::Steps`. Stops `ode_solvers`
+    /// once the model has failed.
     fn solout(&mut self, tau: f64, z: &DVector<f64>, _dz: &DVector<f64>) -> bool {
         let adapter = &mut *self.0;
         if adapter.failure.get_mut().is_some() {
             return true;
         }
-        adapter.accepted_steps += 1;
-        adapter.last_tau = tau;
-        adapter.last.copy_from_slice(z.as_slice());
-        if !adapter.record_steps {
-            return false;
-        }
         let t = adapter.time(tau);
-        match adapter.record(t, z.as_slice()) {
+        let m = adapter.m;
+        let mut result = adapter.ode.get_mut().accepted(t, &z.as_slice()[..m]);
+        if result.is_ok() {
+            adapter.accepted_steps += 1;
+            adapter.last_tau = tau;
+            adapter.last.copy_from_slice(z.as_slice());
+            if adapter.record_steps {
+                result = adapter.record(t, z.as_slice());
+            }
+        }
+        match result {
             Ok(()) => false,
             Err(error) => {
                 let callbacks = adapter.callbacks.get();

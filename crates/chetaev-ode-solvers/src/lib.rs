@@ -43,9 +43,9 @@
 //! ## Options
 //!
 //! [`solve_with_ode_solvers`] takes chetaev's [`Options`]. What `ode_solvers` cannot carry out is
-//! refused with a [`BackendError`] that names the option and what to do instead, never ignored;
-//! the numbers are then checked by [`Options::validate`], so bad ones get the error
-//! [`chetaev::solve`] gives them:
+//! refused with a [`BackendError`] that names the option and what to do instead, never ignored.
+//! The options are first checked by [`Options::validate`], so that bad numbers get the error
+//! [`chetaev::solve`] gives them, before any refusal of the backend's own:
 //!
 //! | option | here |
 //! |---|---|
@@ -61,6 +61,7 @@
 //! | `events` | refused ([`BackendError::Events`]) |
 //! | `projection` | refused ([`BackendError::Projection`]) |
 //! | `sensitivities` | refused ([`BackendError::Sensitivities`]) |
+//! | `rank_tolerance` | honoured: the singular-point check of chetaev's own driver |
 //! | `event_samples` | not read (there are no events) |
 //!
 //! Without a controller each method runs `ode_solvers`' own ([`OdeSolversMethod::controller`]).
@@ -198,7 +199,8 @@ pub fn solve_with_ode_solvers<M: Model>(
     }
     let dir = if options.t_end >= t0 { 1.0 } else { -1.0 };
 
-    let ode = ReducedOde::for_problem(problem, options.record >= Record::Energy);
+    let ode = ReducedOde::for_problem(problem, options.record >= Record::Energy)
+        .with_rank_tolerance(options.rank_tolerance);
     let mut z0 = vec![0.0; ode.dim() + 1];
     z0[..n].copy_from_slice(problem.q0());
     z0[n..2 * n].copy_from_slice(problem.qd0());
@@ -303,9 +305,10 @@ struct Settings {
 }
 
 impl Settings {
-    /// Refuses what `ode_solvers` cannot honour, then checks the options as [`chetaev::solve`]
-    /// does ([`Options::validate`], for `n` coordinates from `t0`).
+    /// Checks the options as [`chetaev::solve`] does ([`Options::validate`], for `n` coordinates
+    /// from `t0`), then refuses what `ode_solvers` cannot honour.
     fn new(o: &Options, method: OdeSolversMethod, t0: f64, n: usize) -> Result<Self, BackendError> {
+        o.validate(t0, n)?;
         if !o.events.is_empty() {
             return Err(BackendError::Events {
                 count: o.events.len(),
@@ -339,7 +342,6 @@ impl Settings {
             });
         }
 
-        o.validate(t0, n)?;
         if atol == 0.0 {
             return Err(BackendError::ZeroAtol);
         }

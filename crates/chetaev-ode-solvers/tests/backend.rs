@@ -309,6 +309,11 @@ fn bad_numbers_get_the_answer_chetaev_gives() {
             rank_tolerance: 1.5,
             ..Options::until(1.0)
         },
+        // Two bad options at once: the same one is named.
+        Options::until(1.0)
+            .tolerances(-1.0, 1e-9)
+            .controller(Controller::pi(0.2, 10.0, 0.5)),
+        Options::until(1.0).tolerances(0.0, 0.0).max_step(-1.0),
     ] {
         let theirs = solve(&problem, Dopri5::default(), &options).map(|_| ());
         let Err(expected) = theirs else {
@@ -324,6 +329,55 @@ fn bad_numbers_get_the_answer_chetaev_gives() {
             other => panic!("{options:?}: {other:?}, expected {expected:?}"),
         }
     }
+}
+
+/// A particle whose prescribed speed falls to zero at `t = 1`, `f = |q̇|² − (1 − t)²`: the gradient
+/// `J = 2 q̇` vanishes there.
+struct Braking;
+
+impl Lagrangian<2> for Braking {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5
+    }
+}
+
+impl Constraints<2, 1> for Braking {
+    fn constraints<R: Real>(&self, t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        let v = -t + 1.0;
+        SVector::from([qd.dot(qd) - v * v])
+    }
+}
+
+/// The singular-point check (`rank_tolerance`) is honoured: both integrators stop where `J`
+/// passes through zero, at `t = 1`.
+#[test]
+fn the_singular_point_check_is_honoured() {
+    let problem =
+        Problem::new(Braking, 0.0, SVector::zeros(), SVector::from([1.0, 0.0])).expect("valid");
+    let options = Options::until(2.0).tolerances(1e-10, 1e-10);
+    let stop = |status: &Status| match status {
+        Status::Failed(Error::SingularPoint {
+            t,
+            constraint: Some(1),
+            ..
+        }) => *t,
+        other => panic!("{other:?}"),
+    };
+    let sol = solve(&problem, Dopri5::default(), &options).expect("valid");
+    let ours = solve_with_ode_solvers(&problem, OdeSolversMethod::Dopri5, &options).expect("valid");
+    let theirs = stop(&sol.status);
+    let t = stop(&ours.status);
+    assert!(
+        (t - 1.0).abs() < 1e-3 && (theirs - 1.0).abs() < 1e-3,
+        "{t}, {theirs}"
+    );
+    // The motion before it is kept: the start, and the steps accepted before the one across it.
+    assert!(
+        ours.len() >= 2 && ours.t.iter().all(|&s| s < 1.0),
+        "{:?}",
+        ours.t
+    );
+    assert_eq!(ours.n(), 2);
 }
 
 #[test]

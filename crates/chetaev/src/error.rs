@@ -148,7 +148,7 @@ pub enum Error {
     /// The equations became singular along the motion: a constraint's gradient `∂f_a/∂q̇`, or the
     /// kinetic metric `W = ∂²L/∂q̇²`, lost (or exploded in) size by many orders of magnitude.
     #[error(
-        "singular point at t = {t} with q = {q:?}, q̇ = {qd:?}: {} is {ratio:e} times its size at the \
+        "singular point at t = {t} (the last state checked, at or after it: q = {q:?}, q̇ = {qd:?}): {} is {ratio:e} times its size at the \
          start (a rank loss, such as the speed passing through zero under a constraint on its magnitude, \
          or a pole of the model); the equations do not determine the motion there, and the motion up to t \
          is kept. Check the model near this state (Problem::equations_at); Options::rank_tolerance sets \
@@ -156,15 +156,16 @@ pub enum Error {
         match constraint { Some(a) => format!("the gradient ∂f/∂q̇ of constraint {a}"), None => "the kinetic metric ∂²L/∂q̇²".to_string() }
     )]
     SingularPoint {
-        /// Time.
+        /// Time: where the gradient is smallest between the last two states checked (the ends of
+        /// consecutive accepted steps), by linear interpolation.
         t: f64,
         /// The constraint (numbered from 1) whose gradient changed, or `None` for the metric `W`.
         constraint: Option<usize>,
         /// Its size now over its size at the start.
         ratio: f64,
-        /// Position.
+        /// Position at the last state checked, at or after `t`.
         q: Vec<f64>,
-        /// Velocity.
+        /// Velocity at the last state checked, at or after `t`.
         qd: Vec<f64>,
     },
 
