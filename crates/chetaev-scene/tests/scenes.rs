@@ -345,7 +345,13 @@ fn stiffness_detection_sets_the_test_of_the_methods_that_have_one() {
         })
     );
     assert_eq!(
-        method("dopri5", "stiffness_detection = true").expect("valid"),
+        method("dopri5", "stiffness_detection = false").expect("valid"),
+        AnyMethod::Dopri5(Dopri5 {
+            stiffness: StiffnessDetection::OFF
+        })
+    );
+    assert_eq!(
+        method("dopri5", "").expect("valid"),
         AnyMethod::Dopri5(Dopri5::default())
     );
     for m in ["tsit5", "rodas4", "rodas5p"] {

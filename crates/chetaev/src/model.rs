@@ -133,7 +133,8 @@ pub trait Constraints<const N: usize, const K: usize> {
     ///
     /// Provided only for `K = 0`: a model with holonomic constraints alone, or none, writes
     /// `impl Constraints<N, 0> for Model {}` and at most the holonomic methods. A model with
-    /// `K > 0` that leaves it out does not compile (the message names this method):
+    /// `K > 0` that leaves it out and is solved does not build (`cargo build`, `test` or `run`;
+    /// `cargo check` does not evaluate the assertion), with a message that names this method:
     ///
     /// ```compile_fail,E0080
     /// use chetaev::prelude::*;

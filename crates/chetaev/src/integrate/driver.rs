@@ -129,10 +129,10 @@ impl<'o> LoopSettings<'o> {
         method.validate()?;
         let info = method.info();
         info.validate()?;
+        // The method's controller is checked with its facts, the options' with the options.
         o.validate_components(t0, block)?;
         let atol = o.atol_of(controlled);
         let controller = o.controller.unwrap_or(info.controller);
-        controller.validate()?;
         Ok(Self {
             options: o,
             norm: ErrorNorm::new(o.rtol, atol),
