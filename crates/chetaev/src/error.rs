@@ -22,7 +22,7 @@ pub enum Error {
     },
 
     /// A solver option is out of range.
-    #[error("invalid option {name} = {value}: {hint}")]
+    #[error("invalid option {name} = {value:?}: {hint}")]
     InvalidOption {
         /// The option.
         name: &'static str,

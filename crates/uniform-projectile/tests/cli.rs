@@ -31,8 +31,8 @@ fn the_first_line_is_the_verdict_then_table_42_1() {
         lines[0]
     );
     assert!(
-        lines[0].contains("(limit 1e-10 = 100 × tol), and the impact's derivatives in v0, g, h0")
-            && lines[0].ends_with("(limit 1e-8)"),
+        lines[0].contains("relative, and the impact's derivatives ∂Q/∂θ in v0, g, h0 to ")
+            && lines[0].ends_with("of max(|∂Q/∂θ|, |Q/θ|) (limit 1e-10 = 100 × tol)"),
         "{}",
         lines[0]
     );
@@ -86,6 +86,12 @@ fn a_limit_below_the_errors_is_not_verified_and_exits_with_1() {
     assert_eq!(o.status.code(), Some(1), "{o:?}");
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
     assert_eq!(v["verdict"]["verified"], serde_json::Value::Bool(false));
+    // The limit judges the derivatives too.
+    assert_eq!(v["sensitivity_verdict"]["limit"], serde_json::json!(1e-16));
+    assert_eq!(
+        v["sensitivity_verdict"]["verified"],
+        serde_json::Value::Bool(false)
+    );
     assert!(String::from_utf8_lossy(&o.stderr).starts_with("NOT VERIFIED: "));
 }
 
@@ -95,6 +101,21 @@ fn bad_arguments_exit_with_2() {
         let o = run(args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {o:?}");
         assert!(o.stdout.is_empty(), "{args:?}");
+    }
+    // A negative number is read as one and refused as such; a tolerance the library refuses is
+    // refused with the library's reason.
+    for (args, says) in [
+        (["--g", "-10"], "must be a finite positive number, got -10"),
+        (["--h0", "-5"], "must be a finite positive number, got -5"),
+        (
+            ["--tol", "1e-14"],
+            "invalid option rtol = 1e-14: below 100 ulps",
+        ),
+    ] {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {o:?}");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
     }
 }
 
