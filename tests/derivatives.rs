@@ -121,3 +121,48 @@ fn block_solve_matches_a_dense_solve_of_the_hand_derived_system() {
     assert_relative_eq!(d.phi[0], x[2] * cd.j[(0, 0)], max_relative = 1e-13);
     assert_relative_eq!(d.energy, qd.dot(&ld.p) - ld.l, max_relative = 1e-14);
 }
+
+/// `L = ½|q̇|² − k θ` with the polar angle `θ = atan2(y, x)`, from a point of the `y` axis, where
+/// the derivatives of num-dual's own `atan2` are NaN. The force `k (y, −x)/r²` has the torque
+/// `−k`, so the angular momentum `ℓ = x ẏ − y ẋ` falls as `ℓ0 − k t`, and `∂ℓ/∂k = −t`.
+struct AngleSpring {
+    k: f64,
+}
+
+impl Lagrangian<2> for AngleSpring {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5 - q[1].atan2(q[0]) * R::parameter("k", self.k)
+    }
+}
+
+#[test]
+fn atan2_has_derivatives_on_the_axis_its_ratio_divides_by() -> Result<(), chetaev::Error> {
+    let k = 0.3;
+    for route in [Route::Graph, Route::Dual] {
+        let (q0, qd0) = (SVector::from([0.0, 1.0]), SVector::from([1.0, 0.0]));
+        let problem = Problem::unconstrained(AngleSpring { k }, 0.0, q0, qd0)?.with_route(route);
+        let eq = problem.equations_at(0.0, q0.as_slice(), qd0.as_slice())?;
+        assert_relative_eq!(eq.qdd[0], k, max_relative = 1e-15);
+        assert!(eq.qdd[1].abs() < 1e-15, "{route:?}: {:?}", eq.qdd);
+
+        let opts = Options::until(1.0)
+            .tolerances(1e-12, 1e-12)
+            .output_times(vec![0.25, 0.5, 1.0])
+            .sensitivity(Seed::parameter("k"))
+            .sensitivity_control(true);
+        let sol = solve(&problem, Dop853::default(), &opts)?.ok()?;
+        let s = sol.sensitivities.as_ref().expect("asked for");
+        for i in 0..sol.len() {
+            let (t, q, qd) = (sol.t[i], &sol.q[i], &sol.qd[i]);
+            let (dq, dqd) = (s.q(i, 0), s.qd(i, 0));
+            let l = q[0] * qd[1] - q[1] * qd[0];
+            let dl = dq[0] * qd[1] + q[0] * dqd[1] - dq[1] * qd[0] - q[1] * dqd[0];
+            assert!(
+                (l - (-1.0 - k * t)).abs() < 1e-10,
+                "{route:?} t = {t}: ℓ = {l}"
+            );
+            assert!((dl + t).abs() < 1e-9, "{route:?} t = {t}: ∂ℓ/∂k = {dl}");
+        }
+    }
+    Ok(())
+}

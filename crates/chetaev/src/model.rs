@@ -30,7 +30,8 @@ use crate::equations::{Need, Workspace};
 ///
 /// It offers the arithmetic operators (also with `f64` on the right: `x * 2.0`), comparisons with
 /// `f64`, and the elementary functions of [`num_dual::DualNum`] (`sqrt`, `sin`, `cosh`, `ln`,
-/// `powi`, `atan2`, ...), called as methods: `x.sqrt()`.
+/// `powi`, ...), called as methods: `x.sqrt()`; `y.atan2(x)` is [`Real::atan2`], whose derivatives
+/// are also finite where `x = 0`.
 pub trait Real: DualNum<f64> + Copy + 'static {
     /// A model parameter: the value `value`, named `name` so that derivatives of the motion with
     /// respect to it can be asked for ([`Seed::parameter`](crate::Seed::parameter)).
@@ -60,6 +61,51 @@ pub trait Real: DualNum<f64> + Copy + 'static {
             }
         }
         Self::from(value)
+    }
+
+    /// The angle of the point `(x, self)`, in `(−π, π]`, as [`f64::atan2`], with its derivatives
+    /// also where `x = 0`: `y.atan2(x)` in a model calls this.
+    ///
+    /// num-dual's own `atan2` takes the derivatives from `atan(y/x)`, which are NaN where `x` is
+    /// exactly zero, for instance at the polar angle `π/2` of a point on the `y` axis. Here they
+    /// come from `atan(y/x)` where `|x| ≥ |y|` and from `±π/2 − atan(x/y)` elsewhere; the value is
+    /// that of [`f64::atan2`].
+    ///
+    /// ```
+    /// use chetaev::num_dual::{Dual64, DualNum};
+    /// use chetaev::prelude::*;
+    /// // θ = atan2(y, x) at (0, 1), moved along x: dθ/dx = −y/(x² + y²) = −1.
+    /// let theta = Real::atan2(Dual64::from(1.0), Dual64::new(0.0, 1.0));
+    /// assert_eq!((theta.re, theta.eps), (std::f64::consts::FRAC_PI_2, -1.0));
+    /// assert!(DualNum::atan2(&Dual64::from(1.0), Dual64::new(0.0, 1.0)).eps.is_nan());
+    /// ```
+    #[inline]
+    fn atan2(self, x: Self) -> Self {
+        use std::any::TypeId;
+        // A plain number, or a recorded one (whose derivatives are taken symbolically).
+        if TypeId::of::<Self>() == TypeId::of::<f64>()
+            || TypeId::of::<Self>() == TypeId::of::<Sym>()
+        {
+            return DualNum::atan2(&self, x);
+        }
+        let (yr, xr) = (self.re(), x.re());
+        if xr == 0.0 && yr == 0.0 {
+            // The origin, where the angle has no derivative.
+            return DualNum::atan2(&self, x);
+        }
+        let angle = if xr.abs() >= yr.abs() {
+            let a = (self / x).atan();
+            match (xr < 0.0, yr < 0.0) {
+                (false, _) => a,
+                (true, false) => a + std::f64::consts::PI,
+                (true, true) => a - std::f64::consts::PI,
+            }
+        } else {
+            let a = -(x / self).atan();
+            a + std::f64::consts::FRAC_PI_2.copysign(yr)
+        };
+        // A constant shift (no derivative) to the value of `atan2` itself.
+        angle + (yr.atan2(xr) - angle.re())
     }
 }
 impl<T: DualNum<f64> + Copy + 'static> Real for T {}

@@ -40,8 +40,8 @@
 //! `g`, `h0`, `m` are assumed finite and strictly positive and the arguments `t`, `x` finite.
 //! Checking this is the responsibility of the code that builds a [`Params`] from external input.
 
-use chetaev::num_dual::DualNum;
-use std::f64::consts::{FRAC_PI_2, LN_2};
+use chetaev::model::Real;
+use std::f64::consts::LN_2;
 
 /// Physical parameters (SI units) of the horizontal projectile: the particle of mass `m` starts at
 /// `(0, h0)` with the velocity `(v0, 0)` in the field `(0, -g)` (Section 42.2).
@@ -171,31 +171,24 @@ fn gd(u: f64) -> f64 {
 ///
 /// This and the two functions below are written for any scalar, so that with dual numbers they
 /// give the closed forms' derivatives as accurately as the values (see [`uniform::impact`]).
-fn sin_impact<D: DualNum<f64> + Copy>(z: D) -> D {
+fn sin_impact<D: Real>(z: D) -> D {
     (-(z * -2.0).exp_m1()).sqrt()
 }
 
 /// `arccosh(e^z) = z + ln(1 + √(1 − e^(−2z)))`, evaluated as `z + ln1p(√(−expm1(−2z)))`, for
 /// `z ≥ 0`. Both terms are nonnegative, so the sum is accurate for every `z`: it behaves like
 /// `√(2z)` for small `z` and like `z + ln 2` for large `z`, and never overflows.
-fn acosh_exp<D: DualNum<f64> + Copy>(z: D) -> D {
+fn acosh_exp<D: Real>(z: D) -> D {
     z + sin_impact(z).ln_1p()
 }
 
 /// `arccos(e^(−z)) = atan2(√(−expm1(−2z)), e^(−z))`, for `z ≥ 0`: accurate both for small `z`
 /// (where `arccos` of a number near 1 cancels) and for large `z` (where `e^(−z)` underflows and
 /// the angle tends to `π/2`).
-fn acos_exp_neg<D: DualNum<f64> + Copy>(z: D) -> D {
-    let (s, c) = (sin_impact(z), (-z).exp());
-    // `atan2` of dual numbers takes its derivative from `atan(s/c)`, which is NaN once `e^(−z)`
-    // underflows to 0; `π/2 − atan(c/s)` is used where `c < s` instead, shifted by a constant
-    // (no derivative) to the value of `atan2` itself.
-    let angle = if c.re() >= s.re() {
-        (s / c).atan()
-    } else {
-        -(c / s).atan() + FRAC_PI_2
-    };
-    angle + (s.re().atan2(c.re()) - angle.re())
+///
+/// `atan2` is [`Real::atan2`], whose derivatives stay finite once `e^(−z)` underflows to 0.
+fn acos_exp_neg<D: Real>(z: D) -> D {
+    Real::atan2(sin_impact(z), (-z).exp())
 }
 
 /// `ln|cos θ|`: `½ ln1p(−sin² θ)` where `|sin θ| ≤ |cos θ|` (near the maxima `θ = kπ`, where
@@ -275,8 +268,8 @@ pub mod classical {
 /// for every real `t`, before the start and after the impact alike.
 pub mod uniform {
     use super::{
-        acos_exp_neg, acosh_exp, gd, ln_abs_cos, ln_cosh_deficit, ln_cosh_small, sech, DualNum,
-        Kinematics, Params, LN_COSH_SWITCH,
+        acos_exp_neg, acosh_exp, gd, ln_abs_cos, ln_cosh_deficit, ln_cosh_small, sech, Kinematics,
+        Params, Real, LN_COSH_SWITCH,
     };
 
     /// The position (42.29):
@@ -383,7 +376,7 @@ pub mod uniform {
     /// sensitivities are checked. They are evaluated as in [`kinematics`], accurate for every
     /// `z > 0` (the plain `arccosh(e^z)` loses the derivative's digits to cancellation at small
     /// `z`: a relative error of about `1e-3` in `∂T/∂v0` at `z = 5e-7`).
-    pub fn impact<D: DualNum<f64> + Copy>(v0: D, g: D, h0: D) -> (D, D) {
+    pub fn impact<D: Real>(v0: D, g: D, h0: D) -> (D, D) {
         let z = g * h0 / (v0 * v0);
         let length = v0 * (v0 / g);
         (v0 / g * acosh_exp(z), length * acos_exp_neg(z))
