@@ -560,16 +560,24 @@ fn impact_derivatives(
     if let Some(e) = sol.error() {
         return Err(e.clone());
     }
-    let missing = || Error::InvalidOption {
-        name: "t_max",
-        value: t_max,
-        hint: "no impact before t_max",
-    };
+    if sol.events.is_empty() {
+        return Err(Error::InvalidOption {
+            name: "t_max",
+            value: t_max,
+            hint: "no impact before t_max",
+        });
+    }
     let hit = sol
         .sensitivities
         .as_ref()
         .and_then(|s| s.events.first().cloned().flatten())
-        .ok_or_else(missing)?;
+        .ok_or_else(|| Error::Sensitivity {
+            what: format!(
+                "the impact at t = {:e} has no derivatives (the event is crossed tangentially, or \
+                 they are not finite numbers for these data)",
+                sol.events[0].t
+            ),
+        })?;
     let mut out = Vec::new();
     for (j, theta) in ["v0", "g", "h0"].iter().enumerate() {
         let seeded = |i: usize, x: f64| Dual64::new(x, if i == j { 1.0 } else { 0.0 });
