@@ -145,23 +145,30 @@ pub enum Error {
         qd: Vec<f64>,
     },
 
-    /// The equations became singular along the motion: a constraint's gradient `∂f_a/∂q̇`, or the
-    /// kinetic metric `W = ∂²L/∂q̇²`, lost (or exploded in) size by many orders of magnitude.
+    /// The equations became singular along the motion: a constraint's gradient `∂f_a/∂q̇` passed
+    /// through zero between two accepted steps, or the kinetic metric `W = ∂²L/∂q̇²` changed size by
+    /// many orders of magnitude within one step.
     #[error(
-        "singular point at t = {t} (the last state checked, at or after it: q = {q:?}, q̇ = {qd:?}): {} is {ratio:e} times its size at the \
-         start (a rank loss, such as the speed passing through zero under a constraint on its magnitude, \
+        "singular point at t = {t} (the last state checked, at or after it: q = {q:?}, q̇ = {qd:?}): {} \
+         (a rank loss, such as the speed passing through zero under a constraint on its magnitude, \
          or a pole of the model); the equations do not determine the motion there, and the motion up to t \
          is kept. Check the model near this state (Problem::equations_at); Options::rank_tolerance sets \
          the threshold",
-        match constraint { Some(a) => format!("the gradient ∂f/∂q̇ of constraint {a}"), None => "the kinetic metric ∂²L/∂q̇²".to_string() }
+        match constraint {
+            Some(a) => format!("the gradient ∂f/∂q̇ of constraint {a} passes through zero, down to {ratio:e} times its size at the ends of the step"),
+            None => format!("the kinetic metric ∂²L/∂q̇² changed size by a factor {ratio:e} within one step"),
+        }
     )]
     SingularPoint {
-        /// Time: where the gradient is smallest between the last two states checked (the ends of
-        /// consecutive accepted steps), by linear interpolation.
+        /// Time: for a gradient, where it is smallest between the last two states checked (the
+        /// ends of consecutive accepted steps), by linear interpolation (exact where the gradient
+        /// varies linearly, within the step otherwise); for the metric, the end of the step.
         t: f64,
-        /// The constraint (numbered from 1) whose gradient changed, or `None` for the metric `W`.
+        /// The constraint (numbered from 1) whose gradient passes through zero, or `None` for the
+        /// metric `W`.
         constraint: Option<usize>,
-        /// Its size now over its size at the start.
+        /// For a gradient, its smallest size on the step over the larger of its sizes at the
+        /// step's ends; for the metric, its size at the end of the step over that at the start.
         ratio: f64,
         /// Position at the last state checked, at or after `t`.
         q: Vec<f64>,

@@ -379,6 +379,92 @@ fn a_singular_point_of_the_constraint_stops_the_run_where_it_is() {
     assert!(!matches!(sol.error(), Some(Error::SingularPoint { .. })));
 }
 
+/// The Caldirola–Kanai oscillator `L = e^(γt) (½ ẋ² − ½ ω0² x²)`: `ẍ + γ ẋ + ω0² x = 0`, a damped
+/// (or, for `γ < 0`, an excited) oscillator whose metric `W = e^(γt)` grows (shrinks) without end
+/// and is regular throughout.
+struct CaldirolaKanai {
+    gamma: f64,
+}
+
+impl Lagrangian<1> for CaldirolaKanai {
+    fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        (t * self.gamma).exp() * (qd[0] * qd[0] - q[0] * q[0]) * 0.5
+    }
+}
+
+/// A free particle at constant speed `v0`, its constraint written with a fading factor,
+/// `f = e^(−t) (|q̇|² − v0²)`: the gradient `2 e^(−t) q̇` shrinks steadily and is regular
+/// throughout; `x = v0 t`.
+struct Fading {
+    v0: f64,
+}
+
+impl Lagrangian<2> for Fading {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5
+    }
+}
+
+impl Constraints<2, 1> for Fading {
+    fn constraints<R: Real>(&self, t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        SVector::from([(-t).exp() * (qd.dot(qd) - self.v0 * self.v0)])
+    }
+}
+
+#[test]
+fn a_metric_or_gradient_that_changes_size_steadily_is_not_a_singular_point() {
+    // W changes by e^(±30) ≈ 1e13 over the run, the gradient by e^(−30).
+    let t_end = 60.0;
+    for gamma in [0.5, -0.5] {
+        let problem = Problem::unconstrained(
+            CaldirolaKanai { gamma },
+            0.0,
+            SVector::from([1.0]),
+            SVector::from([0.0]),
+        )
+        .expect("valid");
+        let opts = Options::until(t_end).tolerances(1e-11, 1e-11);
+        for method in AnyMethod::all(1e-3) {
+            let sol = solve(&problem, method, &opts).expect("valid options");
+            assert!(
+                sol.is_success(),
+                "γ = {gamma}, {}: {:?}",
+                method.name(),
+                sol.status
+            );
+            // x = e^(−γt/2) (cos ωt + γ/(2ω) sin ωt), ω = √(1 − γ²/4).
+            let w = (1.0 - gamma * gamma / 4.0).sqrt();
+            for (t, q) in sol.t.iter().zip(sol.q.iter()) {
+                let envelope = (-gamma * t / 2.0).exp();
+                let x = envelope * ((w * t).cos() + gamma / (2.0 * w) * (w * t).sin());
+                assert!(
+                    (q[0] - x).abs() < 1e-6 * envelope + 1e-9,
+                    "γ = {gamma}, {} at t = {t}: {} against {x}",
+                    method.name(),
+                    q[0]
+                );
+            }
+        }
+    }
+    let v0 = 2.0;
+    let t_end = 30.0;
+    let problem = Problem::new(
+        Fading { v0 },
+        0.0,
+        SVector::zeros(),
+        SVector::from([v0, 0.0]),
+    )
+    .expect("valid");
+    for method in AnyMethod::all(1e-2) {
+        let opts = Options::until(t_end).tolerances(1e-12, 1e-12);
+        let sol = solve(&problem, method, &opts).expect("valid options");
+        assert!(sol.is_success(), "{}: {:?}", method.name(), sol.status);
+        let (_, q, qd) = sol.last().expect("kept");
+        assert!((q[0] - v0 * t_end).abs() < 1e-9, "{}: {q:?}", method.name());
+        assert!((qd[0] - v0).abs() < 1e-10, "{}: {qd:?}", method.name());
+    }
+}
+
 /// [`Speed`] with run-time sizes.
 struct DynSpeed;
 impl DynModel for DynSpeed {

@@ -71,10 +71,12 @@ pub struct Options {
     /// (besides the step's end), so that a function crossing zero twice within one step is seen
     /// when its zeros are more than `h/(event_samples + 1)` apart. Default 4.
     pub event_samples: usize,
-    /// Singular points: the run stops with [`Error::SingularPoint`]
-    /// where a constraint's gradient `|∂f_a/∂q̇|` or the size of `W = ∂²L/∂q̇²` falls below this
-    /// fraction of its size at the start, or grows beyond its inverse. Default `1e-8`; `0` turns
-    /// the check off.
+    /// Singular points: the run stops with [`Error::SingularPoint`] where a constraint's gradient
+    /// `∂f_a/∂q̇` passes through zero between two accepted steps (taken as varying linearly between
+    /// them, its smallest size falls below this fraction of its size at the step's ends), or where
+    /// the size of `W = ∂²L/∂q̇²` changes by more than its inverse within one step. A gradient or a
+    /// metric that grows or shrinks steadily is not singular, however far it goes. Default `1e-8`;
+    /// `0` turns the check off.
     pub rank_tolerance: f64,
     /// Step-size controller; the method's own (its [`MethodInfo::controller`]) when `None`.
     ///

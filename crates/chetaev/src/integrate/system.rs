@@ -198,13 +198,12 @@ pub struct ReducedOde<'a, M: ?Sized> {
     energy: bool,
     /// Whether the energy quadratures include the work of forces not derivable from `L`.
     forces: bool,
-    /// Relative change of `|J_a|` or of `max |W_ij|` from their first evaluated sizes beyond which
-    /// the equations are taken as singular (0: no check).
+    /// The threshold of the singular-point check (0: no check).
     rank_tolerance: f64,
-    /// `|J_a|` and `max |W_ij|` at the first evaluation.
-    reference: Option<(Vec<f64>, f64)>,
-    /// `J` at the last checked evaluation (row-major `k × n`), and its time.
+    /// `J` (row-major `k × n`) and `max |W_ij|` at the last checked evaluation, and its time (NaN
+    /// before the first).
     previous_j: Vec<f64>,
+    previous_w: f64,
     previous_t: f64,
     /// The time of the last evaluation by `rhs`.
     last_t: f64,
@@ -215,13 +214,17 @@ pub struct ReducedOde<'a, M: ?Sized> {
 }
 
 impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
-    /// Stops with [`Error::SingularPoint`] where a constraint's gradient `J_a` comes within
-    /// `tolerance` times its size at the first evaluation of zero, or the size of the kinetic metric
-    /// `max |W_ij|` shrinks below `tolerance` times, or grows beyond `1/tolerance` times, its size
-    /// at the first evaluation (`0` turns the check off). Between two consecutive evaluations `J_a`
-    /// is taken as varying linearly, so a gradient that passes through zero between them (the
-    /// speed reversing under a constraint on its magnitude) is found even when no evaluation lands
-    /// near the zero.
+    /// Stops with [`Error::SingularPoint`] where a constraint's gradient `J_a` passes through zero
+    /// between two checked states (the ends of consecutive accepted steps): taken as varying
+    /// linearly between them, it has a minimum inside the segment, below `tolerance` times the
+    /// larger of its sizes at the two ends. Found so, a zero is seen even when no evaluation lands near it
+    /// (the speed reversing under a constraint on its magnitude). Also where the size of the
+    /// kinetic metric, `max |W_ij|`, changes by more than a factor `1/tolerance` from one checked
+    /// state to the next (a pole of the model crossed within a step). `0` turns the check off.
+    ///
+    /// Both compare a state with the one before it, not with the start: a gradient or metric
+    /// that grows or shrinks steadily (`L = e^(γt) L0`, a prescribed speed decaying
+    /// exponentially) is regular however far it goes.
     pub fn with_rank_tolerance(mut self, tolerance: f64) -> Self {
         self.rank_tolerance = tolerance;
         self
@@ -236,69 +239,58 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         }
         let d = self.ws.dynamics();
         let n = self.n;
-        let Some((j0, w0)) = &self.reference else {
-            let norms =
-                d.j.chunks_exact(n.max(1))
-                    .map(|row| row.iter().map(|v| v * v).sum::<f64>().sqrt())
-                    .collect();
-            self.reference = Some((norms, d.w_scale));
-            self.previous_j.clone_from(&d.j);
-            self.previous_t = t;
-            return Ok(());
-        };
-        let off = |now: f64, then: f64| {
-            let ratio = now / then;
-            (then > 0.0 && !(tol..=1.0 / tol).contains(&ratio)).then_some(ratio)
-        };
-        // Per constraint, in one pass over J_a and without square roots unless something is off:
-        // the smallest |J_a|² on the segment from the previous J_a (p) to this one (c), which is
-        // |p|² − (p·(c − p))²/|c − p|² where the segment's closest point lies inside it.
         let mut culprit = None;
-        for (a, &then) in j0.iter().enumerate() {
-            let (p, c) = (
-                &self.previous_j[a * n..(a + 1) * n],
-                &d.j[a * n..(a + 1) * n],
-            );
-            let (mut pp, mut cc, mut pd, mut dd) = (0.0, 0.0, 0.0, 0.0);
-            for (x, y) in p.iter().zip(c) {
-                pp += x * x;
-                cc += y * y;
-                pd += x * (y - x);
-                dd += (y - x) * (y - x);
-            }
-            let s = if dd > 0.0 {
-                (-pd / dd).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let closest = if s > 0.0 && s < 1.0 {
+        if !self.previous_t.is_nan() {
+            // Per constraint, in one pass over J_a and without square roots unless something is
+            // off: the smallest |J_a|² on the segment from the previous J_a (p) to this one (c),
+            // which is |p|² − (p·(c − p))²/|c − p|² where the segment's closest point lies inside it.
+            for a in 0..d.j.len() / n.max(1) {
+                let (p, c) = (
+                    &self.previous_j[a * n..(a + 1) * n],
+                    &d.j[a * n..(a + 1) * n],
+                );
+                let (mut pp, mut cc, mut pd, mut dd) = (0.0, 0.0, 0.0, 0.0);
+                for (x, y) in p.iter().zip(c) {
+                    pp += x * x;
+                    cc += y * y;
+                    pd += x * (y - x);
+                    dd += (y - x) * (y - x);
+                }
+                // Only a minimum inside the segment is a pass through zero: one at an end is a
+                // gradient that shrinks over the step (by a factor e^(−h) for a fading e^(−t) in
+                // f, say), however much.
+                let s = if dd > 0.0 { -pd / dd } else { 0.0 };
+                if !(s > 0.0 && s < 1.0) {
+                    continue;
+                }
                 // Formed as a vector: |p|² − (p·(c − p))²/|c − p|² would cancel.
-                p.iter()
+                let closest = p
+                    .iter()
                     .zip(c)
                     .map(|(x, y)| (x + s * (y - x)).powi(2))
-                    .sum::<f64>()
-            } else {
-                pp.min(cc)
-            };
-            let low = tol * then;
-            if closest.max(0.0) < low * low {
-                let r = closest.max(0.0).sqrt() / then;
-                culprit = Some((Some(a + 1), r, self.previous_t + s * (t - self.previous_t)));
-                break;
-            }
-            // |J_a| > then / tol, compared squared: the root only for the report.
-            if cc * tol * tol > then * then {
-                if let Some(r) = off(cc.sqrt(), then) {
-                    culprit = Some((Some(a + 1), r, t));
+                    .sum::<f64>();
+                let ends = pp.max(cc);
+                if closest < tol * tol * ends {
+                    let r = (closest / ends).sqrt();
+                    culprit = Some((Some(a + 1), r, self.previous_t + s * (t - self.previous_t)));
                     break;
                 }
             }
+            culprit = culprit.or_else(|| {
+                let ratio = d.w_scale / self.previous_w;
+                (self.previous_w > 0.0 && !(tol..=1.0 / tol).contains(&ratio))
+                    .then_some((None, ratio, t))
+            });
         }
-        let culprit = culprit.or_else(|| off(d.w_scale, *w0).map(|r| (None, r, t)));
         // Element by element: `clone_from` calls `memcpy`, which costs more for a few words.
-        for (dst, &v) in self.previous_j.iter_mut().zip(&d.j) {
-            *dst = v;
+        if self.previous_j.len() == d.j.len() {
+            for (dst, &v) in self.previous_j.iter_mut().zip(&d.j) {
+                *dst = v;
+            }
+        } else {
+            self.previous_j.clone_from(&d.j);
         }
+        self.previous_w = d.w_scale;
         self.previous_t = t;
         match culprit {
             None => Ok(()),
@@ -327,8 +319,8 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             energy,
             forces: true,
             rank_tolerance: 0.0,
-            reference: None,
             previous_j: Vec::new(),
+            previous_w: 0.0,
             previous_t: f64::NAN,
             last_t: f64::NAN,
             sens: None,
