@@ -49,6 +49,7 @@
 //! # Ok::<(), chetaev_scene::Error>(())
 //! ```
 
+mod domain;
 pub mod error;
 pub mod expr;
 mod model;

@@ -47,7 +47,6 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
-    /// Parse and validate a scene, and check its output directory, without integrating it.
     /// Show the equations the library derived for a scene, at its initial state: which blocks
     /// vanish or are constant, what each depends on, the numbers, the multipliers.
     Describe {
@@ -57,6 +56,7 @@ enum Command {
         #[arg(long)]
         latex: bool,
     },
+    /// Parse and validate a scene, and check its output directory, without integrating it.
     Check {
         /// The scene file (TOML).
         scene: PathBuf,

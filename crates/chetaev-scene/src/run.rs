@@ -7,9 +7,12 @@
 
 use chetaev::prelude::*;
 
+use std::ops::Range;
+
 use crate::error::Error;
 use crate::expr::{Env, Expr};
 use crate::model::ExprModel;
+use crate::output::{state_text, summary_number};
 use crate::scene::{GridEnd, Scene, Times};
 
 /// What an integration of a scene produced: the library's [`Solution`] (whose fields it
@@ -21,7 +24,7 @@ use crate::scene::{GridEnd, Scene, Times};
 pub struct Outcome {
     /// The motion and its diagnostics.
     pub solution: Solution,
-    /// `E − E(t0) − W_Φ + ∫∂L/∂t dt`, zero along an exact motion ([`Record::Energy`]).
+    /// `E − E(t0) − W_Φ − W_Q + ∫∂L/∂t dt`, zero along an exact motion ([`Record::Energy`]).
     pub balance: Vec<f64>,
     /// The names of the scene's events, by index (`solution.events[i].index`).
     pub event_names: Vec<String>,
@@ -112,11 +115,54 @@ impl Scene {
         self.integrate(&problem, self.solve.method)
     }
 
-    /// A located error for a setup failure reported by `chetaev`.
+    /// Constraint `index` as `chetaev` numbers the constraints (from 1: the velocity constraints,
+    /// then one per holonomic constraint, its time derivative `ḣ = 0`), named by its source in the
+    /// file: "constraint 1 (x_dot^2 + y_dot^2 - v0^2)", "holonomic constraint 1 (x^2 + y^2 - l^2)".
+    pub(crate) fn constraint_name(&self, index: usize) -> String {
+        let v = self.constraints.len();
+        let a = index.wrapping_sub(1);
+        if let Some(f) = self.constraints.get(a) {
+            format!("constraint {index} ({})", f.source())
+        } else if let Some(h) = a.checked_sub(v).and_then(|b| self.holonomic.get(b)) {
+            format!("holonomic constraint {} ({})", a - v + 1, h.source())
+        } else {
+            format!("constraint {index}")
+        }
+    }
+
+    /// Where constraint `index` (numbered as in [`Scene::constraint_name`]) is written.
+    pub(crate) fn constraint_span(&self, index: usize) -> Option<Range<usize>> {
+        let (s, v) = (&self.spans, self.constraints.len());
+        let a = index.checked_sub(1)?;
+        match a.checked_sub(v) {
+            None => s.constraints.get(a).cloned(),
+            Some(b) => s.holonomic.get(b).cloned(),
+        }
+    }
+
+    /// A located error for a setup failure reported by `chetaev`, told by the scene's keys (the
+    /// library's own messages name its Rust API).
     fn setup_error(&self, e: chetaev::Error) -> Error {
         use chetaev::Error as E;
         let s = &self.spans;
+        let v = self.constraints.len();
         match e {
+            E::InconsistentInitialState {
+                t,
+                index,
+                residual,
+                tolerance,
+            } if index > v => self.error_at(
+                // A holonomic constraint, through its time derivative ḣ = ∂h/∂q q̇ + ∂h/∂t.
+                s.q_dot.clone(),
+                format!(
+                    "the initial velocity violates {} differentiated in time: ḣ = ∂h/∂q·q̇ + ∂h/∂t \
+                     = {residual:e} at t = {t} (allowed {tolerance:e}), so the motion would leave \
+                     h = 0 at once; give a q_dot along the constraint (ḣ = 0), or set \
+                     project_velocity = true under [initial] to project it onto ḣ = 0",
+                    self.constraint_name(index)
+                ),
+            ),
             E::InconsistentInitialState {
                 t,
                 index,
@@ -125,12 +171,26 @@ impl Scene {
             } => self.error_at(
                 s.q_dot.clone(),
                 format!(
-                    "the initial velocity violates constraint {index} ({}): f = {residual:e} at t = {t} \
+                    "the initial velocity violates {}: f = {residual:e} at t = {t} \
                      (allowed {tolerance:e}); give a consistent q_dot, or set project_velocity = true \
                      under [initial] to project it onto f = 0",
-                    self.constraints
-                        .get(index.wrapping_sub(1))
-                        .map_or("?", |c| c.source())
+                    self.constraint_name(index)
+                ),
+            ),
+            E::InconsistentInitialPosition {
+                t,
+                index,
+                residual,
+                tolerance,
+            } => self.error_at(
+                s.q.clone(),
+                format!(
+                    "the initial position violates {}: h = {residual:e} at t = {t} (allowed \
+                     {tolerance:e}); give a q on the constraint, or set project_velocity = true \
+                     under [initial] to project q onto h = 0 (and then q_dot onto the velocity \
+                     constraints; the summary says what changed)",
+                    // The library numbers the holonomic constraints from 1 among themselves.
+                    self.constraint_name(v + index)
                 ),
             ),
             E::InvalidOption { name, value, hint } => {
@@ -139,37 +199,67 @@ impl Scene {
                 let span = s.options.get(key).cloned().unwrap_or(s.solve.clone());
                 self.error_at(span, format!("invalid {key} = {value} under [solve]: {hint}"))
             }
-            E::DegenerateConstraint { index, .. } => {
-                let span = s
-                    .constraints
-                    .get(index.wrapping_sub(1))
-                    .cloned()
-                    .unwrap_or(s.initial.clone());
-                self.error_at(span, format!("at the initial state, {e}"))
+            E::DegenerateConstraint { index, ref q, ref qd, t } => {
+                let span = self.constraint_span(index).unwrap_or(s.initial.clone());
+                self.error_at(
+                    span,
+                    format!(
+                        "at the initial state (t = {}, {}), {} does not restrict the velocity: its \
+                         derivative by the velocities vanishes there (a constraint on the speed, such \
+                         as x_dot^2 + y_dot^2 - v0^2, needs a speed that is not zero)",
+                        summary_number(t),
+                        state_text(self, q, qd),
+                        self.constraint_name(index)
+                    ),
+                )
             }
+            E::NonFiniteEvaluation { t, ref q, ref qd } => {
+                let state = format!("t = {}, {}", summary_number(t), state_text(self, q, qd));
+                match self.non_finite_part(t, q, qd) {
+                    Some(part) => self.error_at(
+                        part.span,
+                        format!(
+                            "at the initial state ({state}), {}: the expression leaves its domain \
+                             there (a square root or logarithm of a negative number, a division by \
+                             zero, or an overflow); check it, or give another initial state under \
+                             [initial]",
+                            part.what
+                        ),
+                    ),
+                    None => self.error_at(s.initial.clone(), format!("at the initial state, {e}")),
+                }
+            }
+            E::ProjectionFailed {
+                residual,
+                iterations,
+                ..
+            } => self.error_at(
+                s.initial.clone(),
+                format!(
+                    "project_velocity = true could not make the initial state consistent: the \
+                     projection onto the constraints left a residual of {residual:e} after \
+                     {iterations} iterations; give a q and q_dot closer to the constraints"
+                ),
+            ),
             E::InconsistentSeed {
                 seed,
                 constraint,
                 residual,
             } => {
-                let v = self.constraints.len();
-                // A velocity constraint ties q_dot to the parameter, a holonomic one q.
-                let (source, span) = if constraint <= v {
-                    (
-                        self.constraints.get(constraint.wrapping_sub(1)),
-                        s.q_dot.clone(),
-                    )
+                // A velocity constraint ties q_dot to the parameter, a holonomic one q and q_dot.
+                let span = if constraint <= v {
+                    s.q_dot.clone()
                 } else {
-                    (self.holonomic.get(constraint - v - 1), s.initial.clone())
+                    s.initial.clone()
                 };
                 self.error_at(
                     span,
                     format!(
-                        "moving '{seed}' moves the initial state off constraint {constraint} ({}) to \
-                         first order (residual {residual:e}): the initial values that the constraint \
-                         ties to '{seed}' must move with it; write them under [initial] as \
-                         expressions of '{seed}' (for x_dot^2 + y_dot^2 - v0^2, q_dot = [\"v0\", 0.0])",
-                        source.map_or("?", Expr::source)
+                        "moving '{seed}' moves the initial state off {} to first order (residual \
+                         {residual:e}): the initial values that the constraint ties to '{seed}' must \
+                         move with it; write them under [initial] as expressions of '{seed}' (for \
+                         x_dot^2 + y_dot^2 - v0^2, q_dot = [\"v0\", 0.0])",
+                        self.constraint_name(constraint)
                     ),
                 )
             }

@@ -517,3 +517,24 @@ fn describe_shows_the_proved_structure_and_the_derived_equations_in_text_and_lat
         "{latex}"
     );
 }
+
+#[test]
+fn help_gives_each_command_its_own_description() {
+    let o = chetaev(&["--help"]);
+    assert_eq!(o.status.code(), Some(0));
+    let help = text(&o.stdout);
+    let line = |command: &str| {
+        help.lines()
+            .find(|l| l.trim_start().starts_with(&format!("{command} ")))
+            .unwrap_or_else(|| panic!("{help}"))
+            .to_string()
+    };
+    assert!(line("run").contains("Solve a scene"), "{help}");
+    assert!(
+        line("check").contains("Parse and validate a scene"),
+        "{help}"
+    );
+    let describe = line("describe");
+    assert!(describe.contains("Show the equations"), "{help}");
+    assert!(!describe.contains("Parse and validate"), "{help}");
+}

@@ -4,7 +4,7 @@
 
 use std::f64::consts::PI;
 
-use chetaev_scene::Scene;
+use chetaev_scene::{output, Scene};
 
 /// `K(k)` by the arithmetic–geometric mean.
 fn elliptic_k(k: f64) -> f64 {
@@ -42,4 +42,169 @@ fn a_holonomic_constraint_on_a_velocity_is_a_located_error() {
     );
     let err = Scene::parse(&text, "bad.toml").expect_err("uses x_dot");
     assert!(err.to_string().contains("uses x_dot"), "{err}");
+}
+
+/// The Cartesian pendulum with its initial position and velocity replaced.
+fn pendulum(q: &str, q_dot: &str, extra: &str) -> String {
+    include_str!("../../../scenes/cartesian-pendulum.toml")
+        .replace(
+            "q = [\"l*sin(theta0)\", \"-l*cos(theta0)\"]",
+            &format!("q = {q}"),
+        )
+        .replace("q_dot = [0.0, 0.0]", &format!("q_dot = {q_dot}{extra}"))
+}
+
+/// The line of `text` that starts with `start`, from 1.
+fn line_of(text: &str, start: &str) -> usize {
+    text.lines()
+        .position(|l| l.starts_with(start))
+        .expect("line")
+        + 1
+}
+
+#[test]
+fn project_velocity_reports_how_far_it_moved_the_position() {
+    // Off the circle x² + y² = l² = 4 (radius 2.12), at rest: q is moved onto it, q_dot is kept.
+    let text = pendulum("[1.5, -1.5]", "[0.0, 0.0]", "\nproject_velocity = true");
+    let scene = Scene::parse(&text, "moved.toml").expect("parses");
+    let o = scene.solve().expect("solves");
+    assert!(o.is_success(), "{:?}", o.status);
+    let q = &o.q[0];
+    assert!((q[0].hypot(q[1]) - 2.0).abs() < 1e-12, "{q:?}");
+    let summary = output::summary(&scene, &o);
+    let n = output::summary_number;
+    let want = format!(
+        "  initial  q projected onto h = 0 (project_velocity = true; q_dot satisfies ḣ = 0 as \
+         given): x 1.5 → {} ({}), y -1.5 → {} (+{})\n",
+        n(q[0]),
+        n(q[0] - 1.5),
+        n(q[1]),
+        n(q[1] + 1.5)
+    );
+    assert!(summary.contains(&want), "{summary}");
+    assert!(!summary.contains("changed nothing"), "{summary}");
+
+    // Off the circle and moving across it: both change, each by how much.
+    let text = pendulum("[1.5, -1.5]", "[1.0, 0.0]", "\nproject_velocity = true");
+    let scene = Scene::parse(&text, "both.toml").expect("parses");
+    let o = scene.solve().expect("solves");
+    let summary = output::summary(&scene, &o);
+    let (q, qd) = (&o.q[0], &o.qd[0]);
+    assert!((q[0] * qd[0] + q[1] * qd[1]).abs() < 1e-12, "{qd:?}"); // ḣ = 2 q·q̇ = 0
+    assert!(
+        summary.contains(&format!(
+            "  initial  q projected onto h = 0 and q_dot onto ḣ = 0 (project_velocity = true): \
+             x 1.5 → {}",
+            n(q[0])
+        )),
+        "{summary}"
+    );
+    assert!(
+        summary.contains(&format!("x_dot 1 → {} ({})", n(qd[0]), n(qd[0] - 1.0))),
+        "{summary}"
+    );
+
+    // On the circle and along it: nothing changes, and the summary says so.
+    let text = pendulum("[0.0, -2.0]", "[1.0, 0.0]", "\nproject_velocity = true");
+    let scene = Scene::parse(&text, "kept.toml").expect("parses");
+    let o = scene.solve().expect("solves");
+    assert!(output::summary(&scene, &o).contains(
+        "  initial  q and q_dot satisfy the constraints as given; project_velocity = true changed \
+         nothing\n"
+    ));
+}
+
+#[test]
+fn an_inconsistent_holonomic_position_points_at_q_with_the_scene_key_to_set() {
+    let text = pendulum("[1.5, -1.5]", "[0.0, 0.0]", "");
+    let e = Scene::parse(&text, "off.toml")
+        .expect("parses")
+        .check()
+        .expect_err("off the circle");
+    assert_eq!(e.position(), Some((line_of(&text, "q = "), 5)), "{e}");
+    let m = e.to_string();
+    assert!(
+        m.contains("the initial position violates holonomic constraint 1 (x^2 + y^2 - l^2): h = "),
+        "{m}"
+    );
+    assert!(
+        m.contains("set project_velocity = true under [initial]"),
+        "{m}"
+    );
+    assert!(!m.contains("Problem::"), "{m}");
+}
+
+#[test]
+fn an_inconsistent_velocity_names_the_holonomic_constraint_it_leaves() {
+    // On the circle at 80°, moving along x: ḣ = 2 x ẋ ≠ 0.
+    let text = pendulum("[\"l*sin(theta0)\", \"-l*cos(theta0)\"]", "[1.0, 0.0]", "");
+    let e = Scene::parse(&text, "across.toml")
+        .expect("parses")
+        .check()
+        .expect_err("across the circle");
+    assert_eq!(
+        e.position().map(|p| p.0),
+        Some(line_of(&text, "q_dot")),
+        "{e}"
+    );
+    let m = e.to_string();
+    assert!(
+        m.contains("violates holonomic constraint 1 (x^2 + y^2 - l^2) differentiated in time"),
+        "{m}"
+    );
+    assert!(m.contains("project_velocity = true"), "{m}");
+    assert!(!m.contains("(?)"), "{m}");
+}
+
+#[test]
+fn a_failure_names_the_constraint_as_the_scene_writes_it() {
+    // A velocity constraint, then a holonomic one: chetaev numbers them 1 and 2.
+    let text = include_str!("../../../scenes/cartesian-pendulum.toml").replace(
+        "holonomic = [",
+        "constraints = [\"x_dot*y - y_dot*x - 1\"]\nholonomic = [",
+    );
+    let scene = Scene::parse(&text, "two.toml").expect("parses");
+    let (q, qd) = (vec![0.0, -2.0], vec![0.0, 0.0]);
+    let degenerate = |index| {
+        let e = chetaev::Error::DegenerateConstraint {
+            t: 0.5,
+            index,
+            q: q.clone(),
+            qd: qd.clone(),
+        };
+        output::failure(&scene, &e).what
+    };
+    let first = degenerate(1);
+    assert!(
+        first.starts_with("constraint 1 (x_dot*y - y_dot*x - 1) no longer"),
+        "{first}"
+    );
+    let second = degenerate(2);
+    assert!(
+        second.starts_with("holonomic constraint 1 (x^2 + y^2 - l^2) no longer"),
+        "{second}"
+    );
+    let e = chetaev::Error::SingularPoint {
+        t: 0.5,
+        constraint: Some(2),
+        ratio: 1e-9,
+        q: q.clone(),
+        qd: qd.clone(),
+    };
+    let f = output::failure(&scene, &e);
+    assert!(
+        f.what.contains("holonomic constraint 1 (x^2 + y^2 - l^2)"),
+        "{f:?}"
+    );
+    assert!(!f.advice.contains("Options::"), "{f:?}");
+    // A model that is not finite there is named too: the Lagrangian divides by x.
+    let text = text.replace("- m*g*y\"", "- m*g*y/x\"");
+    let scene = Scene::parse(&text, "pole.toml").expect("parses");
+    let e = chetaev::Error::NonFiniteEvaluation { t: 0.5, q, qd };
+    let f = output::failure(&scene, &e);
+    assert!(
+        f.what
+            .starts_with("the Lagrangian L (0.5*m*(x_dot^2 + y_dot^2) - m*g*y/x) is inf at x = 0"),
+        "{f:?}"
+    );
 }

@@ -219,9 +219,11 @@ fn an_inconsistent_initial_velocity_points_at_q_dot_and_says_what_to_try() {
     let summary = output::summary(&scene, &o);
     let n = output::summary_number;
     let want = format!(
-        "  initial  q_dot projected onto f = 0 (project_velocity = true): x_dot 10 → {}, y_dot 1 → {}\n",
+        "  initial  q_dot projected onto f = 0 (project_velocity = true): x_dot 10 → {} ({}), y_dot 1 → {} ({})\n",
         n(o.qd[0][0]),
-        n(o.qd[0][1])
+        n(o.qd[0][0] - 10.0),
+        n(o.qd[0][1]),
+        n(o.qd[0][1] - 1.0)
     );
     assert!(summary.contains(&want), "{summary}");
     // A consistent velocity is left as it is, and the summary says so.
@@ -299,12 +301,18 @@ fn every_method_solves_the_paper_scene() {
             ""
         };
         let tol = if info.needs_jacobian { 1e-8 } else { 1e-10 };
+        // A fixed-step method has no error control, and refuses tolerances.
+        let tolerances = if info.fixed_step.is_some() {
+            ""
+        } else {
+            "rtol = 1e-10\natol = 1e-12"
+        };
         let text = uniform
             .replace(
                 "method = \"dop853\"",
                 &format!("method = \"{method}\"\n{extra}"),
             )
-            .replace("rtol = 1e-12", "rtol = 1e-10");
+            .replace("rtol = 1e-12\natol = 1e-12", tolerances);
         let scene = Scene::parse(&text, "methods.toml").unwrap_or_else(|e| panic!("{method}: {e}"));
         let o = scene.solve().unwrap_or_else(|e| panic!("{method}: {e}"));
         assert!(o.is_success(), "{method}: {:?}", o.status);
@@ -392,4 +400,151 @@ fn the_longest_expression_allowed_evaluates_with_every_dual_type() {
             "{e}"
         ),
     }
+}
+
+#[test]
+fn a_fixed_step_method_refuses_the_options_it_would_ignore() {
+    // rk4 takes every step of size `step` and has no error control: tolerances and a first step
+    // would be ignored, so they are refused at their place, saying what to use instead.
+    let rk4 = BASE.replace("rtol = 1e-9\natol = 1e-9", "method = \"rk4\"\nstep = 0.01");
+    assert!(
+        rk4.contains("step = 0.01") && !rk4.contains("rtol"),
+        "{rk4}"
+    );
+    Scene::parse(&rk4, "rk4.toml").expect("rk4 with its step alone");
+    for (key, line) in [
+        ("rtol", "rtol = 1e-9"),
+        ("atol", "atol = 1e-9"),
+        ("initial_step", "initial_step = 0.1"),
+    ] {
+        let text = rk4.replace("step = 0.01", &format!("step = 0.01\n{line}"));
+        let e = Scene::parse(&text, "rk4.toml").expect_err(key);
+        let at = text.lines().position(|l| l == line).expect("line") + 1;
+        assert_eq!(e.position().map(|p| p.0), Some(at), "{key}: {e}");
+        let m = e.to_string();
+        assert!(m.contains(&format!("`{key}`")), "{m}");
+        assert!(
+            m.contains("would be ignored") && m.contains("`step`"),
+            "{m}"
+        );
+    }
+    // max_step is used: it caps the fixed step.
+    let capped = rk4.replace("step = 0.01", "step = 0.01\nmax_step = 0.005");
+    let o = Scene::parse(&capped, "rk4.toml")
+        .expect("max_step is not ignored")
+        .solve()
+        .expect("solves");
+    assert_eq!(o.stats.accepted_steps, 100);
+    // So are the sensitivities' error control: rk4 has none.
+    let control = format!("{rk4}\n[sensitivities]\nparameters = [\"g\"]\ncontrol = true\n");
+    let e = Scene::parse(&control, "rk4.toml").expect_err("control with rk4");
+    assert!(e.to_string().contains("would be ignored"), "{e}");
+    Scene::parse(
+        &control.replace("control = true", "control = false"),
+        "rk4.toml",
+    )
+    .expect("control = false is the default");
+}
+
+#[test]
+fn a_model_not_finite_at_the_start_names_the_expression() {
+    // (text to replace, replacement, the line pointed at starts with, what the message names)
+    let cases = [
+        (
+            "constraints = [\"x_dot^2 + y_dot^2 - v0^2\"]",
+            "constraints = [\"x_dot^2 + y_dot^2 - v0^2/x\"]",
+            "constraints",
+            "constraint 1 (x_dot^2 + y_dot^2 - v0^2/x) is -inf",
+        ),
+        (
+            "lagrangian = \"0.5*(x_dot^2 + y_dot^2) - g*y\"",
+            "lagrangian = \"0.5*(x_dot^2 + y_dot^2) - g*y + ln(x)\"",
+            "lagrangian",
+            "the Lagrangian L (0.5*(x_dot^2 + y_dot^2) - g*y + ln(x)) is -inf",
+        ),
+        (
+            // Finite, but its derivative by y is not.
+            "lagrangian = \"0.5*(x_dot^2 + y_dot^2) - g*y\"",
+            "lagrangian = \"0.5*(x_dot^2 + y_dot^2) - g*y + acos(y/5)\"",
+            "lagrangian",
+            "the derivative ∂L/∂y of the Lagrangian L (0.5*(x_dot^2 + y_dot^2) - g*y + acos(y/5)) is -inf",
+        ),
+        (
+            // Finite, but sqrt's derivative at 0 is NaN, which makes every derivative NaN: which
+            // variable cannot be told, the expression can.
+            "lagrangian = \"0.5*(x_dot^2 + y_dot^2) - g*y\"",
+            "lagrangian = \"0.5*(x_dot^2 + y_dot^2) - g*y + sqrt(x)\"",
+            "lagrangian",
+            "the first derivatives of the Lagrangian L (0.5*(x_dot^2 + y_dot^2) - g*y + sqrt(x)) are not finite",
+        ),
+        (
+            "constraints = [",
+            "forces = [\"1/x\", \"0\"]\nconstraints = [",
+            "forces",
+            "the force Q_x (1/x) is inf",
+        ),
+        (
+            "constraints = [",
+            "dissipation = \"x_dot^2/x\"\nconstraints = [",
+            "dissipation",
+            "the dissipation function D (x_dot^2/x) is inf",
+        ),
+    ];
+    for (from, to, line, names) in cases {
+        assert!(BASE.contains(from), "{from}");
+        let text = BASE.replace(from, to);
+        let scene = Scene::parse(&text, "domain.toml").unwrap_or_else(|e| panic!("{e}"));
+        let e = scene.check().expect_err("not finite at x = 0");
+        let at = text
+            .lines()
+            .position(|l| l.starts_with(line))
+            .expect("line")
+            + 1;
+        assert_eq!(e.position().map(|p| p.0), Some(at), "{e}");
+        let m = e.to_string();
+        assert!(m.contains(names), "{m}");
+        assert!(
+            m.contains("at the initial state (t = 0, x = 0, y = 5"),
+            "{m}"
+        );
+        // solve says the same.
+        assert_eq!(scene.solve().expect_err("solve").to_string(), m);
+    }
+}
+
+#[test]
+fn the_energy_line_names_the_terms_of_the_balance() {
+    let energy = "[output]\ntables = [\"energy\"]\n";
+    let line = |text: &str| {
+        let scene = Scene::parse(text, "energy.toml").unwrap_or_else(|e| panic!("{e}"));
+        let o = scene.solve().expect("solves");
+        let summary = output::summary(&scene, &o);
+        let line = summary
+            .lines()
+            .find(|l| l.starts_with("  energy"))
+            .unwrap_or_else(|| panic!("{summary}"))
+            .to_string();
+        let max = o.balance.iter().fold(0.0f64, |m, b| m.max(b.abs()));
+        assert!(
+            line.ends_with(&format!("| = {}", output::summary_number(max))),
+            "{line}"
+        );
+        line
+    };
+    let base = format!("{BASE}{energy}");
+    assert!(line(&base).contains("max |E − E(t0) − W_Φ| = "));
+    let drag = base.replace(
+        "constraints = [",
+        "dissipation = \"0.1*x_dot^2\"\nconstraints = [",
+    );
+    assert!(line(&drag).contains("max |E − E(t0) − W_Φ − W_Q| = "));
+    let forced = base.replace(
+        "constraints = [",
+        "forces = [\"0\", \"-0.1*y_dot\"]\nconstraints = [",
+    );
+    assert!(line(&forced).contains("max |E − E(t0) − W_Φ − W_Q| = "));
+    let timed = base.replace("- g*y\"", "- g*y*(1 + 0.01*t)\"");
+    assert!(line(&timed).contains("max |E − E(t0) − W_Φ + ∫∂L/∂t dt| = "));
+    let free = base.replace("constraints = [\"x_dot^2 + y_dot^2 - v0^2\"]\n", "");
+    assert!(line(&free).contains("max |E − E(t0)| = "));
 }

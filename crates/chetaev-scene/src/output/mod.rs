@@ -15,6 +15,7 @@ mod table;
 use std::path::{Path, PathBuf};
 
 pub use files::{resolve, Plan, Written, MANIFEST};
+pub(crate) use summary::state_text;
 pub use summary::{count, failure, non_finite, status_text, summary, Failure, NonFinite};
 pub use table::CsvNumber;
 
@@ -52,6 +53,24 @@ pub fn summary_number(v: f64) -> String {
         }
         _ => s,
     }
+}
+
+/// The terms of the energy balance that the scene's model has, as the balance is written in the
+/// summary and the energy picture: `E − E(t0)`, then `− W_Φ` with constraints, `− W_Q` with forces
+/// or a dissipation function, `+ ∫∂L/∂t dt` with a Lagrangian that reads `t`. The terms left out
+/// are zero along any motion, so the balance's value is the same.
+pub(crate) fn balance_terms(scene: &Scene) -> String {
+    let mut balance = String::from("E − E(t0)");
+    if scene.k() > 0 {
+        balance.push_str(" − W_Φ");
+    }
+    if !scene.forces.is_empty() || scene.dissipation.is_some() {
+        balance.push_str(" − W_Q");
+    }
+    if scene.lagrangian.uses_time() {
+        balance.push_str(" + ∫∂L/∂t dt");
+    }
+    balance
 }
 
 /// Whether the quantities are written (as a table or a picture).

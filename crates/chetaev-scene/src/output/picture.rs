@@ -13,7 +13,7 @@ use std::path::Path;
 use chetaev::solution::Series;
 use chetaev_plot::{Figure, Legend, Panels, PlotError, Style, PALETTE};
 
-use super::quantity_values;
+use super::{balance_terms, quantity_values};
 use crate::run::Outcome;
 use crate::scene::{Picture, Scene};
 
@@ -393,18 +393,15 @@ fn energy(scene: &Scene, out: &Outcome, title: &str, t_label: &str) -> Drawing {
                 ..Style::default()
             },
         );
-    let mut balance = String::from("E − E(t0)");
+    let balance = balance_terms(scene);
     if scene.k() > 0 {
         terms = terms.line("W_Φ (work of the Chetaev force)", &series(t, &out.work));
-        balance.push_str(" − W_Φ");
     }
     if !scene.forces.is_empty() || scene.dissipation.is_some() {
         terms = terms.line("W_Q (work of the forces Q)", &series(t, &out.work_forces));
-        balance.push_str(" − W_Q");
     }
     if scene.lagrangian.uses_time() {
         terms = terms.line("∫∂L/∂t dt", &series(t, &out.dl_dt_integral));
-        balance.push_str(" + ∫∂L/∂t dt");
     }
     let balance_panel = Figure::new("")
         .x_label(t_label)

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use chetaev::prelude::{Atol, Status};
 
-use super::{quantity_values, summary_number as num, writes_quantities};
+use super::{balance_terms, quantity_values, summary_number as num, writes_quantities};
 use crate::run::Outcome;
 use chetaev::integrate::{AnyMethod, Method};
 
@@ -28,7 +28,7 @@ pub struct Failure {
 }
 
 /// `x = 1, y = 2, x_dot = 3, y_dot = 4`, or as much of it as the vectors hold.
-fn state_text(scene: &Scene, q: &[f64], qd: &[f64]) -> String {
+pub(crate) fn state_text(scene: &Scene, q: &[f64], qd: &[f64]) -> String {
     let c = &scene.coordinates;
     c.iter()
         .zip(q)
@@ -85,10 +85,13 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
         },
         E::NonFiniteEvaluation { t, q, qd } => Failure {
             t: Some(*t),
-            what: format!(
-                "the lagrangian or a constraint, or a derivative of one, is not finite at {}",
-                state_text(scene, q, qd)
-            ),
+            what: match scene.non_finite_part(*t, q, qd) {
+                Some(part) => format!("{} at {}", part.what, state_text(scene, q, qd)),
+                None => format!(
+                    "the lagrangian or a constraint, or a derivative of one, is not finite at {}",
+                    state_text(scene, q, qd)
+                ),
+            },
             advice: "an expression left its domain there (sqrt or ln of a negative number, a \
                      division by zero, an overflow): check the expressions at this state, or stop \
                      the motion before it with a terminal [[events]] entry"
@@ -111,13 +114,41 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
         E::DegenerateConstraint { t, index, q, qd } => Failure {
             t: Some(*t),
             what: format!(
-                "constraint {} ({}) no longer restricts the velocity (its derivative by the \
-                 velocities vanishes) at {}",
-                index + 1,
-                scene.constraints.get(*index).map_or("?", |c| c.source()),
+                "{} no longer restricts the velocity (its derivative by the velocities vanishes) \
+                 at {}",
+                scene.constraint_name(*index),
                 state_text(scene, q, qd)
             ),
             advice: "check that constraint at this state (a speed constraint at zero speed?)"
+                .to_string(),
+        },
+        E::SingularPoint {
+            t,
+            constraint,
+            ratio,
+            q,
+            qd,
+        } => Failure {
+            t: Some(*t),
+            what: format!(
+                "singular point: {} (the last state checked, at or after t: {})",
+                match constraint {
+                    Some(a) => format!(
+                        "the derivative by the velocities of {} passes through zero, down to \
+                         {ratio:e} times its size at the ends of the step",
+                        scene.constraint_name(*a)
+                    ),
+                    None => format!(
+                        "the kinetic metric ∂²L/∂q̇² of the lagrangian changed size by a factor \
+                         {ratio:e} within one step"
+                    ),
+                },
+                state_text(scene, q, qd)
+            ),
+            advice: "the equations do not determine the motion there (a rank loss, such as the \
+                     speed passing through zero under a constraint on its magnitude, or a pole of \
+                     the model); the motion up to t is kept: check the expressions near this \
+                     state, or stop the motion before it with a terminal [[events]] entry"
                 .to_string(),
         },
         E::ProjectionFailed {
@@ -405,11 +436,7 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         }
     }
     if let Some(b) = max_abs(&out.balance) {
-        let _ = writeln!(
-            s,
-            "  energy   max |E − E(t0) − W_Φ + ∫∂L/∂t dt| = {}",
-            num(b)
-        );
+        let _ = writeln!(s, "  energy   max |{}| = {}", balance_terms(scene), num(b));
     }
     for bad in non_finite(scene, out) {
         let _ = writeln!(
@@ -466,26 +493,73 @@ fn sensitivity_text(scene: &Scene, out: &Outcome) -> Option<Vec<String>> {
     Some(lines)
 }
 
-/// "q_dot projected onto f = 0: x_dot 10 → 9.95, y_dot 1 → 0.995", or that it did not change.
+/// What `project_velocity = true` changed in the initial state, coordinate by coordinate, by how
+/// much: "q_dot projected onto f = 0 (project_velocity = true): x_dot 10 → 9.95 (-0.0496), ...";
+/// with holonomic constraints, "q projected onto h = 0 and q_dot onto ḣ = 0 (...): y 0.1 → 0
+/// (-0.1), ..."; or that it changed nothing.
 fn projection_text(scene: &Scene, out: &Outcome) -> String {
-    let Some(used) = out.qd.first().filter(|_| out.t.first() == Some(&scene.t0)) else {
-        return "q_dot projected onto f = 0 (project_velocity = true)".to_string();
+    let holonomic = !scene.holonomic.is_empty();
+    let velocity = match (scene.constraints.is_empty(), holonomic) {
+        (false, true) => "f = 0 and ḣ = 0",
+        (true, true) => "ḣ = 0",
+        _ => "f = 0",
     };
-    let changed: Vec<String> = scene
-        .coordinates
+    let at_start = out.t.first() == Some(&scene.t0);
+    let (Some(q), Some(qd)) = (
+        out.q.first().filter(|_| at_start),
+        out.qd.first().filter(|_| at_start),
+    ) else {
+        return if holonomic {
+            format!("q projected onto h = 0 and q_dot onto {velocity} (project_velocity = true)")
+        } else {
+            format!("q_dot projected onto {velocity} (project_velocity = true)")
+        };
+    };
+    let change = |name: String, a: f64, b: f64| {
+        let d = b - a;
+        let sign = if d > 0.0 { "+" } else { "" };
+        format!("{name} {} → {} ({sign}{})", num(a), num(b), num(d))
+    };
+    let c = &scene.coordinates;
+    let moved: Vec<String> = c
         .iter()
-        .zip(scene.qd0.iter().zip(used))
+        .zip(scene.q0.iter().zip(q))
         .filter(|(_, (a, b))| a != b)
-        .map(|(c, (a, b))| format!("{c}_dot {} → {}", num(*a), num(*b)))
+        .map(|(c, (a, b))| change(c.clone(), *a, *b))
         .collect();
-    if changed.is_empty() {
-        "q_dot satisfies f = 0 as given; project_velocity = true changed nothing".to_string()
-    } else {
-        format!(
-            "q_dot projected onto f = 0 (project_velocity = true): {}",
-            changed.join(", ")
-        )
-    }
+    let turned: Vec<String> = c
+        .iter()
+        .zip(scene.qd0.iter().zip(qd))
+        .filter(|(_, (a, b))| a != b)
+        .map(|(c, (a, b))| change(format!("{c}_dot"), *a, *b))
+        .collect();
+    let what = match (moved.is_empty(), turned.is_empty()) {
+        (true, true) if holonomic => {
+            return "q and q_dot satisfy the constraints as given; project_velocity = true \
+                    changed nothing"
+                .to_string()
+        }
+        (true, true) => {
+            return format!(
+                "q_dot satisfies {velocity} as given; project_velocity = true changed nothing"
+            )
+        }
+        (false, false) => {
+            format!("q projected onto h = 0 and q_dot onto {velocity} (project_velocity = true)")
+        }
+        (false, true) => format!(
+            "q projected onto h = 0 (project_velocity = true; q_dot satisfies {velocity} as given)"
+        ),
+        (true, false) => format!("q_dot projected onto {velocity} (project_velocity = true)"),
+    };
+    format!(
+        "{what}: {}",
+        moved
+            .into_iter()
+            .chain(turned)
+            .collect::<Vec<_>>()
+            .join(", ")
+    )
 }
 
 #[cfg(test)]

@@ -33,8 +33,7 @@ pub(crate) struct RawScene {
 pub(crate) struct RawSensitivities {
     pub(crate) parameters: Spanned<Vec<Spanned<String>>>,
     /// Error control on the sensitivities too.
-    #[serde(default)]
-    pub(crate) control: bool,
+    pub(crate) control: Option<Spanned<bool>>,
 }
 
 #[derive(Deserialize)]

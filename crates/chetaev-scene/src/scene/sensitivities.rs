@@ -127,7 +127,7 @@ impl Builder {
                 .iter()
                 .map(|&p| parameters.values[p].0.clone())
                 .collect(),
-            control: raw.control,
+            control: raw.control.as_ref().is_some_and(|c| *c.get_ref()),
             seeds,
         })
     }

@@ -95,8 +95,12 @@ pub struct SensitivitySpec {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Spans {
     pub initial: Range<usize>,
+    pub q: Range<usize>,
     pub q_dot: Range<usize>,
     pub constraints: Vec<Range<usize>>,
+    pub holonomic: Vec<Range<usize>>,
+    pub forces: Vec<Range<usize>>,
+    pub dissipation: Option<Range<usize>>,
     pub lagrangian: Range<usize>,
     pub solve: Range<usize>,
     pub options: BTreeMap<&'static str, Range<usize>>,
@@ -154,7 +158,7 @@ pub enum Table {
     Force,
     /// `t` and the constraint residuals `f_a`.
     Residual,
-    /// `t`, the energy `E`, the work `W_Φ`, `∫∂L/∂t dt` and the balance.
+    /// `t`, the energy `E`, the works `W_Φ` and `W_Q`, `∫∂L/∂t dt` and the balance.
     Energy,
     /// One row per located event: its name, `t`, the coordinates and the velocities.
     Events,
@@ -184,7 +188,7 @@ pub enum Picture {
     Force,
     /// `|f_a|` against `t`, logarithmic.
     Residual,
-    /// `E − E(t0)`, `W_Φ`, `∫∂L/∂t dt` and the balance against `t`.
+    /// `E − E(t0)`, `W_Φ`, `W_Q`, `∫∂L/∂t dt` (those the model has) and the balance against `t`.
     Energy,
     /// Every output quantity against `t`, one panel per unit.
     Quantities,

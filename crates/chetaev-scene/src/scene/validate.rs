@@ -205,6 +205,7 @@ impl Builder {
             }
         }
         let mut holonomic = Vec::new();
+        let mut holonomic_spans = Vec::new();
         if let Some(list) = &model.holonomic {
             let total = constraints.len() + list.get_ref().len();
             if total > n {
@@ -238,9 +239,11 @@ impl Builder {
                     ));
                 }
                 holonomic.push(model_expr(h)?);
+                holonomic_spans.push(h.span());
             }
         }
         let mut forces = Vec::new();
+        let mut force_spans = Vec::new();
         if let Some(list) = &model.forces {
             if list.get_ref().len() != n {
                 return Err(self.err(
@@ -257,6 +260,7 @@ impl Builder {
             }
             for f in list.get_ref() {
                 forces.push(model_expr(f)?);
+                force_spans.push(f.span());
             }
         }
         let dissipation = match &model.dissipation {
@@ -319,6 +323,25 @@ impl Builder {
                  projection would move the state but not its derivatives; remove projection (the \
                  sensitivities stay on the linearised constraints without it)",
             ));
+        }
+        let control = raw
+            .sensitivities
+            .as_ref()
+            .and_then(|s| s.get_ref().control.as_ref());
+        if let Some(c) = control.filter(|c| *c.get_ref()) {
+            use chetaev::integrate::Method;
+            let info = solve.method.info();
+            if info.fixed_step.is_some() {
+                return Err(self.err(
+                    c.span(),
+                    format!(
+                        "control = true puts the sensitivities under the error control of an \
+                         adaptive method; {} takes every step of size `step` and has no error \
+                         control, so it would be ignored: remove it",
+                        info.name.to_lowercase()
+                    ),
+                ));
+            }
         }
         if solve.t_end == t0 {
             return Err(self.err(
@@ -429,8 +452,12 @@ impl Builder {
             units,
             spans: Spans {
                 initial: raw.initial.span(),
+                q: initial.q.span(),
                 q_dot: initial.q_dot.span(),
                 constraints: constraint_spans,
+                holonomic: holonomic_spans,
+                forces: force_spans,
+                dissipation: model.dissipation.as_ref().map(Spanned::span),
                 lagrangian: model.lagrangian.span(),
                 solve: raw.solve.span(),
                 options,
@@ -543,6 +570,36 @@ impl Builder {
             }
             (None, false) => 0.0,
         };
+        if fixed {
+            // A fixed-step method takes every step of size `step` (the first one too) and has no
+            // error control: these keys would be ignored. (`max_step` is not: it caps the step.)
+            let key = info.name.to_lowercase();
+            let tolerance = |name: &str| {
+                format!(
+                    "`{name}` is the tolerance of the adaptive methods' error control; {key} takes \
+                     every step of size `step` and has no error control, so it would be ignored: \
+                     remove it and set the accuracy with `step` (halve it to see how much the \
+                     result moves), or choose an adaptive method (dopri5, dop853, tsit5, rodas4, \
+                     rodas5p) to keep the tolerance"
+                )
+            };
+            if let Some(r) = &raw.rtol {
+                return Err(self.err(r.span(), tolerance("rtol")));
+            }
+            if let Some(a) = &raw.atol {
+                return Err(self.err(a.span(), tolerance("atol")));
+            }
+            if let Some(h) = &raw.initial_step {
+                return Err(self.err(
+                    h.span(),
+                    format!(
+                        "`initial_step` is the first step of an adaptive method; {key} takes every \
+                         step of size `step`, the first one too, so it would be ignored: remove it \
+                         and set `step`"
+                    ),
+                ));
+            }
+        }
         if let AnyMethod::Rk4(_) = method {
             method = AnyMethod::Rk4(chetaev::integrate::Rk4::new(step));
         }
