@@ -187,6 +187,26 @@ fn bad_tolerances_are_rejected() {
     );
     let e = solve(&p, Dopri5::default(), &Options::until(f64::NAN)).unwrap_err();
     assert!(matches!(e, Error::NonFiniteInput { .. }), "{e}");
+    // A projection that may not iterate is refused before the run, not failed in it.
+    let e = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(1.0).project(Projection {
+            max_iterations: 0,
+            ..Projection::default()
+        }),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::InvalidOption {
+                name: "projection max_iterations",
+                ..
+            }
+        ),
+        "{e}"
+    );
 }
 
 #[test]
@@ -364,4 +384,19 @@ fn a_model_without_coordinates_is_invalid() {
     // More constraints than coordinates cannot all hold independently.
     let e = Problem::dynamic(Sizes(1, 2), 0.0, vec![0.0], vec![0.0]).unwrap_err();
     assert!(matches!(e, Error::InvalidModel { .. }), "{e}");
+}
+
+/// A state the equations are asked at is named as such in the errors, not as the initial state.
+#[test]
+fn a_bad_state_for_equations_at_is_named_as_that_state() {
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    let e = p.equations_at(0.0, &[0.0], &[10.0, 0.0]).unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidModel { what } if what.starts_with("q has 1 entries")),
+        "{e}"
+    );
+    let e = p
+        .equations_at(f64::NAN, &[0.0, 5.0], &[10.0, 0.0])
+        .unwrap_err();
+    assert!(e.to_string().starts_with("t is not finite"), "{e}");
 }

@@ -119,7 +119,7 @@ impl<M: DynModel> Problem<M> {
 impl<M: Model> Problem<M> {
     /// Builds a problem for any [`Model`]; see [`Problem::new`] and [`Problem::dynamic`].
     pub fn from_model(model: M, t0: f64, q0: Vec<f64>, qd0: Vec<f64>) -> Result<Self, Error> {
-        check_state(&model, t0, &q0, &qd0)?;
+        check_state(&model, INITIAL, t0, &q0, &qd0)?;
         let problem = Self {
             model,
             t0,
@@ -164,7 +164,7 @@ impl<M: Model> Problem<M> {
         q0: Vec<f64>,
         mut qd0: Vec<f64>,
     ) -> Result<Self, Error> {
-        check_state(&model, t0, &q0, &qd0)?;
+        check_state(&model, INITIAL, t0, &q0, &qd0)?;
         let settings = Projection {
             tol: 1e-14,
             max_iterations: 20,
@@ -232,7 +232,7 @@ impl<M: Model> Problem<M> {
         q: &[f64],
         qd: &[f64],
     ) -> Result<crate::equations::Dynamics<f64>, Error> {
-        check_state(&self.model, t, q, qd)?;
+        check_state(&self.model, STATE, t, q, qd)?;
         let mut ws = Workspace::for_model(&self.model);
         let (d, _) = evaluate_with(&self.model, self.compiled(), &mut ws, t, q, qd, Need::All)
             .map_err(|e| locate(e, t, q, qd))?;
@@ -412,7 +412,18 @@ fn norm(v: &[f64]) -> f64 {
 }
 
 /// Checks the sizes of a model and its initial state, and that the state is finite.
-fn check_state<M: Model>(model: &M, t0: f64, q0: &[f64], qd0: &[f64]) -> Result<(), Error> {
+/// The names of `(t, q, q̇)` in [`check_state`]'s errors: of the initial state, or of a state the
+/// equations are asked at.
+const INITIAL: [&str; 3] = ["t0", "q0", "q̇0"];
+const STATE: [&str; 3] = ["t", "q", "q̇"];
+
+fn check_state<M: Model>(
+    model: &M,
+    [t_name, q_name, qd_name]: [&'static str; 3],
+    t0: f64,
+    q0: &[f64],
+    qd0: &[f64],
+) -> Result<(), Error> {
     let (n, k) = model.sizes();
     if n == 0 {
         return Err(Error::InvalidModel {
@@ -427,7 +438,7 @@ fn check_state<M: Model>(model: &M, t0: f64, q0: &[f64], qd0: &[f64]) -> Result<
             ),
         });
     }
-    for (name, v) in [("q0", q0), ("q̇0", qd0)] {
+    for (name, v) in [(q_name, q0), (qd_name, qd0)] {
         if v.len() != n {
             return Err(Error::InvalidModel {
                 what: format!(
@@ -437,9 +448,9 @@ fn check_state<M: Model>(model: &M, t0: f64, q0: &[f64], qd0: &[f64]) -> Result<
             });
         }
     }
-    check_finite("t0", std::slice::from_ref(&t0))?;
-    check_finite("q0", q0)?;
-    check_finite("q̇0", qd0)?;
+    check_finite(t_name, std::slice::from_ref(&t0))?;
+    check_finite(q_name, q0)?;
+    check_finite(qd_name, qd0)?;
     Ok(())
 }
 

@@ -944,13 +944,13 @@ impl Compiled {
             Metric::Varying => {
                 ws.wf.copy_from_slice(&ws.w);
                 match cholesky(&mut ws.wf, n) {
-                    Some(ratio) => {
+                    Ok(ratio) => {
                         let wf = std::mem::take(&mut ws.wf);
                         self.metric_solves(ws, |i, m| wf[i * n + m]);
                         ws.wf = wf;
                         ratio
                     }
-                    None => {
+                    Err(_) => {
                         let w = std::mem::take(&mut ws.w);
                         let result = self.eliminate(ws, |i, m| w[i * n + m]);
                         ws.w = w;
@@ -996,7 +996,14 @@ impl Compiled {
                 0.0
             }
         } else {
-            let ratio = cholesky(&mut ws.s, k).unwrap_or(0.0);
+            let ratio = match cholesky(&mut ws.s, k) {
+                Ok(ratio) => ratio,
+                Err(ratio) => {
+                    return Err(
+                        zero_row(ws).unwrap_or(SaddleFailure::Singular { pivot_ratio: ratio })
+                    )
+                }
+            };
             let s = std::mem::take(&mut ws.s);
             cholesky_solve(|i, m| s[i * k + m], k, &mut ws.mu);
             ws.s = s;
@@ -1068,8 +1075,8 @@ fn constant_metric(w: &[f64], n: usize) -> (Metric, f64) {
     }
     let mut f = w.to_vec();
     match cholesky(&mut f, n) {
-        Some(ratio) => (Metric::Factor(f), ratio),
-        None => (Metric::Indefinite(w.to_vec()), 1.0),
+        Ok(ratio) => (Metric::Factor(f), ratio),
+        Err(_) => (Metric::Indefinite(w.to_vec()), 1.0),
     }
 }
 
@@ -1080,9 +1087,10 @@ fn dot<T: Real>(a: &[T], b: &[T]) -> T {
 
 /// Cholesky factorisation `A = L Lᵀ` in place (row-major `n × n`, the lower triangle becomes `L`).
 /// Returns `min_i L_ii² / A_ii` (1 for a diagonal matrix; small when a column is nearly dependent
-/// on the earlier ones), or `None` where `A` is not positive definite to working precision.
+/// on the earlier ones), or, where `A` is not positive definite to working precision, `Err` with
+/// that ratio at the column where it failed (0 where it is not positive at all).
 #[inline]
-pub(crate) fn cholesky<T: Real>(a: &mut [T], n: usize) -> Option<f64> {
+pub(crate) fn cholesky<T: Real>(a: &mut [T], n: usize) -> Result<f64, f64> {
     let mut ratio = 1.0f64;
     for j in 0..n {
         let ajj = a[j * n + j];
@@ -1093,7 +1101,7 @@ pub(crate) fn cholesky<T: Real>(a: &mut [T], n: usize) -> Option<f64> {
         }
         let (dr, ar) = (d.re(), ajj.re());
         if !(dr > 0.0 && ar > 0.0) || dr <= SINGULAR_PIVOT_RATIO * ar {
-            return None;
+            return Err(if ar > 0.0 { (dr / ar).max(0.0) } else { 0.0 });
         }
         ratio = ratio.min(dr / ar);
         let ljj = d.sqrt();
@@ -1106,7 +1114,7 @@ pub(crate) fn cholesky<T: Real>(a: &mut [T], n: usize) -> Option<f64> {
             a[i * n + j] = s / ljj;
         }
     }
-    Some(ratio)
+    Ok(ratio)
 }
 
 /// Solves `L Lᵀ x = b` in place, `l(i, m) = L_im` for `m ≤ i`.
@@ -1126,5 +1134,27 @@ pub(crate) fn cholesky_solve<T: Real>(l: impl Fn(usize, usize) -> T, n: usize, b
             s -= l(m, i) * b[m];
         }
         b[i] = s / l(i, i);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cholesky;
+
+    /// A failed factorisation says how near to dependent the columns are, as a success does: the
+    /// ratio the error reports (`pivot ratio` of [`Error::Singular`](crate::Error::Singular)).
+    #[test]
+    fn cholesky_reports_its_ratio_also_where_it_fails() {
+        let mut a = [4.0, 0.0, 0.0, 1.0];
+        assert_eq!(cholesky(&mut a, 2), Ok(1.0));
+        let mut a = [1.0, 1.0, 1.0, 1.0 + 1e-12];
+        let r = cholesky(&mut a, 2).expect("regular enough");
+        assert!((r - 1e-12).abs() < 1e-15, "{r}");
+        let mut a = [1.0, 1.0, 1.0, 1.0 + 1e-15];
+        let r = cholesky(&mut a, 2).expect_err("nearly dependent");
+        // (1 + δ − 1)/(1 + δ), δ the rounded 1e-15.
+        assert!((r / (a[3] - 1.0) - 1.0).abs() < 1e-14, "{r}");
+        let mut a = [1.0, 2.0, 2.0, 1.0];
+        assert_eq!(cholesky(&mut a, 2), Err(0.0));
     }
 }

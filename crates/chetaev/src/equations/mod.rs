@@ -492,7 +492,7 @@ where
             }
             Some(ratio)
         }
-        _ => cholesky(wf.as_mut_slice(), N).inspect(|_| {
+        _ => cholesky(wf.as_mut_slice(), N).ok().inspect(|_| {
             let wf = &wf;
             let l = |i: usize, m: usize| wf.as_slice()[i * N + m];
             cholesky_solve(l, N, a0.as_mut_slice());
@@ -517,7 +517,10 @@ where
                     0.0
                 }
             } else {
-                let ratio = cholesky(sm.as_mut_slice(), K).unwrap_or(0.0);
+                let ratio = match cholesky(sm.as_mut_slice(), K) {
+                    Ok(ratio) => ratio,
+                    Err(ratio) => return Err(SaddleFailure::Singular { pivot_ratio: ratio }),
+                };
                 let sm = &sm;
                 cholesky_solve(|i, m| sm.as_slice()[i * K + m], K, mu.as_mut_slice());
                 ratio

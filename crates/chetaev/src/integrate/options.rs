@@ -216,6 +216,13 @@ impl Options {
                 p.tol,
                 "a small positive relative residual such as 1e-14",
             )?;
+            if p.max_iterations == 0 {
+                return invalid(
+                    "projection max_iterations",
+                    0.0,
+                    "allow at least one Newton iteration (Projection::default() allows 10)",
+                );
+            }
         }
         if let Some(c) = &self.controller {
             c.validate()?;
