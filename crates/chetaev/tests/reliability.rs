@@ -262,22 +262,38 @@ fn a_solution_writes_itself_as_csv_with_one_column_per_quantity() {
     assert!((last[1] - 1f64.sin()).abs() < 1e-6);
 }
 
-/// A free particle in the plane at unit speed: `L = ½ |q̇|²`, `f = |q̇|² − 1`.
-struct Speed;
+/// A free particle at the prescribed speed `v0 − a t`, its constraint written with a factor
+/// `e^(−λt)`: `f = e^(−λt) (|q̇|² − (v0 − a t)²)`. With `a > 0` the speed passes through zero at
+/// `t = v0/a`, where the gradient `2 e^(−λt) q̇` vanishes: a singular point of the Chetaev
+/// equations. With `a = 0` and `λ > 0` the gradient only shrinks steadily, and the motion `x = v0 t`
+/// is regular throughout.
+struct Speed {
+    v0: f64,
+    a: f64,
+    lambda: f64,
+}
+
 impl Lagrangian<2> for Speed {
     fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
         qd.dot(qd) * 0.5
     }
 }
+
 impl Constraints<2, 1> for Speed {
-    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
-        SVector::from([qd.dot(qd) - 1.0])
+    fn constraints<R: Real>(&self, t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        let v = -t * self.a + self.v0;
+        SVector::from([(-t * self.lambda).exp() * (qd.dot(qd) - v * v)])
     }
 }
 
-/// [`Speed`] moving along `x` from the origin.
+/// [`Speed`] at unit speed, moving along `x` from the origin.
 fn speed() -> Problem<chetaev::model::Fixed<Speed, 2, 1>> {
-    Problem::new(Speed, 0.0, SVector::zeros(), SVector::from([1.0, 0.0])).expect("valid")
+    let unit = Speed {
+        v0: 1.0,
+        a: 0.0,
+        lambda: 0.0,
+    };
+    Problem::new(unit, 0.0, SVector::zeros(), SVector::from([1.0, 0.0])).expect("valid")
 }
 
 #[test]
@@ -297,31 +313,11 @@ fn the_equations_at_a_state_report_failures_with_the_state() {
     assert!(matches!(err, Error::InvalidModel { .. }), "{err}");
 }
 
-/// A free particle whose prescribed speed `v0 − a t` passes through zero at `t = v0/a`, where the
-/// constraint's gradient `2 q̇` vanishes: a singular point of the Chetaev equations.
-struct Braking {
-    v0: f64,
-    a: f64,
-}
-
-impl Lagrangian<2> for Braking {
-    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
-        qd.dot(qd) * 0.5
-    }
-}
-
-impl Constraints<2, 1> for Braking {
-    fn constraints<R: Real>(&self, t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
-        let v = -t * self.a + self.v0;
-        SVector::from([qd.dot(qd) - v * v])
-    }
-}
-
 #[test]
 fn a_singular_point_of_the_constraint_stops_the_run_where_it_is() {
     let (v0, a) = (2.0, 0.5);
     let problem = Problem::new(
-        Braking { v0, a },
+        Speed { v0, a, lambda: 0.0 },
         0.0,
         SVector::zeros(),
         SVector::from([v0, 0.0]),
@@ -392,25 +388,6 @@ impl Lagrangian<1> for CaldirolaKanai {
     }
 }
 
-/// A free particle at constant speed `v0`, its constraint written with a fading factor,
-/// `f = e^(−t) (|q̇|² − v0²)`: the gradient `2 e^(−t) q̇` shrinks steadily and is regular
-/// throughout; `x = v0 t`.
-struct Fading {
-    v0: f64,
-}
-
-impl Lagrangian<2> for Fading {
-    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
-        qd.dot(qd) * 0.5
-    }
-}
-
-impl Constraints<2, 1> for Fading {
-    fn constraints<R: Real>(&self, t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
-        SVector::from([(-t).exp() * (qd.dot(qd) - self.v0 * self.v0)])
-    }
-}
-
 #[test]
 fn a_metric_or_gradient_that_changes_size_steadily_is_not_a_singular_point() {
     // W changes by e^(±30) ≈ 1e13 over the run, the gradient by e^(−30).
@@ -449,7 +426,11 @@ fn a_metric_or_gradient_that_changes_size_steadily_is_not_a_singular_point() {
     let v0 = 2.0;
     let t_end = 30.0;
     let problem = Problem::new(
-        Fading { v0 },
+        Speed {
+            v0,
+            a: 0.0,
+            lambda: 1.0,
+        },
         0.0,
         SVector::zeros(),
         SVector::from([v0, 0.0]),
@@ -465,7 +446,7 @@ fn a_metric_or_gradient_that_changes_size_steadily_is_not_a_singular_point() {
     }
 }
 
-/// [`Speed`] with run-time sizes.
+/// [`Speed`] at unit speed, with run-time sizes.
 struct DynSpeed;
 impl DynModel for DynSpeed {
     fn sizes(&self) -> (usize, usize) {
