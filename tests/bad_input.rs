@@ -400,3 +400,32 @@ fn a_bad_state_for_equations_at_is_named_as_that_state() {
         .unwrap_err();
     assert!(e.to_string().starts_with("t is not finite"), "{e}");
 }
+
+/// An event function that leaves its domain stops the run there, names the event, and keeps the
+/// motion before it.
+#[test]
+fn a_non_finite_event_is_named_and_the_motion_before_it_kept() {
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    // √(0.5 − t): NaN from t = 0.5 on.
+    let root = Event::new("root", |t, _q, _qd| (0.5 - t).sqrt() - 10.0);
+    let sol = solve(
+        &p,
+        Dop853::default(),
+        &Options::until(1.0)
+            .event(Event::new("never", |_t, _q, _qd| 1.0))
+            .event(root),
+    )
+    .expect("valid options");
+    match sol.error() {
+        Some(Error::NonFiniteEvent { index, name, t, .. }) => {
+            assert_eq!((*index, name.as_str()), (1, "root"));
+            assert!(*t >= 0.5, "{t}");
+        }
+        other => panic!("expected NonFiniteEvent, got {other:?}"),
+    }
+    assert!(sol
+        .error()
+        .is_some_and(|e| e.to_string().starts_with("event \"root\" (index 1")));
+    let (t_last, q, _) = sol.last().expect("kept");
+    assert!(t_last <= 0.5 && q.iter().all(|v| v.is_finite()), "{t_last}");
+}

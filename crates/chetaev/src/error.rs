@@ -253,10 +253,16 @@ pub enum Error {
     },
 
     /// An event function returned NaN or infinity.
-    #[error("event function {index} returned {value} at t = {t}")]
+    #[error(
+        "event {name:?} (index {index}, numbered from 0 in the order of Options::event) returned \
+         {value} at t = {t}: its function left its domain along the motion, and the motion up to \
+         t is kept"
+    )]
     NonFiniteEvent {
-        /// The event index.
+        /// The event index, from 0, in the order the events were given.
         index: usize,
+        /// The event's name.
+        name: String,
         /// Time.
         t: f64,
         /// Its value.

@@ -166,7 +166,9 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
                      constraints, or set projection = false"
                 .to_string(),
         },
-        E::NonFiniteEvent { index, t, value } => Failure {
+        E::NonFiniteEvent {
+            index, t, value, ..
+        } => Failure {
             t: Some(*t),
             what: format!(
                 "the event '{}' is {value}",

@@ -188,6 +188,7 @@ impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
         } else {
             Err(Error::NonFiniteEvent {
                 index: i,
+                name: self.options.events[i].name.clone(),
                 t,
                 value: v,
             })
