@@ -286,6 +286,14 @@ fn output_times_are_hit_exactly() {
             "dense output at t = {t}"
         );
     }
+    // In the direction of integration whatever the order given; a time given twice, twice.
+    let sol = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(0.75).output_times(vec![0.5, 0.1, 0.5]),
+    )
+    .expect("valid");
+    assert_eq!(sol.t, vec![0.0, 0.1, 0.5, 0.5, 0.75]);
 }
 
 #[test]

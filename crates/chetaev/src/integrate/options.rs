@@ -24,7 +24,9 @@ pub enum Atol {
 pub enum Output {
     /// At every accepted step (and at the start, the end and terminal events).
     Steps,
-    /// At these times only, by dense output (plus the start and the final point).
+    /// At these times only, by dense output (plus the start and the final point), recorded in
+    /// the direction of integration whatever their order here; a time given twice is recorded
+    /// twice.
     Times(Vec<f64>),
     /// At the start and the final point only.
     Final,
@@ -275,7 +277,8 @@ impl Options {
         self.output_times(times)
     }
 
-    /// Records at these times only.
+    /// Records at these times only ([`Output::Times`]: in the direction of integration, whatever
+    /// their order here).
     pub fn output_times(mut self, times: Vec<f64>) -> Self {
         self.output = Output::Times(times);
         self
