@@ -116,27 +116,35 @@ impl Scene {
     }
 
     /// Constraint `index` as `chetaev` numbers the constraints (from 1: the velocity constraints,
-    /// then one per holonomic constraint, its time derivative `ḣ = 0`), named by its source in the
-    /// file: "constraint 1 (x_dot^2 + y_dot^2 - v0^2)", "holonomic constraint 1 (x^2 + y^2 - l^2)".
-    pub(crate) fn constraint_name(&self, index: usize) -> String {
-        let v = self.constraints.len();
-        let a = index.wrapping_sub(1);
-        if let Some(f) = self.constraints.get(a) {
-            format!("constraint {index} ({})", f.source())
-        } else if let Some(h) = a.checked_sub(v).and_then(|b| self.holonomic.get(b)) {
-            format!("holonomic constraint {} ({})", a - v + 1, h.source())
-        } else {
-            format!("constraint {index}")
+    /// then one per holonomic constraint, its time derivative `ḣ = 0`): the velocity constraint
+    /// `Ok(a)` or the holonomic constraint `Err(b)`, both from 0; `None` past the end.
+    fn constraint_at(&self, index: usize) -> Option<Result<usize, usize>> {
+        let a = index.checked_sub(1)?;
+        match a.checked_sub(self.constraints.len()) {
+            None => Some(Ok(a)),
+            Some(b) => (b < self.holonomic.len()).then_some(Err(b)),
         }
     }
 
-    /// Where constraint `index` (numbered as in [`Scene::constraint_name`]) is written.
+    /// Constraint `index` (numbered as in [`Scene::constraint_at`]) named by its source in the
+    /// file: "constraint 1 (x_dot^2 + y_dot^2 - v0^2)", "holonomic constraint 1 (x^2 + y^2 - l^2)".
+    pub(crate) fn constraint_name(&self, index: usize) -> String {
+        match self.constraint_at(index) {
+            Some(Ok(a)) => format!("constraint {index} ({})", self.constraints[a].source()),
+            Some(Err(b)) => format!(
+                "holonomic constraint {} ({})",
+                b + 1,
+                self.holonomic[b].source()
+            ),
+            None => format!("constraint {index}"),
+        }
+    }
+
+    /// Where constraint `index` (numbered as in [`Scene::constraint_at`]) is written.
     pub(crate) fn constraint_span(&self, index: usize) -> Option<Range<usize>> {
-        let (s, v) = (&self.spans, self.constraints.len());
-        let a = index.checked_sub(1)?;
-        match a.checked_sub(v) {
-            None => s.constraints.get(a).cloned(),
-            Some(b) => s.holonomic.get(b).cloned(),
+        match self.constraint_at(index)? {
+            Ok(a) => self.spans.constraints.get(a).cloned(),
+            Err(b) => self.spans.holonomic.get(b).cloned(),
         }
     }
 

@@ -55,22 +55,68 @@ pub fn summary_number(v: f64) -> String {
     }
 }
 
-/// The terms of the energy balance that the scene's model has, as the balance is written in the
-/// summary and the energy picture: `E − E(t0)`, then `− W_Φ` with constraints, `− W_Q` with forces
-/// or a dissipation function, `+ ∫∂L/∂t dt` with a Lagrangian that reads `t`. The terms left out
-/// are zero along any motion, so the balance's value is the same.
-pub(crate) fn balance_terms(scene: &Scene) -> String {
-    let mut balance = String::from("E − E(t0)");
-    if scene.k() > 0 {
-        balance.push_str(" − W_Φ");
+/// A term of the energy balance `E − E(t0) − W_Φ − W_Q + ∫∂L/∂t dt` besides `E − E(t0)`, written
+/// where the scene's model has it: the terms left out are zero along any motion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum BalanceTerm {
+    /// `W_Φ`, with constraints.
+    Chetaev,
+    /// `W_Q`, with forces or a dissipation function.
+    Forces,
+    /// `∫∂L/∂t dt`, with a Lagrangian that reads `t`.
+    Time,
+}
+
+impl BalanceTerm {
+    /// The term as it stands in the balance, with its sign: " − W_Φ".
+    fn signed(self) -> &'static str {
+        match self {
+            Self::Chetaev => " − W_Φ",
+            Self::Forces => " − W_Q",
+            Self::Time => " + ∫∂L/∂t dt",
+        }
     }
-    if !scene.forces.is_empty() || scene.dissipation.is_some() {
-        balance.push_str(" − W_Q");
+
+    /// Its name in a legend.
+    pub(crate) fn legend(self) -> &'static str {
+        match self {
+            Self::Chetaev => "W_Φ (work of the Chetaev force)",
+            Self::Forces => "W_Q (work of the forces Q)",
+            Self::Time => "∫∂L/∂t dt",
+        }
     }
-    if scene.lagrangian.uses_time() {
-        balance.push_str(" + ∫∂L/∂t dt");
+
+    /// Its values along the motion.
+    pub(crate) fn values(self, out: &Outcome) -> &[f64] {
+        match self {
+            Self::Chetaev => &out.work,
+            Self::Forces => &out.work_forces,
+            Self::Time => &out.dl_dt_integral,
+        }
     }
-    balance
+}
+
+/// The terms of the energy balance that the scene's model has (none for a conservative model,
+/// whose balance is `E − E(t0)` alone).
+pub(crate) fn balance_terms(scene: &Scene) -> Vec<BalanceTerm> {
+    [
+        (scene.k() > 0, BalanceTerm::Chetaev),
+        (
+            !scene.forces.is_empty() || scene.dissipation.is_some(),
+            BalanceTerm::Forces,
+        ),
+        (scene.lagrangian.uses_time(), BalanceTerm::Time),
+    ]
+    .into_iter()
+    .filter_map(|(has, term)| has.then_some(term))
+    .collect()
+}
+
+/// The balance as the summary and the energy picture write it: "E − E(t0) − W_Φ".
+pub(crate) fn balance_text(scene: &Scene) -> String {
+    balance_terms(scene)
+        .into_iter()
+        .fold(String::from("E − E(t0)"), |s, term| s + term.signed())
 }
 
 /// Whether the quantities are written (as a table or a picture).

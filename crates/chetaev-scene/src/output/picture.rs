@@ -13,7 +13,7 @@ use std::path::Path;
 use chetaev::solution::Series;
 use chetaev_plot::{Figure, Legend, Panels, PlotError, Style, PALETTE};
 
-use super::{balance_terms, quantity_values};
+use super::{balance_terms, balance_text, quantity_values};
 use crate::run::Outcome;
 use crate::scene::{Picture, Scene};
 
@@ -367,11 +367,8 @@ fn energy(scene: &Scene, out: &Outcome, title: &str, t_label: &str) -> Drawing {
     let t = &out.t;
     let e0 = out.energy.first().copied().unwrap_or(0.0);
     let de: Vec<f64> = out.energy.iter().map(|e| e - e0).collect();
-    let conservative = scene.k() == 0
-        && scene.forces.is_empty()
-        && scene.dissipation.is_none()
-        && !scene.lagrangian.uses_time();
-    if conservative {
+    let balance_terms = balance_terms(scene);
+    if balance_terms.is_empty() {
         // E − E(t0) is the balance itself.
         return Drawing::One(Box::new(
             Figure::new(title)
@@ -393,16 +390,10 @@ fn energy(scene: &Scene, out: &Outcome, title: &str, t_label: &str) -> Drawing {
                 ..Style::default()
             },
         );
-    let balance = balance_terms(scene);
-    if scene.k() > 0 {
-        terms = terms.line("W_Φ (work of the Chetaev force)", &series(t, &out.work));
+    for term in balance_terms {
+        terms = terms.line(term.legend(), &series(t, term.values(out)));
     }
-    if !scene.forces.is_empty() || scene.dissipation.is_some() {
-        terms = terms.line("W_Q (work of the forces Q)", &series(t, &out.work_forces));
-    }
-    if scene.lagrangian.uses_time() {
-        terms = terms.line("∫∂L/∂t dt", &series(t, &out.dl_dt_integral));
-    }
+    let balance = balance_text(scene);
     let balance_panel = Figure::new("")
         .x_label(t_label)
         .y_label(&labelled("balance", unit))

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use chetaev::prelude::{Atol, Status};
 
-use super::{balance_terms, quantity_values, summary_number as num, writes_quantities};
+use super::{balance_text, quantity_values, summary_number as num, writes_quantities};
 use crate::run::Outcome;
 use chetaev::integrate::{AnyMethod, Method};
 
@@ -438,7 +438,7 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         }
     }
     if let Some(b) = max_abs(&out.balance) {
-        let _ = writeln!(s, "  energy   max |{}| = {}", balance_terms(scene), num(b));
+        let _ = writeln!(s, "  energy   max |{}| = {}", balance_text(scene), num(b));
     }
     for bad in non_finite(scene, out) {
         let _ = writeln!(

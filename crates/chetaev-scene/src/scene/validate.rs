@@ -558,7 +558,11 @@ impl Builder {
             (None, true) => {
                 return Err(self.err(
                     method_span,
-                    "rk4 takes a fixed step: add `step = ...` under [solve] (or choose an adaptive method: dopri5, dop853, tsit5, rodas4, rodas5p)",
+                    format!(
+                        "rk4 takes a fixed step: add `step = ...` under [solve] (or choose an \
+                         adaptive method: {})",
+                        adaptive_methods()
+                    ),
                 ));
             }
             (Some(s), false) => {
@@ -579,8 +583,8 @@ impl Builder {
                     "`{name}` is the tolerance of the adaptive methods' error control; {key} takes \
                      every step of size `step` and has no error control, so it would be ignored: \
                      remove it and set the accuracy with `step` (halve it to see how much the \
-                     result moves), or choose an adaptive method (dopri5, dop853, tsit5, rodas4, \
-                     rodas5p) to keep the tolerance"
+                     result moves), or choose an adaptive method ({}) to keep the tolerance",
+                    adaptive_methods()
                 )
             };
             if let Some(r) = &raw.rtol {
@@ -1111,4 +1115,17 @@ impl Builder {
             }
         })
     }
+}
+
+/// The scene's names of the methods with error control, "dopri5, dop853, ...", from the library's
+/// list.
+fn adaptive_methods() -> String {
+    use chetaev::integrate::{AnyMethod, Method};
+    AnyMethod::all(1.0)
+        .iter()
+        .map(|m| m.info())
+        .filter(|info| info.fixed_step.is_none())
+        .map(|info| info.name.to_lowercase())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
