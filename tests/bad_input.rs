@@ -1,5 +1,6 @@
 //! Bad input gets a typed error that says what was wrong; failures mid-run keep what was computed.
 
+use chetaev::integrate::options::MAX_EVENT_SAMPLES;
 use chetaev::prelude::*;
 use chetaev_suite::{distance, norm};
 use uniform_projectile::closed_form::Params;
@@ -207,6 +208,22 @@ fn bad_tolerances_are_rejected() {
         ),
         "{e}"
     );
+    // So many event samples that counting them overflows: refused, the run never starts.
+    for samples in [MAX_EVENT_SAMPLES + 1, usize::MAX / 32, usize::MAX - 1, usize::MAX] {
+        let options = Options::until(1.0)
+            .event(impact())
+            .event_samples(samples);
+        let e = solve(&p, Dopri5::default(), &options).unwrap_err();
+        assert!(
+            matches!(e, Error::InvalidOption { name: "event_samples", .. }),
+            "{samples}: {e}"
+        );
+    }
+    let options = Options::until(1.0)
+        .event(impact())
+        .event_samples(MAX_EVENT_SAMPLES);
+    let sol = solve(&p, Dopri5::default(), &options).expect("valid");
+    assert!(sol.is_success(), "{:?}", sol.status);
 }
 
 #[test]

@@ -46,6 +46,10 @@ pub enum Record {
     Energy,
 }
 
+/// The largest [`Options::event_samples`]: beyond it, bounding the step with
+/// [`Options::max_step`] resolves close crossings for less.
+pub const MAX_EVENT_SAMPLES: usize = 10_000;
+
 /// Options of one solve. Build with [`Options::until`] and the builder methods.
 #[derive(Clone, Debug)]
 pub struct Options {
@@ -71,7 +75,8 @@ pub struct Options {
     pub projection: Option<Projection>,
     /// Interior points of each step at which event functions are sampled on the dense output
     /// (besides the step's end), so that a function crossing zero twice within one step is seen
-    /// when its zeros are more than `h/(event_samples + 1)` apart. Default 4.
+    /// when its zeros are more than `h/(event_samples + 1)` apart. Default 4, at most
+    /// [`MAX_EVENT_SAMPLES`].
     pub event_samples: usize,
     /// Singular points: the run stops with [`Error::SingularPoint`] where a constraint's gradient
     /// `∂f_a/∂q̇` passes through zero between two accepted steps (taken as varying linearly between
@@ -210,6 +215,14 @@ impl Options {
                 "rank_tolerance",
                 self.rank_tolerance,
                 "a fraction in [0, 1), such as the default 1e-8 (0 turns the singular-point check off)",
+            );
+        }
+        if self.event_samples > MAX_EVENT_SAMPLES {
+            return invalid(
+                "event_samples",
+                self.event_samples as f64,
+                "at most 10000 samples per step; to see crossings closer together, bound the step \
+                 with max_step, which also samples more densely",
             );
         }
         if let Some(p) = &self.projection {
