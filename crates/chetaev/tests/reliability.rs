@@ -626,3 +626,62 @@ fn compiling_at_a_state_of_the_wrong_length_is_refused() {
         other => panic!("{:?}", other.map(|_| ())),
     }
 }
+
+/// A particle under a constant force `−g`: `x = x0 + v0 t − g t²/2`.
+struct Fall {
+    g: f64,
+}
+
+impl Lagrangian<1> for Fall {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        qd[0] * qd[0] * 0.5 - q[0] * self.g
+    }
+}
+
+#[test]
+fn rates_whose_squares_overflow_still_get_a_first_step() {
+    // The first step is guessed from weighted norms of y0 and f(y0); with a speed or a force of
+    // 1e150 against the default tolerances their squares overflow (L itself stays finite).
+    for (g, v0) in [(0.0, 1e150), (1e150, 0.0), (-1e150, 1e150)] {
+        let problem = Problem::unconstrained(
+            Fall { g },
+            0.0,
+            SVector::from([0.0]),
+            SVector::from([v0]),
+        )
+        .expect("valid");
+        for method in AnyMethod::all(1e-3) {
+            let sol = solve(&problem, method, &Options::until(1.0)).expect("valid options");
+            assert!(sol.is_success(), "g {g}, v0 {v0}, {method:?}: {:?}", sol.status);
+            let (t, q, qd) = sol.last().expect("recorded");
+            let (x, v) = (v0 * t - 0.5 * g * t * t, v0 - g * t);
+            let scale = x.abs().max(v.abs());
+            assert!(
+                (q[0] - x).abs() <= 1e-6 * scale && (qd[0] - v).abs() <= 1e-6 * scale,
+                "g {g}, v0 {v0}, {method:?}: {q:?} {qd:?} against {x:e} {v:e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_zero_absolute_tolerance_is_purely_relative_control() {
+    // At rest at x = 0, every component is exactly 0 for all time: no error to count, not 0/0.
+    let rest = Problem::unconstrained(Oscillator, 0.0, SVector::from([0.0]), SVector::from([0.0]))
+        .expect("valid");
+    // x = sin t starts at 0 with atol = 0 on both components.
+    let moving = oscillator();
+    for method in AnyMethod::all(1e-3) {
+        let o = Options::until(1.0).tolerances(1e-8, 0.0);
+        let sol = solve(&rest, method, &o).expect("valid options");
+        assert!(sol.is_success(), "{method:?}: {:?}", sol.status);
+        assert!(sol.q.as_flat().iter().chain(sol.qd.as_flat()).all(|&v| v == 0.0));
+        let o = Options::until(1.0)
+            .tolerances(1e-8, 0.0)
+            .atol_per_component(&[0.0], &[0.0]);
+        let sol = solve(&moving, method, &o).expect("valid options");
+        assert!(sol.is_success(), "{method:?}: {:?}", sol.status);
+        let (t, q, _) = sol.last().expect("recorded");
+        assert!((q[0] - t.sin()).abs() < 1e-6, "{method:?}: {} against {}", q[0], t.sin());
+    }
+}

@@ -839,10 +839,26 @@ fn initial_step<S: OdeSystem>(
     sys.rhs(t0, y0, f0)?;
     // Weighted RMS norms with the scale of y0 alone, as in HINIT.
     let rms = |v: &dyn Fn(usize) -> f64| {
-        let s: f64 = (0..norm.len())
-            .map(|i| (v(i) / norm.scale(i, y0[i], 0.0)).powi(2))
-            .sum();
-        (s / norm.len() as f64).sqrt()
+        let n = norm.len() as f64;
+        // A component with no scale at y0 (zero, under a purely relative tolerance) gets its
+        // scale from where the step takes it: it does not set the first step.
+        let ratio = |i: usize| {
+            let scale = norm.scale(i, y0[i], 0.0);
+            if scale > f64::MIN_POSITIVE {
+                v(i) / scale
+            } else {
+                0.0
+            }
+        };
+        let s: f64 = (0..norm.len()).map(|i| ratio(i).powi(2)).sum();
+        if s.is_finite() {
+            return (s / n).sqrt();
+        }
+        // The squares overflow (a state or a rate near 1e150 against its tolerance): the same
+        // norm, scaled by its largest ratio first.
+        let largest = (0..norm.len()).fold(0.0f64, |m, i| m.max(ratio(i).abs()));
+        let s: f64 = (0..norm.len()).map(|i| (ratio(i) / largest).powi(2)).sum();
+        largest * (s / n).sqrt()
     };
     let d0 = rms(&|i| y0[i]);
     let d1 = rms(&|i| f0[i]);
@@ -862,7 +878,14 @@ fn initial_step<S: OdeSystem>(
     } else {
         (0.01 / d1.max(d2)).powf(1.0 / p)
     };
-    Ok((100.0 * h0).min(h1))
+    let h = (100.0 * h0).min(h1);
+    // Rates so large that the guess underflows to zero: start small and let the error control
+    // grow the step.
+    Ok(if h > 0.0 && h.is_finite() {
+        h
+    } else {
+        1e-6 * (t_end - t0).abs()
+    })
 }
 
 #[cfg(test)]

@@ -556,19 +556,20 @@ impl ErrorNorm {
         Self { rtol, atol }
     }
 
-    /// The scale `atol_i + rtol·max(|y_i|, |ŷ_i|)` of component `i`.
+    /// The scale `atol_i + rtol·max(|y_i|, |ŷ_i|)` of component `i`, at least the smallest normal
+    /// number: a component held at exactly zero under a purely relative tolerance (`atol_i = 0`)
+    /// then counts no error where it has none, instead of `0/0`.
     #[inline(always)]
     pub fn scale(&self, i: usize, y: f64, y_new: f64) -> f64 {
-        self.atol[i] + self.rtol * y.abs().max(y_new.abs())
+        (self.atol[i] + self.rtol * y.abs().max(y_new.abs())).max(f64::MIN_POSITIVE)
     }
 
     /// `Σ_i (e_i / sc_i)²` over the controlled components.
     #[inline]
     pub fn sum_sq(&self, e: &[f64], y: &[f64], y_new: &[f64]) -> f64 {
         let mut s = 0.0;
-        for (i, atol) in self.atol.iter().enumerate() {
-            let sc = atol + self.rtol * y[i].abs().max(y_new[i].abs());
-            let r = e[i] / sc;
+        for i in 0..self.atol.len() {
+            let r = e[i] / self.scale(i, y[i], y_new[i]);
             s += r * r;
         }
         s
