@@ -316,11 +316,20 @@ impl<M: Model> Problem<M> {
             let n = q0.len();
             let (mut h, mut hq) = (vec![0.0; holonomic], vec![0.0; holonomic * n]);
             self.model.holonomic_blocks(t0, q0, &mut h, Some(&mut hq));
+            // A residual or a gradient that overflows (a position far out of scale) has no
+            // tolerance to be measured against.
+            if h.iter().chain(&hq).any(|v| !v.is_finite()) {
+                return Err(Error::NonFiniteEvaluation {
+                    t: t0,
+                    q: q0.to_vec(),
+                    qd: qd0.to_vec(),
+                });
+            }
             let q_norm = norm(q0);
             for b in 0..holonomic {
                 let scale = constraint_scale(norm(&hq[b * n..(b + 1) * n]), q_norm);
                 let tolerance = INITIAL_RESIDUAL_TOLERANCE * scale;
-                if h[b].is_nan() || h[b].abs() > tolerance {
+                if h[b].abs() > tolerance {
                     return Err(Error::InconsistentInitialPosition {
                         t: t0,
                         index: b + 1,

@@ -685,3 +685,48 @@ fn a_zero_absolute_tolerance_is_purely_relative_control() {
         assert!((q[0] - t.sin()).abs() < 1e-6, "{method:?}: {} against {}", q[0], t.sin());
     }
 }
+
+/// A pendulum of length `l` on the holonomic circle `|q|² = l²`, in gravity.
+#[derive(Debug)]
+struct Circle {
+    l: f64,
+}
+
+impl Lagrangian<2> for Circle {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5 - q[1] * 9.81
+    }
+}
+
+impl Constraints<2, 0> for Circle {
+    fn holonomic_count(&self) -> usize {
+        1
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &SVector<R, 2>, h: &mut [R]) {
+        h[0] = q.dot(q) - self.l * self.l;
+    }
+}
+
+#[test]
+fn a_position_whose_constraint_overflows_is_refused_not_accepted() {
+    // |q|² = 2e400 overflows: the residual has no finite tolerance to be measured against.
+    let start = SVector::from([1e200, 1e200]);
+    let err = Problem::new(Circle { l: 1.0 }, 0.0, start, SVector::zeros()).unwrap_err();
+    assert!(matches!(err, Error::NonFiniteEvaluation { .. }), "{err}");
+    // From next to the centre, where the gradient 2q vanishes, the first Newton step of the
+    // projection overshoots to 5e199, where |q|² overflows: a failed projection, not a position.
+    let start = SVector::from([1e-200, 0.0]);
+    let err = Problem::with_projected_velocity(Circle { l: 1.0 }, 0.0, start, SVector::zeros())
+        .unwrap_err();
+    assert!(
+        matches!(err, Error::ProjectionFailed { iterations: 1, .. }),
+        "{err}"
+    );
+    // A start off the circle by a fraction is still projected onto it.
+    let start = SVector::from([0.3, -0.9]);
+    let problem =
+        Problem::with_projected_velocity(Circle { l: 1.0 }, 0.0, start, SVector::zeros())
+            .expect("projected");
+    let q = problem.q0();
+    assert!((q[0] * q[0] + q[1] * q[1] - 1.0).abs() < 1e-13, "{q:?}");
+}

@@ -161,11 +161,21 @@ pub(crate) fn newton_projection(
     } = settings;
     let (mut f, mut j, mut w) = (vec![0.0; k], vec![0.0; k * n], vec![0.0; n * n]);
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    // The largest residual relative to its scale; infinite where a value or a scale is not finite
+    // (an overflow: a Newton step that left every sensible scale), so that it is never taken
+    // for convergence.
     let relative = |f: &[f64], j: &[f64], qd: &[f64]| {
         let qd_norm = norm(qd);
-        (0..k).fold(0.0f64, |acc, a| {
-            acc.max(f[a].abs() / constraint_scale(norm(&j[a * n..(a + 1) * n]), qd_norm))
-        })
+        let mut worst = 0.0f64;
+        for a in 0..k {
+            let scale = constraint_scale(norm(&j[a * n..(a + 1) * n]), qd_norm);
+            let r = f[a].abs() / scale;
+            if !(r.is_finite() && scale.is_finite()) {
+                return f64::INFINITY;
+            }
+            worst = worst.max(r);
+        }
+        worst
     };
     let mut residual = f64::INFINITY;
     let mut previous = f64::INFINITY;
@@ -173,7 +183,16 @@ pub(crate) fn newton_projection(
         constraints(qd, &mut f, &mut j);
         residual = relative(&f, &j, qd);
         if !residual.is_finite() {
-            return Err(ProjectionFailure::Saddle(SaddleFailure::NonFinite));
+            // At the start, the model itself; after a Newton step, a step that overshot (from
+            // near a point where a gradient vanishes) and diverged.
+            return Err(if iteration == 0 {
+                ProjectionFailure::Saddle(SaddleFailure::NonFinite)
+            } else {
+                ProjectionFailure::NotConverged {
+                    residual,
+                    iterations: iteration,
+                }
+            });
         }
         // Stagnation close to the tolerance is the rounding floor of f, not a failure to converge.
         let stagnated = iteration > 0 && residual > 0.5 * previous && residual <= 1e3 * tol;
