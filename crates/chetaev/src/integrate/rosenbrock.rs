@@ -254,6 +254,8 @@ struct Lu {
     a: Vec<f64>,
     /// Row `k` was swapped with row `swap[k] ≥ k` at elimination step `k`.
     swap: Vec<usize>,
+    /// One past the last row of the diagonal block of row `k` (see [`Lu::factor`]).
+    block_end: Vec<usize>,
 }
 
 impl Lu {
@@ -262,16 +264,39 @@ impl Lu {
             n,
             a: vec![0.0; n * n],
             swap: vec![0; n],
+            block_end: vec![0; n],
         }
     }
 
     /// Factors `a` in place, choosing at each step the first row of largest magnitude in the
-    /// column. Returns `false` when a pivot is zero (the matrix is singular).
+    /// column among the rows of its diagonal block. Returns `false` when a pivot is zero (the
+    /// matrix is singular).
+    ///
+    /// The blocks are those of the matrix's block lower triangular form: a block ends after row
+    /// `r` when no row up to `r` has an entry beyond column `r`. The quantities carried along
+    /// with the motion (the energy balance's quadratures, sensitivities) have such rows after the
+    /// state's, since the state does not depend on them. Pivoting within blocks keeps them out of
+    /// the state's elimination, so that carrying them does not change the state's steps however
+    /// large their entries, and it is the same partial pivoting where the matrix is one block.
     fn factor(&mut self) -> bool {
         let (n, a) = (self.n, &mut self.a);
+        // The furthest column reached by the rows so far, then each row's block end.
+        let mut reach = 0;
+        for r in 0..n {
+            let last = (r..n).rev().find(|&c| a[r * n + c] != 0.0).unwrap_or(r);
+            reach = reach.max(last);
+            self.block_end[r] = reach;
+        }
+        let mut end = n;
+        for r in (0..n).rev() {
+            if self.block_end[r] <= r {
+                end = r + 1;
+            }
+            self.block_end[r] = end;
+        }
         for k in 0..n {
             let mut p = k;
-            for r in k + 1..n {
+            for r in k + 1..self.block_end[k] {
                 if a[r * n + k].abs() > a[p * n + k].abs() {
                     p = r;
                 }
