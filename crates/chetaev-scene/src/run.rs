@@ -140,6 +140,21 @@ impl Scene {
         }
     }
 
+    /// Why constraint `index` (numbered as in [`Scene::constraint_at`]) can stop restricting the
+    /// velocity, in the terms of its kind.
+    pub(crate) fn why_degenerate(&self, index: usize) -> &'static str {
+        match self.constraint_at(index) {
+            Some(Err(_)) => {
+                "its derivative by the coordinates vanishes there (write it so that its gradient \
+                 does not vanish where it holds: x^2 + y^2 - l^2, not its square)"
+            }
+            _ => {
+                "its derivative by the velocities vanishes there (a constraint on the speed, such \
+                 as x_dot^2 + y_dot^2 - v0^2, needs a speed that is not zero)"
+            }
+        }
+    }
+
     /// Where constraint `index` (numbered as in [`Scene::constraint_at`]) is written.
     pub(crate) fn constraint_span(&self, index: usize) -> Option<Range<usize>> {
         match self.constraint_at(index)? {
@@ -212,12 +227,11 @@ impl Scene {
                 self.error_at(
                     span,
                     format!(
-                        "at the initial state (t = {}, {}), {} does not restrict the velocity: its \
-                         derivative by the velocities vanishes there (a constraint on the speed, such \
-                         as x_dot^2 + y_dot^2 - v0^2, needs a speed that is not zero)",
+                        "at the initial state (t = {}, {}), {} does not restrict the velocity: {}",
                         summary_number(t),
                         state_text(self, q, qd),
-                        self.constraint_name(index)
+                        self.constraint_name(index),
+                        self.why_degenerate(index)
                     ),
                 )
             }

@@ -135,6 +135,37 @@ fn an_inconsistent_holonomic_position_points_at_q_with_the_scene_key_to_set() {
 }
 
 #[test]
+fn a_holonomic_constraint_whose_gradient_vanishes_says_so_in_its_own_terms() {
+    // (x² + y² − l²)² holds on the circle, but its gradient vanishes all along it: exactly at
+    // (l, 0), where the set-up fails, and to rounding elsewhere, where the run stops.
+    let square = |text: String| {
+        text.replace(
+            "holonomic = [\"x^2 + y^2 - l^2\"]",
+            "holonomic = [\"(x^2 + y^2 - l^2)^2\"]",
+        )
+    };
+    let text = square(pendulum("[\"l\", 0.0]", "[0.0, 0.0]", ""));
+    let e = Scene::parse(&text, "flat.toml")
+        .expect("parses")
+        .check()
+        .expect_err("degenerate");
+    let m = e.to_string();
+    assert!(
+        m.contains("holonomic constraint 1 ((x^2 + y^2 - l^2)^2) does not restrict the velocity"),
+        "{m}"
+    );
+    let text = square(include_str!("../../../scenes/cartesian-pendulum.toml").to_string());
+    let scene = Scene::parse(&text, "flat.toml").expect("parses");
+    let o = scene.solve().expect("regular to rounding at the start");
+    assert!(!o.is_success());
+    let m = output::summary(&scene, &o);
+    for m in [e.to_string(), m] {
+        assert!(m.contains("derivative by the coordinates vanishes"), "{m}");
+        assert!(!m.contains("speed"), "{m}");
+    }
+}
+
+#[test]
 fn an_inconsistent_velocity_names_the_holonomic_constraint_it_leaves() {
     // On the circle at 80°, moving along x: ḣ = 2 x ẋ ≠ 0.
     let text = pendulum("[\"l*sin(theta0)\", \"-l*cos(theta0)\"]", "[1.0, 0.0]", "");

@@ -118,7 +118,9 @@ pub enum Error {
     /// A constraint's gradient `∂f_a/∂q̇` vanishes.
     #[error(
         "constraint {index} (numbered from 1) has ∂f/∂q̇ = 0 at t = {t} with q = {q:?}, q̇ = {qd:?}: it does not \
-         restrict the velocity there (for |q̇|² = v0², the speed v0 must not be zero)"
+         restrict the velocity there: a constraint that holds identically, or one whose gradient vanishes at \
+         this state (for |q̇|² = v0², the speed v0 must not be zero; for a holonomic h(t, q), ∂h/∂q must not \
+         vanish)"
     )]
     DegenerateConstraint {
         /// Time.
@@ -279,9 +281,9 @@ pub enum Error {
     /// A seed of the sensitivities moves the initial state off the constraints to first order.
     #[error(
         "sensitivity seed {seed:?} moves the initial state off constraint {constraint}: its \
-         first-order residual is {residual:e}; move the initial velocity with the parameter (for \
-         f = |q̇|² − v0², seed v0 with the velocity's direction too: Seed::parameter(\"v0\")\
-         .with_velocity(i, dq̇_i/dv0))"
+         first-order residual is {residual:e}; move the initial state with the parameter, with \
+         Seed::with_position and Seed::with_velocity (for example, for f = |q̇|² − v0², seed v0 \
+         with the velocity's direction too: Seed::parameter(\"v0\").with_velocity(i, dq̇_i/dv0))"
     )]
     InconsistentSeed {
         /// The seed's name.

@@ -114,13 +114,12 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
         E::DegenerateConstraint { t, index, q, qd } => Failure {
             t: Some(*t),
             what: format!(
-                "{} no longer restricts the velocity (its derivative by the velocities vanishes) \
-                 at {}",
+                "{} no longer restricts the velocity at {}: {}",
                 scene.constraint_name(*index),
-                state_text(scene, q, qd)
+                state_text(scene, q, qd),
+                scene.why_degenerate(*index)
             ),
-            advice: "check that constraint at this state (a speed constraint at zero speed?)"
-                .to_string(),
+            advice: "check that constraint at this state".to_string(),
         },
         E::SingularPoint {
             t,
