@@ -643,16 +643,16 @@ fn rates_whose_squares_overflow_still_get_a_first_step() {
     // The first step is guessed from weighted norms of y0 and f(y0); with a speed or a force of
     // 1e150 against the default tolerances their squares overflow (L itself stays finite).
     for (g, v0) in [(0.0, 1e150), (1e150, 0.0), (-1e150, 1e150)] {
-        let problem = Problem::unconstrained(
-            Fall { g },
-            0.0,
-            SVector::from([0.0]),
-            SVector::from([v0]),
-        )
-        .expect("valid");
+        let problem =
+            Problem::unconstrained(Fall { g }, 0.0, SVector::from([0.0]), SVector::from([v0]))
+                .expect("valid");
         for method in AnyMethod::all(1e-3) {
             let sol = solve(&problem, method, &Options::until(1.0)).expect("valid options");
-            assert!(sol.is_success(), "g {g}, v0 {v0}, {method:?}: {:?}", sol.status);
+            assert!(
+                sol.is_success(),
+                "g {g}, v0 {v0}, {method:?}: {:?}",
+                sol.status
+            );
             let (t, q, qd) = sol.last().expect("recorded");
             let (x, v) = (v0 * t - 0.5 * g * t * t, v0 - g * t);
             let scale = x.abs().max(v.abs());
@@ -675,14 +675,24 @@ fn a_zero_absolute_tolerance_is_purely_relative_control() {
         let o = Options::until(1.0).tolerances(1e-8, 0.0);
         let sol = solve(&rest, method, &o).expect("valid options");
         assert!(sol.is_success(), "{method:?}: {:?}", sol.status);
-        assert!(sol.q.as_flat().iter().chain(sol.qd.as_flat()).all(|&v| v == 0.0));
+        assert!(sol
+            .q
+            .as_flat()
+            .iter()
+            .chain(sol.qd.as_flat())
+            .all(|&v| v == 0.0));
         let o = Options::until(1.0)
             .tolerances(1e-8, 0.0)
             .atol_per_component(&[0.0], &[0.0]);
         let sol = solve(&moving, method, &o).expect("valid options");
         assert!(sol.is_success(), "{method:?}: {:?}", sol.status);
         let (t, q, _) = sol.last().expect("recorded");
-        assert!((q[0] - t.sin()).abs() < 1e-6, "{method:?}: {} against {}", q[0], t.sin());
+        assert!(
+            (q[0] - t.sin()).abs() < 1e-6,
+            "{method:?}: {} against {}",
+            q[0],
+            t.sin()
+        );
     }
 }
 
@@ -724,9 +734,8 @@ fn a_position_whose_constraint_overflows_is_refused_not_accepted() {
     );
     // A start off the circle by a fraction is still projected onto it.
     let start = SVector::from([0.3, -0.9]);
-    let problem =
-        Problem::with_projected_velocity(Circle { l: 1.0 }, 0.0, start, SVector::zeros())
-            .expect("projected");
+    let problem = Problem::with_projected_velocity(Circle { l: 1.0 }, 0.0, start, SVector::zeros())
+        .expect("projected");
     let q = problem.q0();
     assert!((q[0] * q[0] + q[1] * q[1] - 1.0).abs() < 1e-13, "{q:?}");
 }
@@ -792,7 +801,11 @@ fn recording_the_energy_balance_does_not_change_the_motion() {
             let state = solve(&problem, method, &options(Record::State)).expect("valid");
             let energy = solve(&problem, method, &options(Record::Energy)).expect("valid");
             assert!(state.is_success(), "k {k}, {method:?}: {:?}", state.status);
-            assert!(energy.is_success(), "k {k}, {method:?}: {:?}", energy.status);
+            assert!(
+                energy.is_success(),
+                "k {k}, {method:?}: {:?}",
+                energy.status
+            );
             let steps = |s: &Solution| (s.stats.accepted_steps, s.stats.rejected_steps);
             assert_eq!(steps(&state), steps(&energy), "k {k}, {method:?}");
             assert_eq!(state.t, energy.t, "k {k}, {method:?}");
@@ -800,4 +813,111 @@ fn recording_the_energy_balance_does_not_change_the_motion() {
             assert_eq!(state.qd.as_flat(), energy.qd.as_flat(), "k {k}, {method:?}");
         }
     }
+}
+
+/// A bead on the curve `y = √(1 − x)` (holonomic), force-free: the curve ends at `x = 1`, where
+/// its gradient becomes infinite.
+struct CurveEnd;
+
+impl Lagrangian<2> for CurveEnd {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5
+    }
+}
+
+impl Constraints<2, 0> for CurveEnd {
+    fn holonomic_count(&self) -> usize {
+        1
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &SVector<R, 2>, h: &mut [R]) {
+        h[0] = q[1] - (R::one() - q[0]).sqrt();
+    }
+}
+
+#[test]
+fn a_curve_that_ends_stops_the_projected_run_and_shows_in_the_position_residual() {
+    // From (0, 1) at speed √1.25 along the curve, the bead reaches its end (1, 0) at
+    // t = ∫₀¹ √(1 + 1/(4(1 − x))) dx / √1.25 ≈ 1.3228 (x = 1 − s², the arc length of the
+    // parabola x = 1 − y² from y = 1 to 0 is (2√5 + asinh 2)/4).
+    let end = (2.0 * 5f64.sqrt() + 2f64.asinh()) / 4.0 / 1.25f64.sqrt();
+    let problem = Problem::new(
+        CurveEnd,
+        0.0,
+        SVector::from([0.0, 1.0]),
+        SVector::from([1.0, -0.5]),
+    )
+    .expect("consistent");
+    for method in AnyMethod::all(1e-3) {
+        // Projected onto h = 0 after every step, every method stops where the curve ends.
+        let o = Options::until(5.0).project(Projection::default());
+        let sol = solve(&problem, method, &o).expect("valid");
+        let err = sol.error().expect("the curve ends");
+        assert!(
+            matches!(err, Error::ProjectionFailed { .. } | Error::Singular { .. }),
+            "{method:?}: {err}"
+        );
+        let (t, _, _) = sol.last().expect("kept");
+        assert!(
+            (t - end).abs() < 2e-3,
+            "{method:?}: stopped at {t}, the end at {end}"
+        );
+        // Without projection a method that goes on does so off the curve, and the position
+        // residual says so.
+        let sol = solve(&problem, method, &Options::until(5.0)).expect("valid");
+        if sol.is_success() {
+            let drift = sol
+                .position_residual
+                .as_flat()
+                .iter()
+                .fold(0.0f64, |m, h| m.max(h.abs()));
+            assert!(drift > 1.0, "{method:?}: |h| ≤ {drift:e}");
+        }
+    }
+}
+
+/// `L = ½ẋ² − x^n` for a non-integer `n`.
+#[derive(Clone, Debug)]
+struct Power {
+    n: f64,
+}
+
+impl Lagrangian<1> for Power {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        qd[0] * qd[0] * 0.5 - q[0].powf(self.n)
+    }
+}
+
+#[test]
+fn a_fractional_power_of_a_coordinate_at_exactly_zero_is_a_typed_error() {
+    // num-dual forms the derivatives of x^n as x^(n−3)·x³, ∞·0 at x = 0: refused up front, by
+    // both routes, never a NaN in a solution.
+    let start = |n: f64, x0: f64| {
+        Problem::unconstrained(Power { n }, 0.0, SVector::from([x0]), SVector::from([1.0]))
+    };
+    for n in [2.5, 1.5] {
+        let err = start(n, 0.0).unwrap_err();
+        assert!(
+            matches!(err, Error::NonFiniteEvaluation { .. }),
+            "{n}: {err}"
+        );
+    }
+    // x^2.5 is twice differentiable at 0: from 1e-300 it runs, by both routes alike.
+    let problem = start(2.5, 1e-300).expect("finite");
+    let run = |route| {
+        let sol = solve(
+            &problem.clone().with_route(route),
+            Dopri5::default(),
+            &Options::until(1.0),
+        )
+        .expect("valid");
+        assert!(sol.is_success(), "{route:?}: {:?}", sol.status);
+        sol.last().expect("recorded").1[0]
+    };
+    let (graph, dual) = (run(Route::Graph), run(Route::Dual));
+    assert!(
+        (graph - dual).abs() < 1e-12 && graph > 0.7 && graph < 0.8,
+        "{graph} {dual}"
+    );
+    // x^1.5, whose second derivative is infinite at 0, is refused from 1e-300 too.
+    assert!(start(1.5, 1e-300).is_err());
 }
