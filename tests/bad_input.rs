@@ -209,13 +209,22 @@ fn bad_tolerances_are_rejected() {
         "{e}"
     );
     // So many event samples that counting them overflows: refused, the run never starts.
-    for samples in [MAX_EVENT_SAMPLES + 1, usize::MAX / 32, usize::MAX - 1, usize::MAX] {
-        let options = Options::until(1.0)
-            .event(impact())
-            .event_samples(samples);
+    for samples in [
+        MAX_EVENT_SAMPLES + 1,
+        usize::MAX / 32,
+        usize::MAX - 1,
+        usize::MAX,
+    ] {
+        let options = Options::until(1.0).event(impact()).event_samples(samples);
         let e = solve(&p, Dopri5::default(), &options).unwrap_err();
         assert!(
-            matches!(e, Error::InvalidOption { name: "event_samples", .. }),
+            matches!(
+                e,
+                Error::InvalidOption {
+                    name: "event_samples",
+                    ..
+                }
+            ),
             "{samples}: {e}"
         );
     }
