@@ -182,7 +182,9 @@ pub enum Error {
     #[error(
         "step size {h:e} too small at t = {t}: the solution changes faster than the tolerance allows there \
          (a singularity of the model or of the motion, such as a collision or a blow-up in finite time; or a \
-         stiff problem: {advice})"
+         stiff problem: {advice}); or t itself is so large that a step this short no longer changes it \
+         (steps below 4 ulps of t, {resolution:e} here: count time from a nearer origin)",
+        resolution = 4.0 * f64::EPSILON * t.abs()
     )]
     StepSizeTooSmall {
         /// Time.

@@ -921,3 +921,21 @@ fn a_fractional_power_of_a_coordinate_at_exactly_zero_is_a_typed_error() {
     // x^1.5, whose second derivative is infinite at 0, is refused from 1e-300 too.
     assert!(start(1.5, 1e-300).is_err());
 }
+
+#[test]
+fn a_time_too_large_to_resolve_the_steps_says_so() {
+    // At t = 1e20 one ulp of t is 16384: no step of the oscillator (period 2π) can advance it.
+    let problem =
+        Problem::unconstrained(Oscillator, 1e20, SVector::from([0.0]), SVector::from([1.0]))
+            .expect("valid");
+    let sol = solve(&problem, Dopri5::default(), &Options::until(1e20 + 1e6)).expect("valid");
+    let err = sol.error().expect("no step can be taken");
+    assert!(matches!(err, Error::StepSizeTooSmall { .. }), "{err}");
+    assert!(
+        err.to_string().contains("count time from a nearer origin"),
+        "{err}"
+    );
+    // The same motion from t = 0 runs.
+    let o = Options::until(1e3).output_final();
+    assert!(dopri5_on_oscillator(&o).expect("valid").is_success());
+}

@@ -115,7 +115,12 @@ pub(crate) fn locate(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
         },
         SaddleFailure::Singular { pivot_ratio } => Error::Singular {
             t,
-            pivot_ratio,
+            // 0/0 where every pivot vanished (entries that underflow): as singular as it gets.
+            pivot_ratio: if pivot_ratio.is_nan() {
+                0.0
+            } else {
+                pivot_ratio
+            },
             q,
             qd,
         },
