@@ -121,7 +121,7 @@ fn run_time_sizes_solve_the_paper_like_the_static_path() {
         ),
         // Per-component absolute tolerances, the state only, the final point only.
         (
-            AnyMethod::Tsit5(Tsit5),
+            AnyMethod::Tsit5(Tsit5::default()),
             Options::until(1.0)
                 .tolerances(tol, 0.0)
                 .atol_per_component(&aq, &av)

@@ -113,7 +113,7 @@ fn rk4_handles_explicit_time_dependence() {
 
 #[test]
 fn tsit5_handles_explicit_time_dependence() {
-    check_all(Tsit5, 1e-10);
+    check_all(Tsit5::default(), 1e-10);
 }
 
 #[test]

@@ -419,7 +419,7 @@ impl AnyMethod {
         vec![
             AnyMethod::Dopri5(Dopri5::default()),
             AnyMethod::Dop853(Dop853::default()),
-            AnyMethod::Tsit5(Tsit5),
+            AnyMethod::Tsit5(Tsit5::default()),
             AnyMethod::Rk4(Rk4::new(rk4_step)),
             AnyMethod::Rodas4(Rodas4),
             AnyMethod::Rodas5P(Rodas5P),
@@ -427,15 +427,13 @@ impl AnyMethod {
     }
 
     /// The settings of the method's stiffness test, for a method that has one (`Dopri5`,
-    /// `Dop853`); `None` for the others.
+    /// `Dop853`, `Tsit5`); `None` for the others.
     pub fn stiffness_detection_mut(&mut self) -> Option<&mut StiffnessDetection> {
         match self {
             AnyMethod::Dopri5(m) => Some(&mut m.stiffness),
             AnyMethod::Dop853(m) => Some(&mut m.stiffness),
-            AnyMethod::Tsit5(_)
-            | AnyMethod::Rk4(_)
-            | AnyMethod::Rodas4(_)
-            | AnyMethod::Rodas5P(_) => None,
+            AnyMethod::Tsit5(m) => Some(&mut m.stiffness),
+            AnyMethod::Rk4(_) | AnyMethod::Rodas4(_) | AnyMethod::Rodas5P(_) => None,
         }
     }
 
@@ -445,7 +443,7 @@ impl AnyMethod {
         Ok(match name.to_ascii_lowercase().as_str() {
             "dopri5" => AnyMethod::Dopri5(Dopri5::default()),
             "dop853" => AnyMethod::Dop853(Dop853::default()),
-            "tsit5" => AnyMethod::Tsit5(Tsit5),
+            "tsit5" => AnyMethod::Tsit5(Tsit5::default()),
             "rodas4" => AnyMethod::Rodas4(Rodas4),
             "rodas5p" => AnyMethod::Rodas5P(Rodas5P),
             "rk4" => match rk4_step {
@@ -860,6 +858,16 @@ mod tests {
                 stiffness: StiffnessDetection::OFF
             })
         );
+        let m: AnyMethod =
+            serde_json::from_str(r#"{"method": "tsit5", "stiffness_detection": false}"#)?;
+        assert_eq!(
+            m,
+            AnyMethod::Tsit5(Tsit5 {
+                stiffness: StiffnessDetection::OFF
+            })
+        );
+        let m: AnyMethod = serde_json::from_str(r#"{"method": "tsit5"}"#)?;
+        assert_eq!(m, AnyMethod::Tsit5(Tsit5::default()));
         let mut every = AnyMethod::Dop853(Dop853::default());
         if let Some(s) = every.stiffness_detection_mut() {
             s.interval = 7;

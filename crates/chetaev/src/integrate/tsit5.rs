@@ -13,6 +13,7 @@
 
 #![allow(clippy::excessive_precision)]
 
+use super::stiffness::{StiffnessDetection, StiffnessTest};
 use super::system::OdeSystem;
 use super::Trial;
 use super::{combine, weighted, Controller, Method, MethodInfo, Stage, Stages54, Step, Stepper};
@@ -114,14 +115,23 @@ const R: [[f64; 3]; 6] = [
     [1.5, -4.0, 2.5],
 ];
 
+/// Where the stability region of Tsit5 meets the negative real axis (about 3.51); the stiffness
+/// test compares against 3.45, as DOPRI5's 3.25 stands to its 3.31.
+const STIFF_H_LAMBDA: f64 = 3.45;
+
 /// Tsitouras 5(4): explicit, adaptive, fifth order, with fourth-order dense output.
 ///
 /// Often a little cheaper than [`Dopri5`](super::Dopri5) at equal error, at moderate tolerances.
-/// It has no stiffness test; its step-size control is the PI controller of
-/// [`Dopri5`](super::Dopri5).
+/// Its step-size control is the PI controller of [`Dopri5`](super::Dopri5), and it has the same
+/// stiffness test, from its last two stages, which share the node `t + h`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Tsit5;
+#[cfg_attr(feature = "serde", serde(default))]
+pub struct Tsit5 {
+    /// The stiffness test, which stops the solve with [`Error::Stiff`] (on by default).
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub stiffness: StiffnessDetection,
+}
 
 impl Method for Tsit5 {
     type Stepper = Tsit5Stepper;
@@ -129,16 +139,17 @@ impl Method for Tsit5 {
         MethodInfo::explicit("Tsit5", (5, 4), 4, 3.5069)
             .with_controller(Controller::pi(0.2, 10.0, 0.04))
             .with_advice(
-                "Tsit5 has no stiffness test: steps that shrink without end may mean a stiff \
-                 problem, for which use Rodas4; below tolerances of about 1e-10 Dop853 is cheaper",
+                "below tolerances of about 1e-10 Dop853 is cheaper; for a stiff problem use Rodas4",
             )
     }
     fn stepper(&self, dim: usize) -> Tsit5Stepper {
         Tsit5Stepper {
             k: std::array::from_fn(|_| vec![0.0; dim]),
             ytmp: vec![0.0; dim],
+            ysti: vec![0.0; dim],
             y0: vec![0.0; dim],
             h: 0.0,
+            stiffness: StiffnessTest::new(self.stiffness, STIFF_H_LAMBDA),
         }
     }
 }
@@ -150,9 +161,12 @@ pub struct Tsit5Stepper {
     /// replaced by `k_7` at the start of the next step.
     k: [Vec<f64>; 7],
     ytmp: Vec<f64>,
+    /// The argument of stage 6, for the stiffness test.
+    ysti: Vec<f64>,
     /// The start of the last accepted step, for the dense output.
     y0: Vec<f64>,
     h: f64,
+    stiffness: StiffnessTest,
 }
 
 impl Stepper for Tsit5Stepper {
@@ -163,14 +177,13 @@ impl Stepper for Tsit5Stepper {
     fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
         let (t, h, y, y_new, norm) = trial.parts();
         let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
-        // The argument of stage 6 is not needed afterwards: it is formed in `y_new`, which the
-        // step overwrites next.
+        // The argument of stage 6 stays in `ysti` for the stiffness test.
         STAGES.eval(
             sys,
             (t, h, y),
             [k1, k2, k3, k4, k5, k6],
             &mut self.ytmp,
-            y_new,
+            &mut self.ysti,
         )?;
         combine(y_new, y, h, &B, [k1, k2, k3, k4, k5, k6]);
         sys.rhs(t + h, y_new, k7)?;
@@ -178,6 +191,11 @@ impl Stepper for Tsit5Stepper {
     }
 
     fn commit<S: OdeSystem>(&mut self, _sys: &mut S, step: Step<'_>) -> Result<(), Error> {
+        // h·|λ| from the last two stages, which share the node t + h.
+        if self.stiffness.wants_test() {
+            self.stiffness
+                .observe(step.h, &self.k[6], &self.k[5], step.y_new, &self.ysti);
+        }
         // The stages stay for the dense output; the derivative at the new point (k7) becomes the
         // first stage of the next step when it starts, so both live side by side until then.
         self.y0.copy_from_slice(step.y);
@@ -199,5 +217,9 @@ impl Stepper for Tsit5Stepper {
         for (i, out) in out.iter_mut().enumerate() {
             *out = self.y0[i] + h * weighted(&b, &k, i);
         }
+    }
+
+    fn stiffness(&self) -> Option<f64> {
+        self.stiffness.detected()
     }
 }
