@@ -117,6 +117,18 @@ fn only_what_is_asked_for_is_recorded() {
     assert_eq!(o.t, vec![0.0, 0.1, 0.2, 0.3, 0.5]);
     assert_eq!(o.work.len(), 5);
 
+    // Listed times may be constant expressions of the parameters, as the grid's ends may.
+    let o = with_output("tables = [\"state\"]\ntimes = [\"1/g\", 0.2, \"3*v0/100\"]")
+        .solve()
+        .expect("solves");
+    assert_eq!(o.t, vec![0.0, 0.1, 0.2, 0.3, 0.5]);
+    let e = Scene::parse(
+        &format!("{BASE}\n[output]\ntimes = [\"x/g\"]\n"),
+        "base.toml",
+    )
+    .expect_err("not a constant");
+    assert!(e.to_string().contains("not a parameter"), "{e}");
+
     // An explicit grid to a time: one integration.
     let o = with_output("tables = [\"state\"]\ntimes = { from = 0.0, to = 0.4, count = 5 }")
         .solve()
@@ -338,7 +350,7 @@ fn every_method_solves_the_paper_scene() {
 
 #[test]
 fn stiffness_detection_sets_the_test_of_the_methods_that_have_one() {
-    use chetaev::prelude::{AnyMethod, Dop853, Dopri5, StiffnessDetection};
+    use chetaev::prelude::{AnyMethod, Dop853, Dopri5, StiffnessDetection, Tsit5};
     let method = |m: &str, extra: &str| {
         let text = BASE.replace(
             "t_end = 0.5",
@@ -362,10 +374,17 @@ fn stiffness_detection_sets_the_test_of_the_methods_that_have_one() {
         method("dopri5", "").expect("valid"),
         AnyMethod::Dopri5(Dopri5::default())
     );
-    for m in ["tsit5", "rodas4", "rodas5p"] {
+    assert_eq!(
+        method("tsit5", "stiffness_detection = false").expect("valid"),
+        AnyMethod::Tsit5(Tsit5 {
+            stiffness: StiffnessDetection::OFF
+        })
+    );
+    for m in ["rodas4", "rodas5p"] {
         let e = method(m, "stiffness_detection = false").expect_err("no stiffness test");
         assert!(
-            e.to_string().contains("applies to dopri5 and dop853 only"),
+            e.to_string()
+                .contains("applies to dopri5, dop853, tsit5 only"),
             "{m}: {e}"
         );
     }

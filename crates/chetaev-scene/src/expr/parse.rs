@@ -164,7 +164,9 @@ impl Parser {
     }
 
     fn unary(&mut self) -> Result<Ast, ExprError> {
-        if self.depth >= MAX_DEPTH {
+        // The operand itself is level 0: MAX_DEPTH parentheses, signs or powers around it are
+        // allowed, one more is not.
+        if self.depth > MAX_DEPTH {
             let t = self.peek();
             return Err(ExprError::new(
                 t.start,
@@ -406,7 +408,11 @@ mod tests {
             .contains("more than the 1000"));
         let nested = |n: usize| format!("{}x{}", "(".repeat(n), ")".repeat(n));
         assert!(parse(&nested(60)).is_ok());
-        assert!(parse(&nested(70))
+        assert!(parse(&nested(MAX_DEPTH)).is_ok());
+        let signs = |n: usize| format!("{}x", "-".repeat(n));
+        assert!(parse(&signs(MAX_DEPTH)).is_ok());
+        assert!(parse(&signs(MAX_DEPTH + 1)).is_err());
+        assert!(parse(&nested(MAX_DEPTH + 1))
             .expect_err("deep")
             .message
             .contains("more than 64 deep"));

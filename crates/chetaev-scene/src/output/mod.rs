@@ -30,10 +30,13 @@ pub fn csv_number(v: f64) -> String {
     CsvNumber(v).to_string()
 }
 
-/// A number for the summary: 13 significant digits, trailing zeros dropped.
+/// A number for the summary: 13 significant digits, trailing zeros dropped; zero without a sign.
 pub fn summary_number(v: f64) -> String {
     let a = v.abs();
-    if v == 0.0 || !v.is_finite() {
+    if v == 0.0 {
+        return "0".to_string();
+    }
+    if !v.is_finite() {
         return format!("{v}");
     }
     if (1e-3..1e7).contains(&a) {
@@ -165,6 +168,7 @@ mod tests {
         assert_eq!(summary_number(10.0), "10");
         assert_eq!(summary_number(-7.657_510_943_466), "-7.657510943466");
         assert_eq!(summary_number(2.5e-16), "2.5e-16");
+        assert_eq!(summary_number(-0.0), "0");
         assert_eq!(table::csv_text("a, b"), "\"a, b\"");
         assert_eq!(table::csv_text("plain"), "plain");
     }

@@ -287,7 +287,8 @@ impl<'de> Deserialize<'de> for RawAtol {
 /// `output.times`.
 pub(crate) enum RawTimes {
     Steps,
-    List(Vec<f64>),
+    /// Numbers, or constant expressions of the parameters.
+    List(Vec<Number>),
     Grid {
         from: Option<Number>,
         to: Option<Number>,
@@ -316,7 +317,7 @@ impl<'de> Deserialize<'de> for RawTimes {
             }
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawTimes, A::Error> {
                 let mut v = Vec::new();
-                while let Some(x) = seq.next_element::<f64>()? {
+                while let Some(x) = seq.next_element::<Number>()? {
                     v.push(x);
                 }
                 Ok(RawTimes::List(v))

@@ -538,7 +538,10 @@ impl Builder {
                 None => {
                     return Err(self.err(
                         s.span(),
-                        "stiffness_detection applies to dopri5 and dop853 only; remove it",
+                        format!(
+                            "stiffness_detection applies to {} only; remove it",
+                            stiffness_methods()
+                        ),
                     ))
                 }
             }
@@ -1052,10 +1055,16 @@ impl Builder {
         Ok(match t.get_ref() {
             RawTimes::Steps => Times::Steps,
             RawTimes::List(v) => {
-                if let Some(s) = v.iter().find(|s| !inside(**s)) {
-                    return Err(outside(*s));
+                let mut times = Vec::with_capacity(v.len());
+                for n in v {
+                    let s =
+                        self.number(&Spanned::new(t.span(), n.clone()), constants, "output time")?;
+                    if !inside(s) {
+                        return Err(outside(s));
+                    }
+                    times.push(s);
                 }
-                Times::List(v.clone())
+                Times::List(times)
             }
             RawTimes::Grid { from, to, count } => {
                 if *count > MAX_OUTPUT_TIMES {
@@ -1120,12 +1129,22 @@ impl Builder {
 /// The scene's names of the methods with error control, "dopri5, dop853, ...", from the library's
 /// list.
 fn adaptive_methods() -> String {
+    use chetaev::integrate::Method;
+    method_names(|m| m.info().fixed_step.is_none())
+}
+
+/// The scene's names of the methods that have a stiffness test, from the library's list.
+fn stiffness_methods() -> String {
+    method_names(|m| m.clone().stiffness_detection_mut().is_some())
+}
+
+/// The scene's names of the library's methods that `keep` keeps, "dopri5, dop853, ...".
+fn method_names(keep: impl Fn(&chetaev::integrate::AnyMethod) -> bool) -> String {
     use chetaev::integrate::{AnyMethod, Method};
     AnyMethod::all(1.0)
         .iter()
-        .map(|m| m.info())
-        .filter(|info| info.fixed_step.is_none())
-        .map(|info| info.name.to_lowercase())
+        .filter(|m| keep(m))
+        .map(|m| m.info().name.to_lowercase())
         .collect::<Vec<_>>()
         .join(", ")
 }
