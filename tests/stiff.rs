@@ -77,31 +77,43 @@ fn rodas4_reaches_the_impact_of_the_stiff_scene_to_1e_8() {
 }
 
 #[test]
-fn dopri5_detects_the_stiffness_and_suggests_rodas4() {
+fn the_explicit_methods_detect_the_stiffness_and_suggest_rodas4() {
     let problem = uniform_problem(&STIFF).expect("valid");
-    let start = Instant::now();
-    let sol = solve(&problem, Dopri5::default(), &options(1e-10)).expect("valid");
-    let elapsed = start.elapsed();
-    let s = sol.stats;
-    eprintln!(
-        "Dopri5: {:?} after {} accepted + {} rejected steps, {} rhs, t = {}, {elapsed:.2?}",
-        sol.status,
-        s.accepted_steps,
-        s.rejected_steps,
-        s.rhs_evaluations,
-        sol.t.last().copied().unwrap_or(f64::NAN)
-    );
-    assert!(
-        matches!(
+    for method in AnyMethod::all(1e-3) {
+        let name = method.info().name;
+        let start = Instant::now();
+        let sol = solve(&problem, method, &options(1e-10)).expect("valid");
+        let elapsed = start.elapsed();
+        let s = sol.stats;
+        eprintln!(
+            "{name}: {:?} after {} accepted + {} rejected steps, {} rhs, t = {}, {elapsed:.2?}",
             sol.status,
-            Status::Failed(Error::Stiff {
-                suggestion: "Rodas4",
-                ..
-            })
-        ),
-        "{:?}",
-        sol.status
-    );
+            s.accepted_steps,
+            s.rejected_steps,
+            s.rhs_evaluations,
+            sol.t.last().copied().unwrap_or(f64::NAN)
+        );
+        // Every explicit method with error control has the stiffness test; the Rosenbrock
+        // methods reach the impact, and Rk4 has no test (see `rk4_beyond_its_stability_…`).
+        let has_test = method.clone().stiffness_detection_mut().is_some();
+        if has_test {
+            assert!(
+                matches!(
+                    sol.status,
+                    Status::Failed(Error::Stiff {
+                        suggestion: "Rodas4",
+                        ..
+                    })
+                ),
+                "{name}: {:?}",
+                sol.status
+            );
+        }
+        let info = method.info();
+        if info.fixed_step.is_none() && !info.needs_jacobian {
+            assert!(has_test, "{name} has error control but no stiffness test");
+        }
+    }
 }
 
 /// The explicit method run to the end with its stiffness test off: the step count that the
@@ -130,4 +142,34 @@ fn dopri5_without_stiffness_detection_needs_millions_of_steps() {
     );
     assert_eq!(sol.status, Status::Terminated { event: 0 });
     assert!(s.accepted_steps > 1_000_000);
+}
+
+/// Rk4's fixed step beyond its stability boundary (`h·|λ| ≈ 20` here): no error, a wrong motion
+/// off the constraint, and the recorded residual that says so.
+#[test]
+fn rk4_beyond_its_stability_boundary_leaves_the_constraint_and_the_residual_shows_it() {
+    let problem = uniform_problem(&STIFF).expect("valid");
+    let sol = solve(&problem, Rk4::new(1e-3), &options(1e-10)).expect("valid");
+    assert_eq!(
+        sol.status,
+        Status::Terminated { event: 0 },
+        "{:?}",
+        sol.status
+    );
+    let exact = table(&STIFF).uniform;
+    assert!(
+        sol.events[0].t < 0.5 * exact.t_impact,
+        "{}",
+        sol.events[0].t
+    );
+    let v0_squared = STIFF.v0 * STIFF.v0;
+    let residual = sol
+        .residual
+        .as_flat()
+        .iter()
+        .fold(0.0f64, |m, f| m.max(f.abs()));
+    assert!(
+        residual > v0_squared,
+        "|f| ≤ {residual:e} against v0² = {v0_squared:e}"
+    );
 }
