@@ -550,16 +550,21 @@ pub struct ErrorNorm {
 
 impl ErrorNorm {
     /// A norm with one relative tolerance and one absolute tolerance per controlled component.
+    ///
+    /// An absolute tolerance below the smallest normal number is taken as that number, so every
+    /// scale is positive: a component held at exactly zero under a purely relative tolerance
+    /// (`atol_i = 0`) counts no error where it has none, instead of `0/0`. Larger tolerances are
+    /// kept as given.
     pub fn new(rtol: f64, atol: Vec<f64>) -> Self {
+        let atol = atol.into_iter().map(|a| a.max(f64::MIN_POSITIVE)).collect();
         Self { rtol, atol }
     }
 
-    /// The scale `atol_i + rtol·max(|y_i|, |ŷ_i|)` of component `i`, at least the smallest normal
-    /// number: a component held at exactly zero under a purely relative tolerance (`atol_i = 0`)
-    /// then counts no error where it has none, instead of `0/0`.
+    /// The scale `atol_i + rtol·max(|y_i|, |ŷ_i|)` of component `i` (positive, see
+    /// [`ErrorNorm::new`]).
     #[inline(always)]
     pub fn scale(&self, i: usize, y: f64, y_new: f64) -> f64 {
-        (self.atol[i] + self.rtol * y.abs().max(y_new.abs())).max(f64::MIN_POSITIVE)
+        self.atol[i] + self.rtol * y.abs().max(y_new.abs())
     }
 
     /// `Σ_i (e_i / sc_i)²` over the controlled components.
