@@ -168,6 +168,14 @@ fn rk4_beyond_its_stability_boundary_leaves_the_constraint_and_the_residual_show
         .as_flat()
         .iter()
         .fold(0.0f64, |m, f| m.max(f.abs()));
+    let (_, _, qd) = sol.last().expect("recorded");
+    eprintln!(
+        "Rk4 beyond its stability boundary: impact at t = {}, max |f| = {:.1} v0², ẏ = {:.2} v0 \
+         at the end",
+        sol.events[0].t,
+        residual / v0_squared,
+        qd[1] / STIFF.v0
+    );
     assert!(
         residual > v0_squared,
         "|f| ≤ {residual:e} against v0² = {v0_squared:e}"
