@@ -40,13 +40,12 @@ pub enum Error {
     },
 
     /// No method has this name.
-    #[error(
-        "unknown method {name:?}: choose one of dopri5, dop853, tsit5, rk4 (with its step), rodas4, \
-         rodas5p"
-    )]
+    #[error("unknown method {name:?}: choose one of {choices}")]
     UnknownMethod {
         /// The name given.
         name: String,
+        /// The names there are, from the method list.
+        choices: String,
     },
 
     /// An output time lies outside the integration interval.

@@ -7,7 +7,7 @@ use chetaev::prelude::{Atol, Status};
 
 use super::{balance_text, quantity_values, summary_number as num, writes_quantities};
 use crate::run::Outcome;
-use chetaev::integrate::{AnyMethod, Method};
+use chetaev::integrate::Method;
 
 use crate::scene::Scene;
 
@@ -337,9 +337,10 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         Atol::Scalar(a) => format!("atol = {a:e}"),
         Atol::PerComponent(_) => "atol per component".to_string(),
     };
-    let method = match scene.solve.method {
-        AnyMethod::Rk4(rk4) => format!("Rk4, step = {}", num(rk4.h)),
-        m => format!("{}, rtol = {:e}, {tol}", m.name(), scene.solve.rtol),
+    let info = scene.solve.method.info();
+    let method = match info.fixed_step {
+        Some(h) => format!("{}, step = {}", info.name, num(h)),
+        None => format!("{}, rtol = {:e}, {tol}", info.name, scene.solve.rtol),
     };
     let _ = writeln!(
         s,

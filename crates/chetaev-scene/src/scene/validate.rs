@@ -526,15 +526,15 @@ impl Builder {
             .method
             .as_ref()
             .map_or(("dop853", 0..0), |m| (m.get_ref().as_str(), m.span()));
-        // The library's names; `rk4`'s step is set below, once it is known to be wanted.
-        let method = AnyMethod::from_name(name, Some(1.0))
+        // The library's names; the step of a fixed-step method is set below, once it is known to
+        // be wanted.
+        let mut method = AnyMethod::from_name(name, Some(1.0))
             .map_err(|e| self.err(method_span.clone(), e.to_string()))?;
         let info = method.info();
         let fixed = info.fixed_step.is_some();
-        let mut method = method;
         if let Some(s) = &raw.stiffness_detection {
             match method.stiffness_detection_mut() {
-                Some(detection) => detection.enabled = *s.get_ref(),
+                Some(_) => {}
                 None => {
                     return Err(self.err(
                         s.span(),
@@ -546,6 +546,7 @@ impl Builder {
                 }
             }
         }
+        let key = info.name.to_lowercase();
         let step = match (&raw.step, fixed) {
             (Some(s), true) => {
                 spans.insert("step", s.span());
@@ -553,7 +554,7 @@ impl Builder {
                 if h <= 0.0 {
                     return Err(self.err(
                         s.span(),
-                        format!("solve.step = {h}: the step of rk4 must be positive"),
+                        format!("solve.step = {h}: the step of {key} must be positive"),
                     ));
                 }
                 h
@@ -562,7 +563,7 @@ impl Builder {
                 return Err(self.err(
                     method_span,
                     format!(
-                        "rk4 takes a fixed step: add `step = ...` under [solve] (or choose an \
+                        "{key} takes a fixed step: add `step = ...` under [solve] (or choose an \
                          adaptive method: {})",
                         adaptive_methods()
                     ),
@@ -571,8 +572,11 @@ impl Builder {
             (Some(s), false) => {
                 return Err(self.err(
                     s.span(),
-                    "`step` is the fixed step of rk4; the adaptive methods choose their own steps \
-                     (use initial_step or max_step to guide them)",
+                    format!(
+                        "`step` is the fixed step of {}; {key} is adaptive and chooses its own \
+                         steps (use initial_step or max_step to guide it)",
+                        fixed_methods()
+                    ),
                 ));
             }
             (None, false) => 0.0,
@@ -580,7 +584,6 @@ impl Builder {
         if fixed {
             // A fixed-step method takes every step of size `step` (the first one too) and has no
             // error control: these keys would be ignored. (`max_step` is not: it caps the step.)
-            let key = info.name.to_lowercase();
             let tolerance = |name: &str| {
                 format!(
                     "`{name}` is the tolerance of the adaptive methods' error control; {key} takes \
@@ -607,8 +610,14 @@ impl Builder {
                 ));
             }
         }
-        if let AnyMethod::Rk4(_) = method {
-            method = AnyMethod::Rk4(chetaev::integrate::Rk4::new(step));
+        if fixed {
+            method = AnyMethod::from_name(name, Some(step))
+                .map_err(|e| self.err(method_span.clone(), e.to_string()))?;
+        }
+        if let (Some(s), Some(detection)) =
+            (&raw.stiffness_detection, method.stiffness_detection_mut())
+        {
+            detection.enabled = *s.get_ref();
         }
         let t_end = self.number(&raw.t_end, constants, "solve.t_end")?;
         spans.insert("t_end", raw.t_end.span());
@@ -1133,8 +1142,15 @@ fn adaptive_methods() -> String {
     method_names(|m| m.info().fixed_step.is_none())
 }
 
+/// The scene's names of the methods without error control, from the library's list.
+fn fixed_methods() -> String {
+    use chetaev::integrate::Method;
+    method_names(|m| m.info().fixed_step.is_some())
+}
+
 /// The scene's names of the methods that have a stiffness test, from the library's list.
 fn stiffness_methods() -> String {
+    use chetaev::integrate::Method;
     method_names(|m| m.clone().stiffness_detection_mut().is_some())
 }
 

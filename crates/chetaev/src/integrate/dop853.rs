@@ -297,6 +297,9 @@ impl Method for Dop853 {
                 "above tolerances of about 1e-7 Dopri5 is cheaper; for a stiff problem use Rodas4",
             )
     }
+    fn stiffness_detection_mut(&mut self) -> Option<&mut StiffnessDetection> {
+        Some(&mut self.stiffness)
+    }
     fn stepper(&self, dim: usize) -> Dop853Stepper {
         Dop853Stepper {
             work: vec![0.0; VECTORS * dim],

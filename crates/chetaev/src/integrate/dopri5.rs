@@ -100,6 +100,9 @@ impl Method for Dopri5 {
                  Rodas4",
             )
     }
+    fn stiffness_detection_mut(&mut self) -> Option<&mut StiffnessDetection> {
+        Some(&mut self.stiffness)
+    }
     fn stepper(&self, dim: usize) -> Dopri5Stepper {
         Dopri5Stepper {
             pool: Pool::new(VECTORS, dim),

@@ -296,6 +296,11 @@ pub trait Method {
     fn name(&self) -> &'static str {
         self.info().name
     }
+    /// The settings of the method's stiffness test, for a method that has one (`None`, the
+    /// default, for the others).
+    fn stiffness_detection_mut(&mut self) -> Option<&mut StiffnessDetection> {
+        None
+    }
 }
 
 /// A trial step of size `h` from `(t, y)`: the stepper writes the new state to `y_new` and
@@ -389,154 +394,166 @@ pub trait Stepper {
     }
 }
 
-/// Every method of the crate as one value, for choosing a method at run time (scene files,
-/// command lines, sweeps). It is itself a [`Method`]: `solve(&problem, AnyMethod::Dop853(Dop853::default()), &options)`.
-/// With the `serde` feature it is (de)serialisable, as `{"method": "dop853"}` and the method's
-/// options beside it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(tag = "method", rename_all = "lowercase"))]
-#[non_exhaustive]
-pub enum AnyMethod {
-    /// [`Dopri5`].
-    Dopri5(Dopri5),
-    /// [`Dop853`].
-    Dop853(Dop853),
-    /// [`Tsit5`].
-    Tsit5(Tsit5),
-    /// [`Rk4`].
-    Rk4(Rk4),
-    /// [`Rodas4`].
-    Rodas4(Rodas4),
-    /// [`Rodas5P`].
-    Rodas5P(Rodas5P),
-}
-
-impl AnyMethod {
-    /// Every method with its default options (`Rk4` with step `rk4_step`), in the order of the
-    /// list above. The conformance suite runs on each.
-    pub fn all(rk4_step: f64) -> Vec<AnyMethod> {
-        vec![
-            AnyMethod::Dopri5(Dopri5::default()),
-            AnyMethod::Dop853(Dop853::default()),
-            AnyMethod::Tsit5(Tsit5::default()),
-            AnyMethod::Rk4(Rk4::new(rk4_step)),
-            AnyMethod::Rodas4(Rodas4),
-            AnyMethod::Rodas5P(Rodas5P),
-        ]
-    }
-
-    /// The settings of the method's stiffness test, for a method that has one (`Dopri5`,
-    /// `Dop853`, `Tsit5`); `None` for the others.
-    pub fn stiffness_detection_mut(&mut self) -> Option<&mut StiffnessDetection> {
-        match self {
-            AnyMethod::Dopri5(m) => Some(&mut m.stiffness),
-            AnyMethod::Dop853(m) => Some(&mut m.stiffness),
-            AnyMethod::Tsit5(m) => Some(&mut m.stiffness),
-            AnyMethod::Rk4(_) | AnyMethod::Rodas4(_) | AnyMethod::Rodas5P(_) => None,
+/// The list of methods: one line each, `Name = how it is made with default options`, where
+/// `step?` is the fixed step of a method without error control. Everything that runs over every
+/// method ([`AnyMethod`], [`AnyStepper`], their `match`es, [`AnyMethod::all`],
+/// [`AnyMethod::from_name`], the conformance suite) is generated from it.
+macro_rules! method_list {
+    ($step:ident; $($name:ident = $make:expr,)+) => {
+        /// Every method of the crate as one value, for choosing a method at run time (scene files,
+        /// command lines, sweeps). It is itself a [`Method`]:
+        /// `solve(&problem, AnyMethod::Dop853(Dop853::default()), &options)`. With the `serde`
+        /// feature it is (de)serialisable, as `{"method": "dop853"}` and the method's options
+        /// beside it.
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+        #[cfg_attr(feature = "serde", serde(tag = "method", rename_all = "lowercase"))]
+        #[non_exhaustive]
+        pub enum AnyMethod {
+            $(
+                #[doc = concat!("[`", stringify!($name), "`].")]
+                $name($name),
+            )+
         }
-    }
 
-    /// The method of this name (case-insensitive: `dopri5`, `dop853`, `tsit5`, `rodas4`, `rodas5p`; `rk4`
-    /// takes its step `rk4_step`), with default options.
-    pub fn from_name(name: &str, rk4_step: Option<f64>) -> Result<AnyMethod, Error> {
-        Ok(match name.to_ascii_lowercase().as_str() {
-            "dopri5" => AnyMethod::Dopri5(Dopri5::default()),
-            "dop853" => AnyMethod::Dop853(Dop853::default()),
-            "tsit5" => AnyMethod::Tsit5(Tsit5::default()),
-            "rodas4" => AnyMethod::Rodas4(Rodas4),
-            "rodas5p" => AnyMethod::Rodas5P(Rodas5P),
-            "rk4" => match rk4_step {
-                Some(h) => AnyMethod::Rk4(Rk4::new(h)),
-                None => {
-                    return Err(Error::InvalidOption {
-                        name: "Rk4::h",
-                        value: f64::NAN,
-                        hint: "Rk4 has a fixed step: give its step size",
-                    })
-                }
-            },
-            _ => {
-                return Err(Error::UnknownMethod {
+        /// The stepper of an [`AnyMethod`]. Made once per solve, so the size of its largest
+        /// variant (Dop853's sixteen stage vectors, held by value) costs nothing that matters.
+        #[derive(Clone, Debug)]
+        #[allow(clippy::large_enum_variant)]
+        pub enum AnyStepper {
+            $(
+                #[doc = concat!("[`", stringify!($name), "`]'s.")]
+                $name(<$name as Method>::Stepper),
+            )+
+        }
+
+        impl AnyMethod {
+            /// The names of the methods, as in the literature, in the order of the list; lower
+            /// case, they are the keys of [`AnyMethod::from_name`], scene files and serde.
+            pub const NAMES: &'static [&'static str] = &[$(stringify!($name)),+];
+
+            /// The method of this name (case-insensitive, one of [`AnyMethod::NAMES`]) with
+            /// default options; a method without error control (`rk4`) takes its step
+            /// `fixed_step`, which the others ignore.
+            pub fn from_name(name: &str, fixed_step: Option<f64>) -> Result<AnyMethod, Error> {
+                $(
+                    if name.eq_ignore_ascii_case(stringify!($name)) {
+                        let $step = fixed_step.ok_or(Error::InvalidOption {
+                            name: concat!(stringify!($name), "::h"),
+                            value: f64::NAN,
+                            hint: "a method without error control has a fixed step: give its \
+                                   step size",
+                        });
+                        let _ = &$step;
+                        return Ok(AnyMethod::$name($make));
+                    }
+                )+
+                Err(Error::UnknownMethod {
                     name: name.to_string(),
+                    choices: Self::choices(),
                 })
             }
-        })
-    }
-}
+        }
 
-/// Expands to a `match` over the variants of [`AnyMethod`] (or [`AnyStepper`]), binding the inner
-/// value to `$m`.
-macro_rules! each_method {
-    ($value:expr, $enum:ident, $m:ident => $body:expr) => {
-        match $value {
-            $enum::Dopri5($m) => $body,
-            $enum::Dop853($m) => $body,
-            $enum::Tsit5($m) => $body,
-            $enum::Rk4($m) => $body,
-            $enum::Rodas4($m) => $body,
-            $enum::Rodas5P($m) => $body,
+        impl Method for AnyMethod {
+            type Stepper = AnyStepper;
+            fn info(&self) -> MethodInfo {
+                match self {
+                    $(AnyMethod::$name(m) => m.info(),)+
+                }
+            }
+            fn stepper(&self, dim: usize) -> AnyStepper {
+                match self {
+                    $(AnyMethod::$name(m) => AnyStepper::$name(m.stepper(dim)),)+
+                }
+            }
+            fn validate(&self) -> Result<(), Error> {
+                match self {
+                    $(AnyMethod::$name(m) => m.validate(),)+
+                }
+            }
+            fn stiffness_detection_mut(&mut self) -> Option<&mut StiffnessDetection> {
+                match self {
+                    $(AnyMethod::$name(m) => m.stiffness_detection_mut(),)+
+                }
+            }
+        }
+
+        impl Stepper for AnyStepper {
+            fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
+                match self {
+                    $(AnyStepper::$name(s) => s.reset(sys, t, y),)+
+                }
+            }
+            fn attempt<S: OdeSystem>(
+                &mut self,
+                sys: &mut S,
+                trial: Trial<'_>,
+            ) -> Result<f64, Error> {
+                match self {
+                    $(AnyStepper::$name(s) => s.attempt(sys, trial),)+
+                }
+            }
+            fn commit<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
+                match self {
+                    $(AnyStepper::$name(s) => s.commit(sys, step),)+
+                }
+            }
+            fn interpolate(&self, theta: f64, out: &mut [f64]) {
+                match self {
+                    $(AnyStepper::$name(s) => s.interpolate(theta, out),)+
+                }
+            }
+            fn set_dense_output(&mut self, needed: bool) {
+                match self {
+                    $(AnyStepper::$name(s) => s.set_dense_output(needed),)+
+                }
+            }
+            fn stiffness(&self) -> Option<f64> {
+                match self {
+                    $(AnyStepper::$name(s) => s.stiffness(),)+
+                }
+            }
         }
     };
 }
 
-impl Method for AnyMethod {
-    type Stepper = AnyStepper;
-    fn info(&self) -> MethodInfo {
-        each_method!(self, AnyMethod, m => m.info())
-    }
-    fn stepper(&self, dim: usize) -> AnyStepper {
-        match self {
-            AnyMethod::Dopri5(m) => AnyStepper::Dopri5(m.stepper(dim)),
-            AnyMethod::Dop853(m) => AnyStepper::Dop853(m.stepper(dim)),
-            AnyMethod::Tsit5(m) => AnyStepper::Tsit5(m.stepper(dim)),
-            AnyMethod::Rk4(m) => AnyStepper::Rk4(m.stepper(dim)),
-            AnyMethod::Rodas4(m) => AnyStepper::Rodas4(m.stepper(dim)),
-            AnyMethod::Rodas5P(m) => AnyStepper::Rodas5P(m.stepper(dim)),
-        }
-    }
-    fn validate(&self) -> Result<(), Error> {
-        each_method!(self, AnyMethod, m => m.validate())
-    }
+method_list! {
+    step;
+    Dopri5 = Dopri5::default(),
+    Dop853 = Dop853::default(),
+    Tsit5 = Tsit5::default(),
+    Rk4 = Rk4::new(step?),
+    Rodas4 = Rodas4,
+    Rodas5P = Rodas5P,
 }
 
-/// The stepper of an [`AnyMethod`]. Made once per solve, so the size of its largest variant
-/// (Dop853's sixteen stage vectors, held by value) costs nothing that matters.
-#[derive(Clone, Debug)]
-#[allow(clippy::large_enum_variant)]
-pub enum AnyStepper {
-    /// [`Dopri5`]'s.
-    Dopri5(dopri5::Dopri5Stepper),
-    /// [`Dop853`]'s.
-    Dop853(dop853::Dop853Stepper),
-    /// [`Tsit5`]'s.
-    Tsit5(tsit5::Tsit5Stepper),
-    /// [`Rk4`]'s.
-    Rk4(rk4::Rk4Stepper),
-    /// [`Rodas4`]'s.
-    Rodas4(rodas4::Rodas4Stepper),
-    /// [`Rodas5P`]'s.
-    Rodas5P(rodas5p::Rodas5PStepper),
-}
+impl AnyMethod {
+    /// Every method of the list with its default options (a method without error control with
+    /// step `fixed_step`), in the order of [`AnyMethod::NAMES`]. The conformance suite runs on
+    /// each.
+    pub fn all(fixed_step: f64) -> Vec<AnyMethod> {
+        Self::NAMES
+            .iter()
+            .filter_map(|name| Self::from_name(name, Some(fixed_step)).ok())
+            .collect()
+    }
 
-impl Stepper for AnyStepper {
-    fn reset<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error> {
-        each_method!(self, AnyStepper, s => s.reset(sys, t, y))
-    }
-    fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
-        each_method!(self, AnyStepper, s => s.attempt(sys, trial))
-    }
-    fn commit<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
-        each_method!(self, AnyStepper, s => s.commit(sys, step))
-    }
-    fn interpolate(&self, theta: f64, out: &mut [f64]) {
-        each_method!(self, AnyStepper, s => s.interpolate(theta, out))
-    }
-    fn set_dense_output(&mut self, needed: bool) {
-        each_method!(self, AnyStepper, s => s.set_dense_output(needed))
-    }
-    fn stiffness(&self) -> Option<f64> {
-        each_method!(self, AnyStepper, s => s.stiffness())
+    /// The keys of [`AnyMethod::from_name`], "dopri5, dop853, …", a method without error control
+    /// marked "(with its step)".
+    fn choices() -> String {
+        Self::all(1.0)
+            .iter()
+            .map(|m| {
+                let info = m.info();
+                let key = info.name.to_lowercase();
+                match info.fixed_step {
+                    Some(_) => format!("{key} (with its step)"),
+                    None => key,
+                }
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -745,16 +762,37 @@ mod tests {
 
     #[test]
     fn any_method_names_round_trip() -> Result<(), Error> {
-        for m in AnyMethod::all(0.01) {
+        let all = AnyMethod::all(0.01);
+        assert_eq!(
+            all.len(),
+            AnyMethod::NAMES.len(),
+            "every listed method is made"
+        );
+        for (m, listed) in all.iter().zip(AnyMethod::NAMES) {
+            // The list's name is the method's own, the key of scene files and serde.
+            assert_eq!(m.name(), *listed);
             let name = m.name().to_ascii_lowercase();
             let back = AnyMethod::from_name(&name, Some(0.01))?;
             assert_eq!(back.info(), m.info());
+            // The step is required exactly by the methods without error control.
+            let needs_step = m.info().fixed_step.is_some();
+            match AnyMethod::from_name(&name, None) {
+                Err(Error::InvalidOption { name: option, .. }) => {
+                    assert!(needs_step, "{listed}");
+                    assert_eq!(option, format!("{listed}::h"));
+                }
+                Ok(_) => assert!(!needs_step, "{listed}"),
+                Err(e) => panic!("{listed}: {e}"),
+            }
         }
-        assert!(matches!(
-            AnyMethod::from_name("euler", None),
-            Err(Error::UnknownMethod { .. })
-        ));
-        assert!(AnyMethod::from_name("rk4", None).is_err());
+        match AnyMethod::from_name("euler", None) {
+            Err(e @ Error::UnknownMethod { .. }) => assert_eq!(
+                e.to_string(),
+                "unknown method \"euler\": choose one of dopri5, dop853, tsit5, rk4 (with its step), \
+                 rodas4, rodas5p"
+            ),
+            other => panic!("{other:?}"),
+        }
         Ok(())
     }
 

@@ -142,6 +142,9 @@ impl Method for Tsit5 {
                 "below tolerances of about 1e-10 Dop853 is cheaper; for a stiff problem use Rodas4",
             )
     }
+    fn stiffness_detection_mut(&mut self) -> Option<&mut StiffnessDetection> {
+        Some(&mut self.stiffness)
+    }
     fn stepper(&self, dim: usize) -> Tsit5Stepper {
         Tsit5Stepper {
             k: std::array::from_fn(|_| vec![0.0; dim]),
