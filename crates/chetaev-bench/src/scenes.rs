@@ -12,8 +12,9 @@ use uniform_projectile::model::{
 use crate::handwritten::{Full, Reduced};
 use crate::study::{HandWritten, StudyScene};
 
-/// Step counts of `Rk4` on the non-stiff scenes: 8, 16, …, 32768.
-pub fn rk4_steps() -> Vec<usize> {
+/// Step counts of the methods without error control (`Rk4`) on the non-stiff scenes: 8, 16, …,
+/// 32768.
+pub fn fixed_steps() -> Vec<usize> {
     (3..=15).map(|k| 1usize << k).collect()
 }
 
@@ -63,7 +64,7 @@ pub fn uniform_scene() -> Result<StudyScene<Fixed<UniformProjectile, 2, 1>>, Err
         error: Box::new(move |q, qd| uniform_error(&p, t_end, [q[0], q[1]], [qd[0], qd[1]])),
         options: Box::new(move |tol| Options::until(t_end).tolerances(tol, tol)),
         ode_solvers_atol: Box::new(|tol| tol),
-        rk4_steps: Ok(rk4_steps()),
+        fixed_steps: Ok(fixed_steps()),
         ode_solvers_skip: None,
     })
 }
@@ -95,7 +96,7 @@ pub fn classical_scene() -> Result<StudyScene<Fixed<Unconstrained<Projectile>, 2
         }),
         options: Box::new(move |tol| Options::until(t_end).tolerances(tol, tol)),
         ode_solvers_atol: Box::new(|tol| tol),
-        rk4_steps: Ok(rk4_steps()),
+        fixed_steps: Ok(fixed_steps()),
         ode_solvers_skip: None,
     })
 }
@@ -132,7 +133,7 @@ pub fn stiff_scene(max_steps: usize) -> Result<StudyScene<Fixed<UniformProjectil
         }),
         // ode_solvers takes one absolute tolerance: the smallest of the scaled ones.
         ode_solvers_atol: Box::new(move |tol| tol * aq[0].min(aq[1]).min(av[0])),
-        rk4_steps: Err(format!(
+        fixed_steps: Err(format!(
             "not run: the reduced equations have an eigenvalue of about −g/v0 = {:.3e}/s, so Rk4 \
              is stable only for h ≤ 2.785·v0/g = {h_stable:.2e} s, {rk4_needed:.2e} steps to \
              T = {t_end:.1} s, over the step budget of {max_steps}",
@@ -171,7 +172,7 @@ pub fn particle3d_scene() -> Result<StudyScene<Fixed<Particle3d, 3, 1>>, Error> 
         }),
         options: Box::new(move |tol| Options::until(t_end).tolerances(tol, tol)),
         ode_solvers_atol: Box::new(|tol| tol),
-        rk4_steps: Ok(rk4_steps()),
+        fixed_steps: Ok(fixed_steps()),
         ode_solvers_skip: None,
     })
 }
@@ -221,7 +222,7 @@ pub fn two_runners_scene() -> Result<StudyScene<Fixed<TwoRunners, 4, 3>>, Error>
         error: Box::new(move |q_end, qd_end| scaled_error(q_end, qd_end, &q, &qd, &length, speed)),
         options: Box::new(move |tol| Options::until(t_end).tolerances(tol, tol)),
         ode_solvers_atol: Box::new(|tol| tol),
-        rk4_steps: Ok(rk4_steps()),
+        fixed_steps: Ok(fixed_steps()),
         ode_solvers_skip: None,
     })
 }

@@ -117,8 +117,8 @@ pub struct StudyScene<M> {
     pub options: Box<dyn Fn(f64) -> Options>,
     /// The absolute tolerance handed to ode_solvers (one scalar) at tolerance `tol`.
     pub ode_solvers_atol: Box<dyn Fn(f64) -> f64>,
-    /// Step counts for `Rk4`, or why it is not run.
-    pub rk4_steps: Result<Vec<usize>, String>,
+    /// Step counts for the methods without error control (`Rk4`), or why they are not run.
+    pub fixed_steps: Result<Vec<usize>, String>,
     /// Why ode_solvers is not run, if it is not.
     pub ode_solvers_skip: Option<String>,
 }
@@ -291,8 +291,8 @@ fn adaptive_options<M>(scene: &StudyScene<M>, config: &StudyConfig, tol: f64) ->
         .max_steps(config.max_steps)
 }
 
-/// The options of `Rk4` with `n` steps to the end of `scene`.
-fn rk4_options<M>(scene: &StudyScene<M>, config: &StudyConfig, n: usize) -> Options {
+/// The options of a method without error control taking `n` steps to the end of `scene`.
+fn fixed_step_options<M>(scene: &StudyScene<M>, config: &StudyConfig, n: usize) -> Options {
     Options::until(scene.t_end)
         .output_final()
         .record(Record::State)
@@ -315,14 +315,64 @@ where
         .collect()
 }
 
-/// Runs the whole study on one scene: chetaev's `Dopri5`, `Dop853`, `Rodas4`, `Rodas5P` over the
-/// tolerances,
-/// `Rk4` over the step counts, and ode_solvers' `Dopri5`, `Dop853` over the tolerances. `progress`
-/// is told the name of each method as it starts.
-///
-/// chetaev's methods are passed as their own types (`Dopri5::default()`, ...), as a user calls
-/// them, not through `AnyMethod`: the run-time choice of method is compiled differently and takes
-/// a measurably different time.
+/// Runs `$body` with `$m` bound to the method of the library's list called `$name` (step `$step`
+/// for a method without error control), by its own type for the methods named here, as a user
+/// calls them, and through `AnyMethod` for any other: the run-time choice of method is compiled
+/// differently and takes a measurably different time, so a method added to the list is studied at
+/// once, and measured as its users call it once it is named here.
+macro_rules! with_method {
+    ($name:expr, $step:expr, |$m:ident| $body:expr, |$e:ident| $refused:expr) => {
+        match $name {
+            "Dopri5" => {
+                let $m = Dopri5::default();
+                $body
+            }
+            "Dop853" => {
+                let $m = Dop853::default();
+                $body
+            }
+            "Tsit5" => {
+                let $m = Tsit5::default();
+                $body
+            }
+            "Rk4" => {
+                let $m = Rk4::new($step);
+                $body
+            }
+            "Rodas4" => {
+                let $m = Rodas4;
+                $body
+            }
+            "Rodas5P" => {
+                let $m = Rodas5P;
+                $body
+            }
+            other => match AnyMethod::from_name(other, Some($step)) {
+                Ok($m) => $body,
+                Err($e) => $refused,
+            },
+        }
+    };
+}
+
+/// Whether the method of the library's list called `name` has a fixed step (no error control).
+fn has_fixed_step(name: &str) -> bool {
+    AnyMethod::from_name(name, Some(1.0)).is_ok_and(|m| m.info().fixed_step.is_some())
+}
+
+/// The methods of the library's list (`AnyMethod::NAMES`) in the order the study runs them and
+/// its tables list them: those with error control first, then those without.
+pub fn study_methods() -> Vec<&'static str> {
+    let (fixed, adaptive): (Vec<&'static str>, Vec<&'static str>) = AnyMethod::NAMES
+        .iter()
+        .partition(|name| has_fixed_step(name));
+    adaptive.into_iter().chain(fixed).collect()
+}
+
+/// Runs the whole study on one scene: every method of the library's list ([`study_methods`]),
+/// those with error control over the tolerances and those without over the step counts, and
+/// ode_solvers' `Dopri5`, `Dop853` over the tolerances. `progress` is told the name of each method
+/// as it starts.
 pub fn run_scene<M>(
     scene: &StudyScene<M>,
     config: &StudyConfig,
@@ -333,30 +383,41 @@ where
 {
     let mut points = Vec::new();
     let b = &config.budget;
-    progress("Dopri5");
-    points.extend(adaptive_points(scene, config, Dopri5::default()));
-    progress("Dop853");
-    points.extend(adaptive_points(scene, config, Dop853::default()));
-    progress("Rodas4");
-    points.extend(adaptive_points(scene, config, Rodas4));
-    progress("Rodas5P");
-    points.extend(adaptive_points(scene, config, Rodas5P));
-    progress("Rk4");
-    match &scene.rk4_steps {
-        Ok(steps) => {
-            for &n in steps {
-                let h = scene.t_end / n as f64;
-                let o = rk4_options(scene, config, n);
-                points.push(chetaev_point(scene, Rk4::new(h), f64::NAN, h, &o, b));
-            }
+    for name in study_methods() {
+        progress(name);
+        let skipped = |reason: String| {
+            Point::new(
+                scene.key,
+                name,
+                f64::NAN,
+                f64::NAN,
+                PointOutcome::Skipped(reason),
+            )
+        };
+        if !has_fixed_step(name) {
+            points.extend(with_method!(
+                name,
+                1.0,
+                |m| adaptive_points(scene, config, m),
+                |e| vec![skipped(e.to_string())]
+            ));
+            continue;
         }
-        Err(reason) => points.push(Point::new(
-            scene.key,
-            "Rk4",
-            f64::NAN,
-            f64::NAN,
-            PointOutcome::Skipped(reason.clone()),
-        )),
+        match &scene.fixed_steps {
+            Ok(steps) => {
+                for &n in steps {
+                    let h = scene.t_end / n as f64;
+                    let o = fixed_step_options(scene, config, n);
+                    points.push(with_method!(
+                        name,
+                        h,
+                        |m| chetaev_point(scene, m, f64::NAN, h, &o, b),
+                        |e| skipped(e.to_string())
+                    ));
+                }
+            }
+            Err(reason) => points.push(skipped(reason.clone())),
+        }
     }
     for m in OdeSolversMethod::ALL {
         progress(m.name());
@@ -544,46 +605,64 @@ where
     points
 }
 
-/// The limit: `Dopri5`, `Dop853`, `Rodas4`, `Rodas5P` over the tolerances and `Rk4` over `rk4_steps`, each on
-/// the paper's model through chetaev (`scene`, the uniform motion) and on the two hand-written
-/// systems through the same driver ([`solve_ode`]), the three timed interleaved at every setting.
+/// The limit: every method of the library's list, those with error control over the tolerances
+/// and those without over `fixed_steps`, each on the paper's model through chetaev (`scene`, the
+/// uniform motion) and on the two hand-written systems through the same driver ([`solve_ode`]),
+/// the three timed interleaved at every setting.
 pub fn run_limit<M>(
     scene: &StudyScene<M>,
     reduced: &HandWritten<Reduced>,
     full: &HandWritten<Full>,
     config: &StudyConfig,
-    rk4_steps: &[usize],
+    fixed_steps: &[usize],
 ) -> Vec<Point>
 where
     M: Model,
 {
-    let mut points = limit_adaptive(scene, reduced, full, config, Dopri5::default());
-    points.extend(limit_adaptive(
-        scene,
-        reduced,
-        full,
-        config,
-        Dop853::default(),
-    ));
-    points.extend(limit_adaptive(scene, reduced, full, config, Rodas4));
-    points.extend(limit_adaptive(scene, reduced, full, config, Rodas5P));
-    for &n in rk4_steps {
-        let h = scene.t_end / n as f64;
-        let o = rk4_options(scene, config, n);
-        let mut oo = OdeOptions::until(scene.t_end);
-        oo.output = Output::Final;
-        oo.max_steps = config.max_steps.max(n + 1);
-        points.extend(limit_triple(
-            scene,
-            reduced,
-            full,
-            Rk4::new(h),
-            f64::NAN,
-            h,
-            &o,
-            &oo,
-            &config.budget,
-        ));
+    let mut points = Vec::new();
+    for name in study_methods() {
+        let refused = |e: chetaev::Error| {
+            vec![Point::new(
+                scene.key,
+                name,
+                f64::NAN,
+                f64::NAN,
+                PointOutcome::Skipped(e.to_string()),
+            )]
+        };
+        if !has_fixed_step(name) {
+            points.extend(with_method!(
+                name,
+                1.0,
+                |m| limit_adaptive(scene, reduced, full, config, m),
+                |e| refused(e)
+            ));
+            continue;
+        }
+        for &n in fixed_steps {
+            let h = scene.t_end / n as f64;
+            let o = fixed_step_options(scene, config, n);
+            let mut oo = OdeOptions::until(scene.t_end);
+            oo.output = Output::Final;
+            oo.max_steps = config.max_steps.max(n + 1);
+            points.extend(with_method!(
+                name,
+                h,
+                |m| limit_triple(
+                    scene,
+                    reduced,
+                    full,
+                    m,
+                    f64::NAN,
+                    h,
+                    &o,
+                    &oo,
+                    &config.budget
+                )
+                .to_vec(),
+                |e| refused(e)
+            ));
+        }
     }
     points
 }

@@ -39,7 +39,7 @@ use chetaev_bench::report::{
 };
 use chetaev_bench::scenes;
 use chetaev_bench::study::{
-    curve, run_limit, run_scene, Point, PointOutcome, StudyConfig, StudyScene,
+    curve, run_limit, run_scene, study_methods, Point, PointOutcome, StudyConfig, StudyScene,
 };
 use chetaev_plot::{Figure, Style};
 use clap::{Args, Parser, Subcommand};
@@ -101,8 +101,9 @@ struct MergeArgs {
 /// The error levels at which curves are compared.
 const COMPARE_AT: [f64; 6] = [1e-6, 1e-8, 1e-10, 1e-11, 1e-12, 1e-13];
 
-/// chetaev's methods in the order of the tables, with the colour of their lines.
-const METHODS: [(&str, &str); 5] = [
+/// The colours of the methods' lines (Okabe and Ito's palette, for colour-blind readers), by
+/// name; a method without one here takes the next of [`SPARE_COLOURS`].
+const COLOURS: [(&str, &str); 5] = [
     ("Dopri5", "#0072B2"),
     ("Dop853", "#D55E00"),
     ("Rodas4", "#009E73"),
@@ -110,16 +111,33 @@ const METHODS: [(&str, &str); 5] = [
     ("Rk4", "#CC79A7"),
 ];
 
-/// The methods of a scene in the order of its tables and CSV.
-const SCENE_ORDER: [&str; 7] = [
-    "Dopri5",
-    "Dop853",
-    "Rodas4",
-    "Rodas5P",
-    "Rk4",
-    "Dopri5 (ode_solvers)",
-    "Dop853 (ode_solvers)",
-];
+/// The colours left for methods not in [`COLOURS`], in turn.
+const SPARE_COLOURS: [&str; 3] = ["#56B4E9", "#000000", "#F0E442"];
+
+/// chetaev's methods in the order of the tables ([`study_methods`]), with the colour of their
+/// lines.
+fn methods() -> Vec<(&'static str, &'static str)> {
+    let mut spare = SPARE_COLOURS.iter().cycle();
+    study_methods()
+        .into_iter()
+        .map(|name| {
+            let colour = COLOURS.iter().find(|(m, _)| *m == name).map(|(_, c)| *c);
+            (
+                name,
+                colour
+                    .or_else(|| spare.next().copied())
+                    .unwrap_or("#000000"),
+            )
+        })
+        .collect()
+}
+
+/// The methods of a scene in the order of its tables and CSV: chetaev's, then ode_solvers'.
+fn scene_order() -> Vec<&'static str> {
+    let mut order: Vec<&'static str> = methods().into_iter().map(|(m, _)| m).collect();
+    order.extend(["Dopri5 (ode_solvers)", "Dop853 (ode_solvers)"]);
+    order
+}
 
 /// The number of comparisons in the overheads.
 const OVERHEADS: usize = 6;
@@ -266,20 +284,21 @@ impl Settings {
     }
 }
 
-/// One setting of a method: a tolerance, a step count of `Rk4`, or `Rk4` refused by the scene.
+/// One setting of a method: a tolerance, a step count of the methods without error control
+/// (`Rk4`), or those refused by the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Setting {
     Tolerance(f64),
-    Rk4(usize),
-    Rk4Refused,
+    Steps(usize),
+    StepsRefused,
 }
 
 impl std::fmt::Display for Setting {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Self::Tolerance(t) => write!(f, "tolerance {t:.0e}"),
-            Self::Rk4(n) => write!(f, "Rk4 with {n} steps"),
-            Self::Rk4Refused => f.write_str("Rk4 (refused)"),
+            Self::Steps(n) => write!(f, "{n} fixed steps"),
+            Self::StepsRefused => f.write_str("fixed steps (refused)"),
         }
     }
 }
@@ -319,9 +338,9 @@ impl<M: Model> AnyScene for StudyScene<M> {
 
     fn settings(&self, tolerances: &[f64]) -> Vec<Setting> {
         let mut s: Vec<Setting> = tolerances.iter().map(|&t| Setting::Tolerance(t)).collect();
-        match &self.rk4_steps {
-            Ok(steps) => s.extend(steps.iter().map(|&n| Setting::Rk4(n))),
-            Err(_) => s.push(Setting::Rk4Refused),
+        match &self.fixed_steps {
+            Ok(steps) => s.extend(steps.iter().map(|&n| Setting::Steps(n))),
+            Err(_) => s.push(Setting::StepsRefused),
         }
         s
     }
@@ -333,18 +352,18 @@ impl<M: Model> AnyScene for StudyScene<M> {
                 config.tolerances = vec![t];
                 Ok(Vec::new())
             }
-            Setting::Rk4(n) => {
+            Setting::Steps(n) => {
                 config.tolerances = Vec::new();
                 Ok(vec![n])
             }
-            Setting::Rk4Refused => {
+            Setting::StepsRefused => {
                 config.tolerances = Vec::new();
-                self.rk4_steps.clone()
+                self.fixed_steps.clone()
             }
         };
-        let own = std::mem::replace(&mut self.rk4_steps, rk4);
+        let own = std::mem::replace(&mut self.fixed_steps, rk4);
         let points = run_scene(self, &config, &mut |_| {});
-        self.rk4_steps = own;
+        self.fixed_steps = own;
         points
     }
 }
@@ -365,8 +384,8 @@ impl<M: Model> LimitScene for StudyScene<M> {
                 config.tolerances = vec![t];
                 Vec::new()
             }
-            Setting::Rk4(n) => vec![n],
-            Setting::Rk4Refused => Vec::new(),
+            Setting::Steps(n) => vec![n],
+            Setting::StepsRefused => Vec::new(),
         };
         run_limit(self, &reduced, &full, &config, &steps)
     }
@@ -377,8 +396,8 @@ fn boxed<M>(mut scene: StudyScene<M>, rk4: Option<&Vec<usize>>) -> Box<dyn AnySc
 where
     M: Model + 'static,
 {
-    if let (Some(steps), Ok(_)) = (rk4, &scene.rk4_steps) {
-        scene.rk4_steps = Ok(steps.clone());
+    if let (Some(steps), Ok(_)) = (rk4, &scene.fixed_steps) {
+        scene.fixed_steps = Ok(steps.clone());
     }
     Box::new(scene)
 }
@@ -405,7 +424,10 @@ impl Study {
         Ok(Self {
             scenes,
             limit: Box::new(scenes::uniform_scene()?),
-            limit_rk4_steps: settings.rk4_steps.clone().unwrap_or_else(scenes::rk4_steps),
+            limit_rk4_steps: settings
+                .rk4_steps
+                .clone()
+                .unwrap_or_else(scenes::fixed_steps),
             config,
         })
     }
@@ -431,7 +453,7 @@ impl Study {
         items.extend(
             self.limit_rk4_steps
                 .iter()
-                .map(|&n| Item::Limit(Setting::Rk4(n))),
+                .map(|&n| Item::Limit(Setting::Steps(n))),
         );
         items.extend((0..OVERHEADS).map(Item::Overhead));
         items
@@ -636,7 +658,7 @@ fn report(study: &Study, whole: &Part, out: &Path) -> Result<String, Box<dyn Err
     let mut summary = String::new();
     let mut all = Vec::new();
     for (scene, items) in study.scenes.iter().zip(per_scene) {
-        let points = arrange(items, &SCENE_ORDER, |m| m);
+        let points = arrange(items, &scene_order(), |m| m);
         study_report(scene.as_ref(), &points, out, &mut results)?;
         all.extend(points);
     }
@@ -753,7 +775,7 @@ fn study_report(
     std::fs::write(out.join(format!("{key}.csv")), points_csv(points))?;
 
     let mut lines = Vec::new();
-    for (m, c) in METHODS {
+    for (m, c) in methods() {
         let style = Style {
             color: Some(c),
             markers: true,
@@ -832,7 +854,7 @@ fn limit_report(
         ),
     ] {
         let mut lines = Vec::new();
-        for (m, c) in METHODS {
+        for (m, c) in methods() {
             lines.push((
                 format!("{m} (chetaev)"),
                 plot_curve(points, m),
@@ -864,7 +886,7 @@ fn limit_report(
          ![chetaev against the full form](limit-full.svg)\n\n",
     );
     let mut pairs_owned = Vec::new();
-    for (m, _) in METHODS {
+    for (m, _) in methods() {
         pairs_owned.push((m.to_string(), format!("{m} hand-written (42.28)")));
         pairs_owned.push((m.to_string(), format!("{m} hand-written full")));
     }
@@ -876,7 +898,7 @@ fn limit_report(
     md.push_str("\nTime per right-hand side (median over the measured points of time / RHS evaluations; \
                  includes the driver's and the method's own work per stage):\n\n\
                  | method | chetaev | hand-written (42.28) | hand-written full |\n|---|---|---|---|\n");
-    for (m, _) in METHODS {
+    for (m, _) in methods() {
         let per = |name: &str| {
             let mut v: Vec<f64> = points
                 .iter()
@@ -949,18 +971,23 @@ fn overheads_report(
         ran.into_iter().partition(|p| needs_jacobian(&p.method));
     let explicit_jac: usize = explicit.iter().map(|p| p.jacobian_evaluations).sum();
     let rodas_jac: usize = rodas.iter().map(|p| p.jacobian_evaluations).sum();
+    let (implicit_names, explicit_names): (Vec<&str>, Vec<&str>) = methods()
+        .into_iter()
+        .map(|(m, _)| m)
+        .partition(|m| needs_jacobian(m));
+    let (implicit_names, explicit_names) = (implicit_names.join(", "), explicit_names.join(", "));
     let _ = writeln!(
         md,
-        "\nJacobians: the {} runs of explicit methods above (Dopri5, Dop853, Rk4 and ode_solvers, \
+        "\nJacobians: the {} runs of explicit methods above ({explicit_names} and ode_solvers, \
          every scene, measured or failed) evaluated {explicit_jac} Jacobians in all \
-         (`sol.stats.jacobian_evaluations`); the {} runs of Rodas4 and Rodas5P evaluated \
+         (`sol.stats.jacobian_evaluations`); the {} runs of {implicit_names} evaluated \
          {rodas_jac}.",
         explicit.len(),
         rodas.len()
     );
     let _ = writeln!(
         summary,
-        "Jacobian evaluations: explicit methods {explicit_jac} over {} runs, Rodas4 and Rodas5P \
+        "Jacobian evaluations: explicit methods {explicit_jac} over {} runs, {implicit_names} \
          {rodas_jac} over {} runs",
         explicit.len(),
         rodas.len()
@@ -1023,12 +1050,18 @@ mod tests {
                 items.push((i, study.scenes[0].run(&config, *setting)));
             }
         }
-        let arranged = arrange(items, &SCENE_ORDER, |m| m);
+        let arranged = arrange(items, &scene_order(), |m| m);
         let mut scene = scenes::uniform_scene().expect("scene");
-        scene.rk4_steps = Ok(vec![8, 32]);
+        scene.fixed_steps = Ok(vec![8, 32]);
         let whole = run_scene(&scene, &config, &mut |_| {});
         assert_eq!(untimed(&arranged), untimed(&whole));
-        assert_eq!(whole.len(), 6 * 2 + 2);
+        // Every method of the library's list: those with error control and ode_solvers' two at
+        // the two tolerances, Rk4 at the two step counts.
+        let adaptive = scene_order().len() - 1;
+        assert_eq!(whole.len(), adaptive * 2 + 2);
+        for name in AnyMethod::NAMES {
+            assert!(whole.iter().any(|p| p.method == *name), "{name} is studied");
+        }
     }
 
     #[test]
@@ -1059,7 +1092,8 @@ mod tests {
         let (reduced, full) = (scenes::reduced_handwritten(), scenes::full_handwritten());
         let whole = run_limit(&scene, &reduced, &full, &settings.config(), &[8, 32]);
         assert_eq!(untimed(&arranged), untimed(&whole));
-        assert_eq!(whole.len(), 3 * (4 * 2 + 2));
+        let adaptive = methods().len() - 1;
+        assert_eq!(whole.len(), 3 * (adaptive * 2 + 2));
     }
 
     #[test]
@@ -1071,6 +1105,6 @@ mod tests {
         // Per scene: 2 tolerances and 2 step counts, but the stiff scene refuses Rk4 once; the
         // limit likewise; 6 overheads.
         assert_eq!(plan.len(), 4 * 4 + 3 + 4 + OVERHEADS);
-        assert!(plan.contains(&Item::Scene(2, Setting::Rk4Refused)));
+        assert!(plan.contains(&Item::Scene(2, Setting::StepsRefused)));
     }
 }
