@@ -421,7 +421,7 @@ fn residual_figure(p: &Params) -> Result<Figure, Box<dyn Error>> {
             "rtol = atol = {tol:.0e}{}: {} steps, largest |f| {:.1e}",
             if project { ", projected" } else { "" },
             sol.stats.accepted_steps,
-            sol.max_residual(),
+            sol.max_residual().unwrap_or(f64::NAN),
         );
         let style = Style {
             dashed: project,

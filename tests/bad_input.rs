@@ -253,6 +253,113 @@ fn step_limit_keeps_the_partial_solution() {
 }
 
 #[test]
+fn the_step_limit_of_a_fixed_step_advises_a_larger_step_and_prints_t_readably() {
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    let sol = solve(&p, Rk4::new(1e-300), &Options::until(1.0).max_steps(10)).expect("valid");
+    let e = sol.error().expect("the step limit").to_string();
+    // Rk4 has no tolerances to loosen; and t, about 1e-299, is not three hundred digits long.
+    assert!(e.contains("take a larger fixed step"), "{e}");
+    assert!(!e.contains("tolerances"), "{e}");
+    assert!(e.contains("reached at t = 1e-299;"), "{e}");
+    // An adaptive method's advice is its tolerances.
+    let sol = solve(&p, Dopri5::default(), &Options::until(1.0).max_steps(2)).expect("valid");
+    let e = sol.error().expect("the step limit").to_string();
+    assert!(e.contains("loosen the tolerances"), "{e}");
+}
+
+#[test]
+fn numbers_in_messages_are_written_as_numbers() {
+    // An integer option is printed as one; a tiny or huge number in scientific notation.
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    let e = solve(&p, Dopri5::default(), &Options::until(1.0).max_steps(0)).unwrap_err();
+    assert!(
+        e.to_string().starts_with("invalid option max_steps = 0: "),
+        "{e}"
+    );
+    let e = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(1e300).output_times(vec![-1e-300]),
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("output time -1e-300 lies outside the integration interval from t0 = 0 to t_end = 1e300;"),
+        "{e}"
+    );
+}
+
+/// A particle whose speed is prescribed as `a·t`: at `t0 = 0` the only consistent velocity is 0,
+/// where the constraint's gradient `2q̇` vanishes.
+#[derive(Debug)]
+struct Ramp {
+    a: f64,
+}
+
+impl Lagrangian<2> for Ramp {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5
+    }
+}
+
+impl Constraints<2, 1> for Ramp {
+    fn constraints<R: Real>(&self, t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        let v = t * self.a;
+        SVector::from([qd.dot(qd) - v * v])
+    }
+}
+
+#[test]
+fn an_initial_projection_that_cannot_converge_is_told_as_such() {
+    let e = Problem::with_projected_velocity(
+        Ramp { a: 1.0 },
+        0.0,
+        SVector::zeros(),
+        SVector::from([0.3, 0.0]),
+    )
+    .unwrap_err();
+    assert!(matches!(e, Error::InitialProjectionFailed { .. }), "{e}");
+    let text = e.to_string();
+    // Not the advice of a failure along the motion (there are no steps yet).
+    assert!(!text.contains("tolerances"), "{text}");
+    assert!(text.contains("at t0 = 0"), "{text}");
+    assert!(text.contains("give q and q̇ that satisfy them"), "{text}");
+}
+
+#[test]
+fn the_largest_residual_is_none_when_it_was_not_recorded() {
+    // A check `max_residual() < tol` must not pass on a residual nobody recorded.
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    let state = Options::until(0.5).record(Record::State);
+    let sol = solve(&p, Dopri5::default(), &state).expect("valid");
+    assert_eq!(sol.max_residual(), None);
+    let dynamics = Options::until(0.5).record(Record::Dynamics);
+    let sol = solve(&p, Dopri5::default(), &dynamics).expect("valid");
+    assert!(
+        sol.max_residual().is_some_and(|r| r < 1e-6),
+        "{:?}",
+        sol.max_residual()
+    );
+}
+
+#[test]
+fn a_terminal_event_at_the_start_stops_there_without_a_second_row() {
+    // y − h0 is 0 at t0 and falls at once: the event is at t0, whose point is already recorded.
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    let h0 = p.q0()[1];
+    let start = Event::new("start", move |_t, q, _| q[1] - h0)
+        .falling()
+        .terminal();
+    for method in AnyMethod::all(1e-3) {
+        let sol = solve(&p, method, &Options::until(1.0).event(start.clone())).expect("valid");
+        assert_eq!(sol.status, Status::Terminated { event: 0 }, "{method:?}");
+        assert_eq!(sol.t, vec![0.0], "{method:?}: one row, not t0 twice");
+        assert_eq!(sol.events.len(), 1);
+        assert_eq!(sol.events[0].t, 0.0);
+    }
+}
+
+#[test]
 fn zero_length_interval_returns_the_initial_point() {
     let p = uniform_problem(&Params::PAPER).expect("valid");
     let sol = solve(&p, Dopri5::default(), &Options::until(0.0)).expect("valid");

@@ -32,9 +32,9 @@ fn run<const N: usize, Me: Method + Copy>(method: Me) {
     assert!(sol.is_success(), "N = {N}: {:?}", sol.status);
     // The projection's bound: |f| ≤ tol·|J|·|q̇| = tol · 2|q̇|² = 2 tol.
     assert!(
-        sol.max_residual() <= 2.0 * projection.tol,
+        sol.max_residual().expect("recorded") <= 2.0 * projection.tol,
         "N = {N}: {:e}",
-        sol.max_residual()
+        sol.max_residual().expect("recorded")
     );
     // E = ½|q̇|² + V changes only by the work of Φ; the balance is a quadrature of the motion,
     // accurate to about the tolerance asked for times the energy scale (here of order 1).

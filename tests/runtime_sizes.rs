@@ -198,10 +198,11 @@ fn run_time_sizes_solve_the_paper_like_the_static_path() {
         let bb = b.energy_balance();
         assert_eq!(ba.len(), bb.len(), "{name}");
         assert!(bb.iter().all(|v| v.abs() <= 1e-9), "{name}");
-        assert!(
-            (a.max_residual() - b.max_residual()).abs() <= 1e-10,
-            "{name}"
-        );
+        match (a.max_residual(), b.max_residual()) {
+            (Some(ra), Some(rb)) => assert!((ra - rb).abs() <= 1e-10, "{name}"),
+            (None, None) => assert_eq!(a.record, Record::State, "{name}"),
+            other => panic!("{name}: {other:?}"),
+        }
     }
 }
 
@@ -268,9 +269,9 @@ fn sizes_chosen_at_run_time_work_end_to_end() {
         assert!(sol.is_success(), "n = {n}: {:?}", sol.status);
         assert_eq!((sol.n(), sol.k()), (n, 1));
         assert!(
-            sol.max_residual() <= 1e-12 * 2.0 * 4.0,
+            sol.max_residual().expect("recorded") <= 1e-12 * 2.0 * 4.0,
             "n = {n}: {:e}",
-            sol.max_residual()
+            sol.max_residual().expect("recorded")
         );
         assert!(
             sol.energy_balance().iter().all(|b| b.abs() <= 1e-8),

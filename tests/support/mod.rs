@@ -33,7 +33,7 @@ pub fn sci(v: f64) -> String {
 pub fn run_summary(sol: &chetaev::Solution, note: &str) -> String {
     format!(
         "constraint residual {:.1e}, energy balance {:.1e}{note}, {} steps, status {:?}",
-        sol.max_residual(),
+        sol.max_residual().expect("recorded"),
         chetaev_catalogue::max_energy_balance(sol),
         sol.stats.accepted_steps,
         sol.status

@@ -448,6 +448,7 @@ fn map_error(
         IntegrationError::MaxNumStepReached { x, .. } => Error::MaxSteps {
             t: t_of(x),
             max_steps,
+            hint: "raise Options::max_steps or loosen the tolerances",
         },
         // ode_solvers gives up when `0.1·|h| ≤ ε·|τ|`; it does not report `h`, so the bound is given.
         IntegrationError::StepSizeUnderflow { x } => Error::StepSizeTooSmall {
@@ -483,7 +484,8 @@ mod tests {
             e,
             Error::MaxSteps {
                 t: -1.0,
-                max_steps: 100_000
+                max_steps: 100_000,
+                hint: "raise Options::max_steps or loosen the tolerances",
             }
         );
         let e = map_error(

@@ -251,7 +251,7 @@ impl Scene {
                     None => self.error_at(s.initial.clone(), format!("at the initial state, {e}")),
                 }
             }
-            E::ProjectionFailed {
+            E::InitialProjectionFailed {
                 residual,
                 iterations,
                 ..
@@ -260,7 +260,9 @@ impl Scene {
                 format!(
                     "project_velocity = true could not make the initial state consistent: the \
                      projection onto the constraints left a residual of {residual:e} after \
-                     {iterations} iterations; give a q and q_dot closer to the constraints"
+                     {iterations} iterations; give a q and q_dot closer to the constraints, and \
+                     check that they can be met there with a nonzero gradient (a speed \
+                     constraint whose prescribed speed is 0 at t0 cannot)"
                 ),
             ),
             E::InconsistentSeed {

@@ -239,3 +239,33 @@ fn a_failure_names_the_constraint_as_the_scene_writes_it() {
         "{f:?}"
     );
 }
+
+#[test]
+fn an_initial_projection_that_cannot_converge_points_at_the_initial_state() {
+    // The prescribed speed a·t is 0 at t0 = 0, where the gradient 2q̇ of the constraint vanishes:
+    // no Newton step can reach it.
+    let text = include_str!("../../../scenes/uniform-projectile.toml")
+        .replace(
+            "constraints = [\"x_dot^2 + y_dot^2 - v0^2\"]",
+            "constraints = [\"x_dot^2 + y_dot^2 - (v0*t)^2\"]",
+        )
+        .replace(
+            "q_dot = [\"v0\", 0.0]",
+            "q_dot = [0.3, 0.0]\nproject_velocity = true",
+        );
+    let e = Scene::parse(&text, "ramp.toml")
+        .expect("parses")
+        .check()
+        .expect_err("no consistent velocity can be reached");
+    assert_eq!(
+        e.position().map(|p| p.0),
+        Some(line_of(&text, "[initial]")),
+        "{e}"
+    );
+    let m = e.to_string();
+    assert!(
+        m.contains("project_velocity = true could not make the initial state consistent"),
+        "{m}"
+    );
+    assert!(m.contains("prescribed speed is 0 at t0"), "{m}");
+}

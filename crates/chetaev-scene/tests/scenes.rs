@@ -273,6 +273,23 @@ fn a_failed_integration_keeps_the_motion_computed() {
         "{summary}"
     );
 
+    // A fixed-step method has no tolerances to loosen: the advice is its step.
+    let fixed = BASE.replace(
+        "rtol = 1e-9\natol = 1e-9",
+        "method = \"rk4\"\nstep = 0.01\nmax_steps = 2",
+    );
+    let fixed = Scene::parse(&fixed, "fixed.toml").expect("parses");
+    let o = fixed.solve().expect("setup is fine");
+    let summary = output::summary(&fixed, &o);
+    assert!(
+        summary.contains(
+            "  advice   raise max_steps under [solve] (now 2), or take a larger step (now step = \
+             0.01)"
+        ),
+        "{summary}"
+    );
+    assert!(!summary.contains("rtol"), "{summary}");
+
     // Stiffness is told as the method key to write.
     let stiff = output::failure(
         &scene,

@@ -13,7 +13,7 @@
 #[non_exhaustive]
 pub enum Error {
     /// An input number is NaN or infinite.
-    #[error("{what} is not finite ({value}); every parameter, time and initial value must be a finite number")]
+    #[error("{what} is not finite ({value}); every parameter, time and initial value must be a finite number", value = Num(*.value))]
     NonFiniteInput {
         /// Which input.
         what: String,
@@ -22,7 +22,7 @@ pub enum Error {
     },
 
     /// A solver option is out of range.
-    #[error("invalid option {name} = {value:?}: {hint}")]
+    #[error("invalid option {name} = {value}: {hint}", value = Num(*.value))]
     InvalidOption {
         /// The option.
         name: &'static str,
@@ -51,7 +51,8 @@ pub enum Error {
     /// An output time lies outside the integration interval.
     #[error(
         "output time {time} lies outside the integration interval from t0 = {t0} to t_end = {t_end}; \
-         give output times between the start and the end time"
+         give output times between the start and the end time",
+        t0 = Num(*.t0), t_end = Num(*.t_end), time = Num(*.time)
     )]
     OutputTimeOutOfRange {
         /// The output time.
@@ -66,7 +67,8 @@ pub enum Error {
     #[error(
         "the initial state violates constraint {index} (numbered from 1): f = {residual:e} at t = {t} (allowed \
          {tolerance:e}); give a consistent initial velocity, or opt in to Problem::with_projected_velocity to \
-         project it onto f = 0"
+         project it onto f = 0",
+        t = Num(*.t)
     )]
     InconsistentInitialState {
         /// Initial time.
@@ -84,7 +86,8 @@ pub enum Error {
         "the initial position violates holonomic constraint {index} (numbered from 1 among the holonomic \
          ones): h = {residual:e} at t = {t} (allowed {tolerance:e}); give a consistent initial position, or \
          opt in to Problem::with_projected_velocity, which projects the position onto h = 0 and then the \
-         velocity"
+         velocity",
+        t = Num(*.t)
     )]
     InconsistentInitialPosition {
         /// Initial time.
@@ -101,7 +104,8 @@ pub enum Error {
     #[error(
         "the Chetaev block system is singular at t = {t} (pivot ratio {pivot_ratio:e}) with q = {q:?}, q̇ = {qd:?}: \
          the constraint Jacobian ∂f/∂q̇ has lost rank (a repeated constraint, or a zero velocity under a constraint \
-         on its magnitude) or ∂²L/∂q̇² is singular on the constraints' tangent space (a coordinate without kinetic energy)"
+         on its magnitude) or ∂²L/∂q̇² is singular on the constraints' tangent space (a coordinate without kinetic energy)",
+        t = Num(*.t)
     )]
     Singular {
         /// Time.
@@ -119,7 +123,8 @@ pub enum Error {
         "constraint {index} (numbered from 1) has ∂f/∂q̇ = 0 at t = {t} with q = {q:?}, q̇ = {qd:?}: it does not \
          restrict the velocity there: a constraint that holds identically, or one whose gradient vanishes at \
          this state (for |q̇|² = v0², the speed v0 must not be zero; for a holonomic h(t, q), ∂h/∂q must not \
-         vanish)"
+         vanish)",
+        t = Num(*.t)
     )]
     DegenerateConstraint {
         /// Time.
@@ -135,7 +140,8 @@ pub enum Error {
     /// The Lagrangian, the constraints or their derivatives gave NaN or infinity.
     #[error(
         "the model evaluated to a non-finite number at t = {t} with q = {q:?}, q̇ = {qd:?} (a square root or \
-         logarithm of a negative number, a division by zero, or an overflow); check the model's domain"
+         logarithm of a negative number, a division by zero, or an overflow); check the model's domain",
+        t = Num(*.t)
     )]
     NonFiniteEvaluation {
         /// Time.
@@ -158,7 +164,8 @@ pub enum Error {
         match constraint {
             Some(a) => format!("the gradient ∂f/∂q̇ of constraint {a} passes through zero, down to {ratio:e} times its size at the ends of the step"),
             None => format!("the kinetic metric ∂²L/∂q̇² changed size by a factor {ratio:e} within one step"),
-        }
+        },
+        t = Num(*.t)
     )]
     SingularPoint {
         /// Time: for a gradient, where it is smallest between the last two states checked (the
@@ -183,7 +190,7 @@ pub enum Error {
          (a singularity of the model or of the motion, such as a collision or a blow-up in finite time; or a \
          stiff problem: {advice}); or t itself is so large that a step this short no longer changes it \
          (steps below 4 ulps of t, {resolution:e} here: count time from a nearer origin)",
-        resolution = 4.0 * f64::EPSILON * t.abs()
+        resolution = 4.0 * f64::EPSILON * t.abs(), t = Num(*.t)
     )]
     StepSizeTooSmall {
         /// Time.
@@ -197,7 +204,8 @@ pub enum Error {
     /// The state left the floating-point range (overflowed to infinity or became NaN).
     #[error(
         "the state is no longer finite after a step from t = {t} (size {h:e}): the motion blows up there, or \
-         the model leaves its domain; the motion up to t is kept"
+         the model leaves its domain; the motion up to t is kept",
+        t = Num(*.t)
     )]
     NonFiniteState {
         /// Time of the last finite state.
@@ -209,7 +217,8 @@ pub enum Error {
     /// A recorded quantity is not finite.
     #[error(
         "{quantity} is not finite at t = {t} (the model's value leaves its domain there while the motion goes \
-         on); the motion before t is kept"
+         on); the motion before t is kept",
+        t = Num(*.t)
     )]
     NonFiniteSolution {
         /// Time.
@@ -219,18 +228,22 @@ pub enum Error {
     },
 
     /// The step limit was reached.
-    #[error("step limit of {max_steps} reached at t = {t}; raise Options::max_steps or loosen the tolerances")]
+    #[error("step limit of {max_steps} reached at t = {t}; {hint}", t = Num(*.t))]
     MaxSteps {
         /// Time.
         t: f64,
         /// The limit.
         max_steps: usize,
+        /// What to try: raise the limit, or take fewer steps (looser tolerances, or a larger
+        /// fixed step for a method without error control).
+        hint: &'static str,
     },
 
     /// The explicit method detected stiffness.
     #[error(
         "the problem became stiff at t = {t} (h·|λ| ≈ {h_lambda:.2} at the stability boundary for many steps); \
-         use the implicit method {suggestion}"
+         use the implicit method {suggestion}",
+        t = Num(*.t)
     )]
     Stiff {
         /// Time.
@@ -244,7 +257,8 @@ pub enum Error {
     /// The projection onto `f = 0` did not converge.
     #[error(
         "projection onto the constraints did not converge at t = {t}: residual {residual:e} after {iterations} \
-         iterations; tighten the tolerances so that steps stay close to the constraint manifold"
+         iterations; tighten the tolerances so that steps stay close to the constraint manifold",
+        t = Num(*.t)
     )]
     ProjectionFailed {
         /// Time.
@@ -255,11 +269,31 @@ pub enum Error {
         iterations: usize,
     },
 
+    /// The projection of the initial state onto the constraints
+    /// ([`Problem::with_projected_velocity`](crate::Problem::with_projected_velocity)) did not
+    /// converge.
+    #[error(
+        "the initial state could not be projected onto the constraints at t0 = {t}: residual \
+         {residual:e} after {iterations} Newton iterations; there may be no state satisfying them near \
+         the one given, or they are singular there (a speed constraint whose prescribed speed is 0 at \
+         t0, say): give q and q̇ that satisfy them, or nearly",
+        t = Num(*.t)
+    )]
+    InitialProjectionFailed {
+        /// Initial time.
+        t: f64,
+        /// Residual after the last iteration (relative to the constraints' scale).
+        residual: f64,
+        /// Iterations done.
+        iterations: usize,
+    },
+
     /// An event function returned NaN or infinity.
     #[error(
         "event {name:?} (index {index}, numbered from 0 in the order of Options::event) returned \
          {value} at t = {t}: its function left its domain along the motion, and the motion up to \
-         t is kept"
+         t is kept",
+        t = Num(*.t), value = Num(*.value)
     )]
     NonFiniteEvent {
         /// The event index, from 0, in the order the events were given.
@@ -294,6 +328,21 @@ pub enum Error {
         /// `δf_a = ∂f_a/∂q δq0 + ∂f_a/∂q̇ δq̇0 + ∂f_a/∂p δp`.
         residual: f64,
     },
+}
+
+/// A number in a message: as written for moderate magnitudes, in scientific notation for tiny
+/// and huge ones (so `1e-300` is not printed with three hundred zeros).
+struct Num(f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        if x != 0.0 && x.is_finite() && !(1e-5..1e16).contains(&x.abs()) {
+            write!(f, "{x:e}")
+        } else {
+            write!(f, "{x}")
+        }
+    }
 }
 
 impl std::fmt::Debug for Error {

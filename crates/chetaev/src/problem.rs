@@ -171,8 +171,20 @@ impl<M: Model> Problem<M> {
         };
         let mut ws = Workspace::for_model(&model);
         let mut q0 = q0;
-        project_positions(&model, &mut ws, t0, &mut q0, &qd0, settings)?;
-        project_velocity(&model, &mut ws, t0, &q0, &mut qd0, settings)?;
+        let initial = |e| match e {
+            Error::ProjectionFailed {
+                t,
+                residual,
+                iterations,
+            } => Error::InitialProjectionFailed {
+                t,
+                residual,
+                iterations,
+            },
+            e => e,
+        };
+        project_positions(&model, &mut ws, t0, &mut q0, &qd0, settings).map_err(initial)?;
+        project_velocity(&model, &mut ws, t0, &q0, &mut qd0, settings).map_err(initial)?;
         Self::from_model(model, t0, q0, qd0)
     }
 

@@ -441,7 +441,10 @@ impl Solution {
     }
 
     /// The energy balance `E(t) − E(t0) − W_Φ(t) − W_Q(t) + ∫∂L/∂t dt`, which vanishes along an exact
-    /// motion because `dE/dt = q̇·Φ + q̇·Q − ∂L/∂t` ([`Record::Energy`]; empty otherwise).
+    /// motion because `dE/dt = q̇·Φ + q̇·Q − ∂L/∂t` ([`Record::Energy`]; empty otherwise). Its
+    /// quadratures are outside error control: at output times between steps they are the
+    /// method's dense output, which can be far less accurate than the motion (`docs/where-it-breaks.md`,
+    /// "The energy balance between steps"); at the steps (the default output) they are not.
     pub fn energy_balance(&self) -> Vec<f64> {
         if self.work.is_empty() {
             return Vec::new();
@@ -454,16 +457,20 @@ impl Solution {
             .collect()
     }
 
-    /// `max_i max_a |f_a|` over the recorded points ([`Record::Dynamics`] and above; 0 otherwise).
-    /// NaN if any residual is NaN: a maximum never hides one.
-    pub fn max_residual(&self) -> f64 {
-        self.residual.as_flat().iter().fold(0.0f64, |acc, v| {
+    /// `max_i max_a |f_a|` over the recorded points ([`Record::Dynamics`] and above; `None` when
+    /// the residual was not recorded, so that a check of it cannot pass on nothing; 0 without
+    /// constraints). NaN if any residual is NaN: a maximum never hides one.
+    pub fn max_residual(&self) -> Option<f64> {
+        if self.record < Record::Dynamics {
+            return None;
+        }
+        Some(self.residual.as_flat().iter().fold(0.0f64, |acc, v| {
             if v.is_nan() || acc.is_nan() {
                 f64::NAN
             } else {
                 acc.max(v.abs())
             }
-        })
+        }))
     }
 }
 

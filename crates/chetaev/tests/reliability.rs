@@ -729,7 +729,7 @@ fn a_position_whose_constraint_overflows_is_refused_not_accepted() {
     let err = Problem::with_projected_velocity(Circle { l: 1.0 }, 0.0, start, SVector::zeros())
         .unwrap_err();
     assert!(
-        matches!(err, Error::ProjectionFailed { iterations: 1, .. }),
+        matches!(err, Error::InitialProjectionFailed { iterations: 1, .. }),
         "{err}"
     );
     // A start off the circle by a fraction is still projected onto it.
@@ -938,4 +938,89 @@ fn a_time_too_large_to_resolve_the_steps_says_so() {
     // The same motion from t = 0 runs.
     let o = Options::until(1e3).output_final();
     assert!(dopri5_on_oscillator(&o).expect("valid").is_success());
+}
+
+/// A particle at constant speed `v0` in a gravity that oscillates in time, `g(t) = g0 (1 + ε sin ωt)`:
+/// the rate of the work `W_Φ`, `−m g(t) v0 tanh(G(t)/v0)`, keeps the oscillation's high
+/// derivatives while those of the motion die out with `sech²(G/v0)`.
+struct OscillatingGravity {
+    m: f64,
+    g0: f64,
+    eps: f64,
+    omega: f64,
+    v0: f64,
+}
+
+impl Lagrangian<2> for OscillatingGravity {
+    fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        let g = ((t * self.omega).sin() * self.eps + 1.0) * self.g0;
+        qd.dot(qd) * (0.5 * self.m) - q[1] * g * self.m
+    }
+}
+
+impl Constraints<2, 1> for OscillatingGravity {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        SVector::from([qd.dot(qd) - self.v0 * self.v0])
+    }
+}
+
+/// The largest `|E − E0 − W_Φ − W_Q + ∫∂L/∂t dt|` of a solution.
+fn largest_imbalance(sol: &Solution) -> f64 {
+    sol.energy_balance().iter().fold(0.0, |m, b| m.max(b.abs()))
+}
+
+/// The quadratures of the energy balance are outside error control (recording them never changes
+/// the motion), and between steps they are the method's dense output: on a grid of output times
+/// the balance is as good as that interpolant of `W_Φ` and `∫∂L/∂t dt`, not as the motion. The
+/// figures of where-it-breaks.md (`cargo test --release -p chetaev --test reliability -- balance
+/// --nocapture`).
+#[test]
+fn the_energy_balance_between_steps_is_as_good_as_the_dense_output() {
+    let model = OscillatingGravity {
+        m: 1.7,
+        g0: 9.81,
+        eps: 0.5,
+        omega: 7.0,
+        v0: 3.0,
+    };
+    let v0 = model.v0;
+    let problem = Problem::new(
+        model,
+        0.0,
+        SVector::from([0.0, 4.0]),
+        SVector::from([v0, 0.0]),
+    )
+    .expect("consistent");
+    let options = Options::until(1.4)
+        .tolerances(1e-11, 1e-11)
+        .record(Record::Energy);
+    for method in AnyMethod::all(1e-3) {
+        if method.info().fixed_step.is_some() {
+            continue;
+        }
+        let steps = solve(&problem, method, &options).expect("valid");
+        let grid = solve(&problem, method, &options.clone().output_grid(0.0, 201)).expect("valid");
+        assert!(steps.is_success() && grid.is_success());
+        let (at_steps, on_grid) = (largest_imbalance(&steps), largest_imbalance(&grid));
+        // The motion on the grid against its closed form ẏ = −v0 tanh(G(t)/v0), G' = g.
+        let (g0, eps, omega) = (9.81, 0.5, 7.0);
+        let big_g = |t: f64| g0 * (t + eps * (1.0 - (omega * t).cos()) / omega);
+        let motion = grid
+            .t
+            .iter()
+            .zip(grid.qd.iter())
+            .map(|(&t, qd)| (qd[1] + v0 * (big_g(t) / v0).tanh()).abs())
+            .fold(0.0, f64::max);
+        eprintln!(
+            "{}: {} steps; largest imbalance at the steps {at_steps:.1e}, on 201 output times \
+             {on_grid:.1e}; ẏ on them within {motion:.1e}",
+            method.name(),
+            steps.stats.accepted_steps
+        );
+        assert!(motion < 1e-9, "{}: {motion:e}", method.name());
+        // At the steps the balance holds to about the tolerance times the energies' scale (~70 J).
+        assert!(at_steps < 1e-8, "{}: {at_steps:e}", method.name());
+        // Between them it is at most the interpolant's error, which the steps do not control.
+        assert!(on_grid < 1e-5, "{}: {on_grid:e}", method.name());
+    }
 }

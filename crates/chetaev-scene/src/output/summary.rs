@@ -53,12 +53,21 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
     let stiff =
         "if the steps shrank because the problem is stiff, set method = \"rodas4\" under [solve]";
     match e {
-        E::MaxSteps { t, max_steps } => Failure {
+        E::MaxSteps { t, max_steps, .. } => Failure {
             t: Some(*t),
             what: format!("the step limit of {max_steps} steps was reached"),
-            advice: format!(
-                "raise max_steps under [solve] (now {max_steps}), or loosen rtol and atol; {stiff}"
-            ),
+            advice: match scene.solve.method.info().fixed_step {
+                Some(h) => format!(
+                    "raise max_steps under [solve] (now {max_steps}), or take a larger step (now \
+                     step = {}); or choose an adaptive method ({}), which takes the steps the \
+                     tolerances need",
+                    num(h),
+                    crate::scene::adaptive_methods()
+                ),
+                None => format!(
+                    "raise max_steps under [solve] (now {max_steps}), or loosen rtol and atol; {stiff}"
+                ),
+            },
         },
         E::Stiff { t, h_lambda, .. } => Failure {
             t: Some(*t),

@@ -16,6 +16,7 @@ mod schema;
 mod sensitivities;
 mod spec;
 mod validate;
+pub(crate) use validate::adaptive_methods;
 
 use std::io::Read as _;
 use std::ops::Range;

@@ -1137,7 +1137,7 @@ impl Builder {
 
 /// The scene's names of the methods with error control, "dopri5, dop853, ...", from the library's
 /// list.
-fn adaptive_methods() -> String {
+pub(crate) fn adaptive_methods() -> String {
     use chetaev::integrate::Method;
     method_names(|m| m.info().fixed_step.is_none())
 }

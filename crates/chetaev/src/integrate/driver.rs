@@ -146,6 +146,8 @@ impl<'o> LoopSettings<'o> {
 pub(crate) trait Hooks<S: OdeSystem> {
     /// Records `(t, y)`.
     fn record(&mut self, sys: &mut S, t: f64, y: &[f64]) -> Result<(), Error>;
+    /// The time of the last recorded point.
+    fn last_recorded(&self) -> Option<f64>;
     /// Number of event functions.
     fn n_events(&self) -> usize;
     /// The value of event function `i` at `(t, y)`.
@@ -173,6 +175,10 @@ struct ChetaevHooks<'s> {
 impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
     fn record(&mut self, sys: &mut ReducedOde<'_, M>, t: f64, y: &[f64]) -> Result<(), Error> {
         self.sol.record(sys, t, y)
+    }
+
+    fn last_recorded(&self) -> Option<f64> {
+        self.sol.t.last().copied()
     }
 
     fn n_events(&self) -> usize {
@@ -295,6 +301,9 @@ impl<S: OdeSystem> Hooks<S> for PlainHooks<'_> {
         self.sol.t.push(t);
         self.sol.y.push(y.to_vec());
         Ok(())
+    }
+    fn last_recorded(&self) -> Option<f64> {
+        self.sol.t.last().copied()
     }
     fn n_events(&self) -> usize {
         0
@@ -501,6 +510,11 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
             return Err(Error::MaxSteps {
                 t,
                 max_steps: options.max_steps,
+                hint: if adaptive {
+                    "raise Options::max_steps or loosen the tolerances"
+                } else {
+                    "raise Options::max_steps or take a larger fixed step"
+                },
             });
         }
         steps += 1;
@@ -609,7 +623,10 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
             y.copy_from_slice(&y_new);
             *t_last = ts;
             hooks.event_hit(sys, i, ts, y)?;
-            hooks.record(sys, ts, y)?;
+            // An event at the start of the step (at t0, say) is at a point already recorded.
+            if !(h_event == 0.0 && hooks.last_recorded() == Some(ts)) {
+                hooks.record(sys, ts, y)?;
+            }
             hooks.terminated(i);
             return Ok(());
         }

@@ -271,12 +271,12 @@ impl Options {
     }
 
     /// Records on `count` equally spaced times from the start time `t0` to the end time,
-    /// both included (`count ≥ 2`).
+    /// both included. A grid needs both ends: a `count` below 2 records the start and the end
+    /// only, as [`Options::output_final`].
     pub fn output_grid(self, t0: f64, count: usize) -> Self {
         let t_end = self.t_end;
         let times = match count {
-            0 => Vec::new(),
-            1 => vec![t_end],
+            0 | 1 => return self.output_final(),
             _ => (0..count)
                 .map(|i| {
                     if i + 1 == count {
