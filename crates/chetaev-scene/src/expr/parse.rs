@@ -11,9 +11,10 @@
 use super::lex::{tokenize, Tok, Token};
 use super::ExprError;
 
-/// The most numbers, names, operators and parentheses an expression may have. It bounds the depth
-/// of the syntax tree, and so the recursion of parsing and evaluation.
-pub const MAX_TOKENS: usize = 1000;
+/// The most numbers, names, operators and parentheses an expression may have: a Lagrangian of a few
+/// thousand coordinates written out. It bounds the work of loading a scene; the recursion of
+/// parsing and evaluation is bounded by [`MAX_DEPTH`] (a long sum or product is one node).
+pub const MAX_TOKENS: usize = 100_000;
 
 /// The deepest nesting of parentheses, signs and exponents an expression may have.
 pub const MAX_DEPTH: usize = 64;
@@ -77,7 +78,8 @@ pub(crate) fn parse(src: &str) -> Result<Ast, ExprError> {
             src.len(),
             format!(
                 "the expression has {} numbers, names and operators, more than the {MAX_TOKENS} \
-                 allowed; define parts of it as parameters or output quantities",
+                 allowed; a model this large is better written in Rust (the DynModel trait, \
+                 docs/formulation.md), where L can be a loop",
                 tokens.len() - 1
             ),
         ));
