@@ -409,11 +409,12 @@ fn stiffness_detection_sets_the_test_of_the_methods_that_have_one() {
 
 #[test]
 fn the_longest_expression_allowed_evaluates_with_every_dual_type() {
-    // About 1000 tokens in one sum: the deepest tree an expression can give, differentiated by
-    // the implicit method's nested dual numbers, on a test thread's stack.
+    // 100,000 tokens less one in one sum, differentiated by the implicit method's nested dual
+    // numbers, on a test thread's stack: a long sum is one node of the tree, so its length costs
+    // no depth.
     let kinetic: Vec<String> = (1..=6).map(|i| format!("0.5*q{i}_dot^2")).collect();
-    // 6 terms of 5 tokens, 5 pluses, then 241 terms of 4 tokens: 999 tokens.
-    let terms = 241;
+    // 6 terms of 5 tokens, 5 pluses, then 24,991 terms of 4 tokens: 99,999 tokens.
+    let terms = 24_991;
     let l = format!("{}{}", kinetic.join(" + "), " - 0.001*q6".repeat(terms));
     let names: Vec<String> = (1..=6).map(|i| format!("\"q{i}\"")).collect();
     let text = format!(
@@ -430,9 +431,9 @@ fn the_longest_expression_allowed_evaluates_with_every_dual_type() {
     // One more term is too long.
     let longer = text.replace(" - 0.001*q6\"", " - 0.001*q6 - 0.001*q6\"");
     match Scene::parse(&longer, "longer.toml") {
-        Ok(_) => panic!("1003 tokens accepted"),
+        Ok(_) => panic!("100,003 tokens accepted"),
         Err(e) => assert!(
-            e.to_string().contains("1003 numbers, names and operators"),
+            e.to_string().contains("100003 numbers, names and operators"),
             "{e}"
         ),
     }
