@@ -409,11 +409,12 @@ fn stiffness_detection_sets_the_test_of_the_methods_that_have_one() {
 
 #[test]
 fn the_longest_expression_allowed_evaluates_with_every_dual_type() {
-    // About 1000 tokens in one sum: the deepest tree an expression can give, differentiated by
-    // the implicit method's nested dual numbers, on a test thread's stack.
+    // 100,000 tokens less one in one sum, differentiated by the implicit method's nested dual
+    // numbers, on a test thread's stack: a long sum is one node of the tree, so its length costs
+    // no depth.
     let kinetic: Vec<String> = (1..=6).map(|i| format!("0.5*q{i}_dot^2")).collect();
-    // 6 terms of 5 tokens, 5 pluses, then 241 terms of 4 tokens: 999 tokens.
-    let terms = 241;
+    // 6 terms of 5 tokens, 5 pluses, then 24,991 terms of 4 tokens: 99,999 tokens.
+    let terms = 24_991;
     let l = format!("{}{}", kinetic.join(" + "), " - 0.001*q6".repeat(terms));
     let names: Vec<String> = (1..=6).map(|i| format!("\"q{i}\"")).collect();
     let text = format!(
@@ -430,9 +431,10 @@ fn the_longest_expression_allowed_evaluates_with_every_dual_type() {
     // One more term is too long.
     let longer = text.replace(" - 0.001*q6\"", " - 0.001*q6 - 0.001*q6\"");
     match Scene::parse(&longer, "longer.toml") {
-        Ok(_) => panic!("1003 tokens accepted"),
+        Ok(_) => panic!("100,003 tokens accepted"),
         Err(e) => assert!(
-            e.to_string().contains("1003 numbers, names and operators"),
+            e.to_string()
+                .contains("100003 numbers, names and operators"),
             "{e}"
         ),
     }
@@ -583,4 +585,67 @@ fn the_energy_line_names_the_terms_of_the_balance() {
     assert!(line(&timed).contains("max |E − E(t0) − W_Φ + ∫∂L/∂t dt| = "));
     let free = base.replace("constraints = [\"x_dot^2 + y_dot^2 - v0^2\"]\n", "");
     assert!(line(&free).contains("max |E − E(t0)| = "));
+}
+
+/// The paper's motion written out in 300 coordinates: gravity along a unit vector `c` of R³⁰⁰.
+/// Its Lagrangian alone has about 2,700 numbers, names and operators.
+#[test]
+fn a_scene_of_300_coordinates_is_written_out_and_solved() {
+    let n = 300;
+    let norm = (0..n)
+        .map(|i| (i as f64 + 1.0).sin().powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let c: Vec<f64> = (0..n).map(|i| (i as f64 + 1.0).sin() / norm).collect();
+    let names: Vec<String> = (0..n).map(|i| format!("x{i}")).collect();
+    let height = |scale: f64| {
+        names
+            .iter()
+            .zip(&c)
+            .map(|(x, ci)| format!("{:e}*{x}", ci * scale))
+            .collect::<Vec<_>>()
+            .join(" + ")
+    };
+    let speeds = names
+        .iter()
+        .map(|x| format!("{x}_dot^2"))
+        .collect::<Vec<_>>()
+        .join(" + ");
+    // Start at height h0 = 5 along c with the speed v0 = 10 along x0 − (c·e0) c, orthogonal to c.
+    let e = {
+        let mut e = vec![0.0; n];
+        e[0] = 1.0;
+        let d = c[0];
+        let v: Vec<f64> = e.iter().zip(&c).map(|(ei, ci)| ei - d * ci).collect();
+        let len = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        v.into_iter().map(|x| 10.0 * x / len).collect::<Vec<_>>()
+    };
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let q0: Vec<f64> = c.iter().map(|ci| 5.0 * ci).collect();
+    let text = format!(
+        "[parameters]\ng = 10.0\nv0 = 10.0\n[model]\ncoordinates = [{}]\nlagrangian = \"0.5*({speeds}) - \
+         g*({})\"\nconstraints = [\"{speeds} - v0^2\"]\n[initial]\nq = [{}]\nq_dot = [{}]\n[solve]\n\
+         method = \"dop853\"\nt_end = 3.0\nrtol = 1e-11\natol = 1e-11\n[[events]]\nname = \"impact\"\n\
+         expression = \"{}\"\ndirection = \"falling\"\nterminal = true\n",
+        names
+            .iter()
+            .map(|x| format!("\"{x}\""))
+            .collect::<Vec<_>>()
+            .join(", "),
+        height(1.0),
+        list(&q0),
+        list(&e),
+        height(1.0)
+    );
+    let scene = Scene::parse(&text, "big.toml").unwrap_or_else(|e| panic!("{e}"));
+    let o = scene.solve().expect("solves");
+    assert_eq!(o.solution.status, Status::Terminated { event: 0 });
+    // The paper's impact time for g = 10, v0 = 10, h0 = 5 (Table 42.1).
+    let t = o.solution.events[0].t;
+    assert!((t - 1.085038501948).abs() < 1e-9, "{t}");
 }

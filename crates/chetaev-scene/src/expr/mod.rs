@@ -480,13 +480,32 @@ fn resolve(ast: &Ast, sym: &Symbols) -> Result<Node, ExprError> {
             }
             binary(*op, a, b, *span)?
         }
+        Ast::Chain(first, rest, _) => {
+            // Left to right, each partial result checked as the node of a binary tree would be.
+            let start = first.span().start;
+            let mut acc = resolve(first, sym)?;
+            for (op, b) in rest {
+                let span = Span {
+                    start,
+                    end: b.span().end,
+                };
+                acc = finite(binary(*op, acc, resolve(b, sym)?, span)?, span)?;
+            }
+            acc
+        }
         Ast::Call(name, span, args) => call(name, *span, args, sym)?,
     };
+    finite(node, ast.span())
+}
+
+/// `node`, unless it is a constant that is not finite: then an error at `span`, the part that
+/// produced it.
+fn finite(node: Node, span: Span) -> Result<Node, ExprError> {
     if let Node::Const(c) = node {
         if !c.is_finite() {
             let what = if c.is_nan() { "NaN" } else { "infinite" };
             return Err(ExprError::at(
-                ast.span(),
+                span,
                 format!(
                     "this part is {what} with the parameters given (a division by zero, a square root \
                      or logarithm of a negative number, or an overflow); check the parameters"

@@ -11,9 +11,11 @@
 use super::lex::{tokenize, Tok, Token};
 use super::ExprError;
 
-/// The most numbers, names, operators and parentheses an expression may have. It bounds the depth
-/// of the syntax tree, and so the recursion of parsing and evaluation.
-pub const MAX_TOKENS: usize = 1000;
+/// The most numbers, names, operators and parentheses an expression may have: a Lagrangian of a few
+/// thousand coordinates written out. It bounds the work of loading a scene; the recursion of
+/// parsing, folding and evaluation is bounded by [`MAX_DEPTH`], since a chain of sums or products
+/// is one node of the syntax tree.
+pub const MAX_TOKENS: usize = 100_000;
 
 /// The deepest nesting of parentheses, signs and exponents an expression may have.
 pub const MAX_DEPTH: usize = 64;
@@ -36,6 +38,10 @@ pub(crate) enum Ast {
     Call(String, Span, Vec<Ast>),
     Neg(Box<Ast>, Span),
     Bin(BinOp, Box<Ast>, Box<Ast>, Span),
+    /// `a op₁ b op₂ c …` of left-associative operators of one level (`+`, `−` or `×`, `÷`), read
+    /// left to right: one node however long, so that no walk of the tree (nor dropping it)
+    /// recurses through the terms of a long sum.
+    Chain(Box<Ast>, Vec<(BinOp, Ast)>, Span),
 }
 
 /// A byte range `start..end` in the expression.
@@ -49,7 +55,7 @@ impl Ast {
     pub(crate) fn span(&self) -> Span {
         match self {
             Ast::Num(_, s) | Ast::Name(_, s) | Ast::Call(_, s, _) | Ast::Neg(_, s) => *s,
-            Ast::Bin(_, _, _, s) => *s,
+            Ast::Bin(_, _, _, s) | Ast::Chain(_, _, s) => *s,
         }
     }
 
@@ -60,6 +66,10 @@ impl Ast {
             Ast::Name(n, s) => out.push((n.clone(), *s)),
             Ast::Call(_, _, args) => args.iter().for_each(|a| a.names(out)),
             Ast::Neg(a, _) => a.names(out),
+            Ast::Chain(first, rest, _) => {
+                first.names(out);
+                rest.iter().for_each(|(_, b)| b.names(out));
+            }
             Ast::Bin(_, a, b, _) => {
                 a.names(out);
                 b.names(out);
@@ -137,30 +147,30 @@ impl Parser {
     }
 
     fn expr(&mut self) -> Result<Ast, ExprError> {
-        let mut lhs = self.term()?;
+        let first = self.term()?;
+        let mut rest = Vec::new();
         loop {
             let op = match self.peek().tok {
                 Tok::Plus => BinOp::Add,
                 Tok::Minus => BinOp::Sub,
-                _ => return Ok(lhs),
+                _ => return Ok(chain(first, rest)),
             };
             let op_tok = self.next();
-            let rhs = self.operand(&op_tok, Self::term)?;
-            lhs = join(op, lhs, rhs);
+            rest.push((op, self.operand(&op_tok, Self::term)?));
         }
     }
 
     fn term(&mut self) -> Result<Ast, ExprError> {
-        let mut lhs = self.unary()?;
+        let first = self.unary()?;
+        let mut rest = Vec::new();
         loop {
             let op = match self.peek().tok {
                 Tok::Star => BinOp::Mul,
                 Tok::Slash => BinOp::Div,
-                _ => return Ok(lhs),
+                _ => return Ok(chain(first, rest)),
             };
             let op_tok = self.next();
-            let rhs = self.operand(&op_tok, Self::unary)?;
-            lhs = join(op, lhs, rhs);
+            rest.push((op, self.operand(&op_tok, Self::unary)?));
         }
     }
 
@@ -343,6 +353,20 @@ fn starts_operand(t: &Tok) -> bool {
     )
 }
 
+/// `first` alone, or the chain of it and the operations `rest`.
+fn chain(first: Ast, rest: Vec<(BinOp, Ast)>) -> Ast {
+    match rest.last() {
+        None => first,
+        Some((_, last)) => {
+            let span = Span {
+                start: first.span().start,
+                end: last.span().end,
+            };
+            Ast::Chain(Box::new(first), rest, span)
+        }
+    }
+}
+
 fn join(op: BinOp, a: Ast, b: Ast) -> Ast {
     let span = Span {
         start: a.span().start,
@@ -355,6 +379,16 @@ fn join(op: BinOp, a: Ast, b: Ast) -> Ast {
 mod tests {
     use super::*;
 
+    fn symbol(op: BinOp) -> &'static str {
+        match op {
+            BinOp::Add => "+",
+            BinOp::Sub => "-",
+            BinOp::Mul => "*",
+            BinOp::Div => "/",
+            BinOp::Pow => "^",
+        }
+    }
+
     fn show(a: &Ast) -> String {
         match a {
             Ast::Num(v, _) => format!("{v}"),
@@ -364,16 +398,11 @@ mod tests {
                 args.iter().map(show).collect::<Vec<_>>().join(", ")
             ),
             Ast::Neg(a, _) => format!("(-{})", show(a)),
-            Ast::Bin(op, a, b, _) => {
-                let o = match op {
-                    BinOp::Add => "+",
-                    BinOp::Sub => "-",
-                    BinOp::Mul => "*",
-                    BinOp::Div => "/",
-                    BinOp::Pow => "^",
-                };
-                format!("({} {o} {})", show(a), show(b))
-            }
+            Ast::Bin(op, a, b, _) => format!("({} {} {})", show(a), symbol(*op), show(b)),
+            // Shown as the left-associated operations it stands for.
+            Ast::Chain(first, rest, _) => rest.iter().fold(show(first), |acc, (op, b)| {
+                format!("({acc} {} {})", symbol(*op), show(b))
+            }),
         }
     }
 
@@ -402,11 +431,11 @@ mod tests {
         assert_eq!(e.start, 0);
         let e = parse("x +").expect_err("dangling");
         assert_eq!(e.start, 3);
-        let long = vec!["x"; 600].join("+");
+        let long = vec!["x"; MAX_TOKENS / 2 + 1].join("+");
         assert!(parse(&long)
             .expect_err("too long")
             .message
-            .contains("more than the 1000"));
+            .contains(&format!("more than the {MAX_TOKENS}")));
         let nested = |n: usize| format!("{}x{}", "(".repeat(n), ")".repeat(n));
         assert!(parse(&nested(60)).is_ok());
         assert!(parse(&nested(MAX_DEPTH)).is_ok());
