@@ -533,17 +533,14 @@ impl Builder {
         let info = method.info();
         let fixed = info.fixed_step.is_some();
         if let Some(s) = &raw.stiffness_detection {
-            match method.stiffness_detection_mut() {
-                Some(_) => {}
-                None => {
-                    return Err(self.err(
-                        s.span(),
-                        format!(
-                            "stiffness_detection applies to {} only; remove it",
-                            stiffness_methods()
-                        ),
-                    ))
-                }
+            if method.stiffness_detection_mut().is_none() {
+                return Err(self.err(
+                    s.span(),
+                    format!(
+                        "stiffness_detection applies to {} only; remove it",
+                        stiffness_methods()
+                    ),
+                ));
             }
         }
         let key = info.name.to_lowercase();
