@@ -85,7 +85,10 @@
 //! under error control (chetaev's driver keeps them outside) and the time `s`, integrated exactly,
 //! enters the mean. At equal tolerances its steps therefore differ slightly from chetaev's own
 //! `Dopri5` and `Dop853`. Its rejected steps are counted from the right-hand sides it requests,
-//! since `ode_solvers` does not count the rejections before its first accepted step.
+//! since `ode_solvers` does not count the rejections before its first accepted step. For the same
+//! reason its state carries the forces' work `W_Q` only for a model with forces at its initial
+//! state (a component that stays zero would still change its norm): the work of forces that begin
+//! later is missing from its `work_forces`, which chetaev's own `solve` records.
 //!
 //! [`Options`]: chetaev::prelude::Options
 //! [`Record::Energy`]: chetaev::prelude::Record::Energy

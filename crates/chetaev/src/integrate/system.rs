@@ -363,6 +363,15 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         }
     }
 
+    /// Whether the state carries the quadrature of the forces' work `W_Q` when it carries the
+    /// energy balance. [`ReducedOde::for_problem`] leaves it out for a model without forces at its
+    /// initial state; [`solve`](crate::solve) keeps it always, since a model may state forces from
+    /// some time on only.
+    pub fn with_forces_quadrature(mut self, on: bool) -> Self {
+        self.forces = on;
+        self
+    }
+
     /// Whether the state carries the quadrature of the forces' work `W_Q` (after `W_Φ` and
     /// `∫∂L/∂t dt`).
     pub fn has_forces_quadrature(&self) -> bool {
