@@ -360,6 +360,19 @@ fn a_terminal_event_at_the_start_stops_there_without_a_second_row() {
 }
 
 #[test]
+fn a_seed_is_named_as_written_in_its_messages() {
+    // The dot of q̇ is a combining character: the name is quoted, not escaped.
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    let options = Options::until(0.5).sensitivity(Seed::velocity(2));
+    let e = solve(&p, Dopri5::default(), &options).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("seed \"q̇3(t0)\" moves coordinate index 2"),
+        "{e}"
+    );
+}
+
+#[test]
 fn zero_length_interval_returns_the_initial_point() {
     let p = uniform_problem(&Params::PAPER).expect("valid");
     let sol = solve(&p, Dopri5::default(), &Options::until(0.0)).expect("valid");

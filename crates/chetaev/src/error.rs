@@ -40,7 +40,7 @@ pub enum Error {
     },
 
     /// No method has this name.
-    #[error("unknown method {name:?}: choose one of {choices}")]
+    #[error("unknown method \"{name}\": choose one of {choices}")]
     UnknownMethod {
         /// The name given.
         name: String,
@@ -290,7 +290,7 @@ pub enum Error {
 
     /// An event function returned NaN or infinity.
     #[error(
-        "event {name:?} (index {index}, numbered from 0 in the order of Options::event) returned \
+        "event \"{name}\" (index {index}, numbered from 0 in the order of Options::event) returned \
          {value} at t = {t}: its function left its domain along the motion, and the motion up to \
          t is kept",
         t = Num(*.t), value = Num(*.value)
@@ -315,7 +315,7 @@ pub enum Error {
 
     /// A seed of the sensitivities moves the initial state off the constraints to first order.
     #[error(
-        "sensitivity seed {seed:?} moves the initial state off constraint {constraint}: its \
+        "sensitivity seed \"{seed}\" moves the initial state off constraint {constraint}: its \
          first-order residual is {residual:e}; move the initial state with the parameter, with \
          Seed::with_position and Seed::with_velocity (for example, for f = |q̇|² − v0², seed v0 \
          with the velocity's direction too: Seed::parameter(\"v0\").with_velocity(i, dq̇_i/dv0))"

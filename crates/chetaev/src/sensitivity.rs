@@ -296,7 +296,7 @@ impl Variational {
                 .find(|(i, _)| *i >= n)
             {
                 return Err(invalid(format!(
-                    "seed {:?} moves coordinate index {i}, but the model has {n} coordinates \
+                    "seed \"{}\" moves coordinate index {i}, but the model has {n} coordinates \
                      (indices 0 to {})",
                     seed.name,
                     n.saturating_sub(1)
@@ -309,7 +309,7 @@ impl Variational {
                 .chain(seed.positions.iter().chain(&seed.velocities).map(|p| p.1));
             if let Some(r) = rates.into_iter().find(|r| !r.is_finite()) {
                 return Err(invalid(format!(
-                    "seed {:?} has a rate {r}; rates must be finite",
+                    "seed \"{}\" has a rate {r}; rates must be finite",
                     seed.name
                 )));
             }
@@ -331,7 +331,7 @@ impl Variational {
                     known.join(", ")
                 };
                 return Err(invalid(format!(
-                    "seed {:?} moves parameter {name:?}, which neither the model nor a smooth \
+                    "seed \"{}\" moves parameter {name:?}, which neither the model nor a smooth \
                      event reads (they read: {list}); read it as R::parameter({name:?}, value)",
                     seed.name
                 )));
