@@ -346,6 +346,11 @@ fn a_run_lists_its_files_and_refuses_to_mix_them_with_another_runs() {
     let stderr = text(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("would overwrite 1 file"), "{stderr}");
+    // One file that no run wrote: "it", and --force overwrites it (no earlier run is implied).
+    assert!(
+        stderr.contains("remove it, or pass --force to overwrite it"),
+        "{stderr}"
+    );
     assert_eq!(
         std::fs::read_to_string(other.join("state.csv"))
             .ok()

@@ -196,16 +196,26 @@ impl Plan {
             }
             if !plan.foreign.is_empty() {
                 reasons.push(format!(
-                    "this run would overwrite {} that no earlier run's {MANIFEST} lists ({})",
+                    "this run would overwrite {} that no {MANIFEST} of an earlier run lists ({})",
                     files_word(plan.foreign.len()),
                     plan.foreign.join(", ")
                 ));
             }
+            let them = if plan.stale.len() + plan.foreign.len() == 1 {
+                "it"
+            } else {
+                "them"
+            };
+            let replace = match (plan.stale.is_empty(), plan.foreign.is_empty()) {
+                (true, _) => format!("overwrite {them}"),
+                (false, true) => format!("remove {them}"),
+                (false, false) => "remove the earlier run's files and overwrite the others".into(),
+            };
             return Err(dir_error(
                 &plan.resolved,
                 format!(
-                    "{}; choose another directory with --out, remove them, or pass --force to replace \
-                     the earlier run's files",
+                    "{}; choose another directory with --out, remove {them}, or pass --force to \
+                     {replace}",
                     reasons.join("; and ")
                 ),
             ));
