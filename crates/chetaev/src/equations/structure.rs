@@ -296,17 +296,27 @@ impl fmt::Display for Description {
             f,
             "Chetaev equations (Newton form): W q̈ − Jᵀμ = ∂L/∂q − g + Q,  J q̈ = −c"
         )?;
+        let plural = |count: usize, one: &'static str, many: &'static str| {
+            if count == 1 {
+                one
+            } else {
+                many
+            }
+        };
+        let coordinates = plural(n, "coordinate", "coordinates");
         if s.holonomic > 0 {
             writeln!(
                 f,
-                "  sizes      n = {n} coordinates, k = {k} constraints ({} velocity, {} holonomic, entering as ḣ = 0)",
+                "  sizes      n = {n} {coordinates}, k = {k} {} ({} velocity, {} holonomic, entering as ḣ = 0)",
+                plural(k, "constraint", "constraints"),
                 k - s.holonomic,
                 s.holonomic
             )?;
         } else {
             writeln!(
                 f,
-                "  sizes      n = {n} coordinates, k = {k} velocity constraints"
+                "  sizes      n = {n} {coordinates}, k = {k} {}",
+                plural(k, "velocity constraint", "velocity constraints")
             )?;
         }
         if self.proved && self.guards > 0 {
