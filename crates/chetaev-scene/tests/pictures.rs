@@ -398,3 +398,42 @@ fn units_given_reach_the_scene() {
     assert_eq!(u.energy.as_deref(), Some("J"));
     assert_eq!(u.quantities, [Some("m/s".to_string()), None]);
 }
+
+/// The trajectory of a scene of one coordinate is the coordinate against t with its events marked,
+/// not the state picture under another name.
+#[test]
+fn the_trajectory_of_one_coordinate_marks_its_events() {
+    let text = r#"
+[model]
+coordinates = ["x"]
+lagrangian = "0.5*x_dot^2 - 0.5*x^2"
+[initial]
+q = [0.0]
+q_dot = [1.0]
+[solve]
+t_end = 10.0
+[[events]]
+name = "zero up"
+expression = "x"
+direction = "rising"
+[output]
+pictures = ["trajectory", "state"]
+"#;
+    let s = Scene::parse(text, "one.toml").unwrap_or_else(|e| panic!("{e}"));
+    let outcome = s.solve().expect("solves");
+    // x = sin t rises through 0 at the start and at 2π.
+    assert_eq!(outcome.events.len(), 2);
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("pictures")
+        .join("one-coordinate");
+    let _ = std::fs::remove_dir_all(&dir);
+    output::write(&s, &outcome, &dir).expect("writes");
+    let read = |name: &str| std::fs::read_to_string(dir.join(name)).expect("written");
+    let (trajectory, state) = (read("trajectory.svg"), read("state.svg"));
+    assert!(trajectory.contains("zero up"), "the event is marked");
+    assert!(!state.contains("zero up"));
+    assert!(
+        trajectory.contains(": trajectory"),
+        "titled as the trajectory"
+    );
+}

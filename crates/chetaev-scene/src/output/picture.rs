@@ -10,6 +10,7 @@
 
 use std::path::Path;
 
+use chetaev::integrate::events::EventHit;
 use chetaev::solution::Series;
 use chetaev_plot::{Figure, Legend, Panels, PlotError, Style, PALETTE};
 
@@ -273,7 +274,13 @@ fn trajectory_panel(scene: &Scene, out: &Outcome, pairs: &[(usize, usize)], titl
         let pts: Vec<(f64, f64)> = out.q.iter().map(|q| (q[i], q[j])).collect();
         f = f.line(&name, &pts);
     }
-    // One marker series per event, with all its hits.
+    mark_events(f, out, |e| {
+        pairs.iter().map(|&(i, j)| (e.q[i], e.q[j])).collect()
+    })
+}
+
+/// One marker series per event, with all its hits, each at the points `at` gives for it.
+fn mark_events(mut f: Figure, out: &Outcome, at: impl Fn(&EventHit) -> Vec<(f64, f64)>) -> Figure {
     let mut names: Vec<usize> = Vec::new();
     for e in &out.events {
         if !names.contains(&e.index) {
@@ -285,7 +292,7 @@ fn trajectory_panel(scene: &Scene, out: &Outcome, pairs: &[(usize, usize)], titl
             .events
             .iter()
             .filter(|e| e.index == index)
-            .flat_map(|e| pairs.iter().map(|&(i, j)| (e.q[i], e.q[j])))
+            .flat_map(&at)
             .collect();
         f = f.line_styled(
             out.event_name(index),
@@ -298,6 +305,21 @@ fn trajectory_panel(scene: &Scene, out: &Outcome, pairs: &[(usize, usize)], titl
         );
     }
     f
+}
+
+/// The trajectory of a scene of one coordinate: the coordinate against `t`, events marked.
+fn trajectory_in_time(scene: &Scene, out: &Outcome, title: &str, t_label: &str) -> Drawing {
+    let pts: Vec<(f64, f64)> = out
+        .t
+        .iter()
+        .zip(out.q.iter())
+        .map(|(&t, q)| (t, q[0]))
+        .collect();
+    let f = Figure::new(title)
+        .x_label(t_label)
+        .y_label(&axis_label(scene, &[0]))
+        .line(&scene.coordinates[0], &pts);
+    Drawing::One(Box::new(mark_events(f, out, |e| vec![(e.t, e.q[0])])))
 }
 
 fn trajectory(scene: &Scene, out: &Outcome, title: &str) -> Drawing {
@@ -433,7 +455,8 @@ pub(super) fn figure(scene: &Scene, out: &Outcome, which: Picture) -> Drawing {
     let k = scene.k();
     match which {
         Picture::Trajectory if scene.n() >= 2 => trajectory(scene, out, &title("trajectory")),
-        Picture::Trajectory | Picture::State => against_t(
+        Picture::Trajectory => trajectory_in_time(scene, out, &title("trajectory"), &t_label),
+        Picture::State => against_t(
             &title("coordinates"),
             "coordinates",
             &t_label,
