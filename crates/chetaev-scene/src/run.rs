@@ -180,7 +180,7 @@ impl Scene {
                 s.q_dot.clone(),
                 format!(
                     "the initial velocity violates {} differentiated in time: ḣ = ∂h/∂q·q̇ + ∂h/∂t \
-                     = {residual:e} at t = {t} (allowed {tolerance:e}), so the motion would leave \
+                     = {residual:e} at t = {t} (allowed {tolerance:.2e}), so the motion would leave \
                      h = 0 at once; give a q_dot along the constraint (ḣ = 0), or set \
                      project_velocity = true under [initial] to project it onto ḣ = 0",
                     self.constraint_name(index)
@@ -195,7 +195,7 @@ impl Scene {
                 s.q_dot.clone(),
                 format!(
                     "the initial velocity violates {}: f = {residual:e} at t = {t} \
-                     (allowed {tolerance:e}); give a consistent q_dot, or set project_velocity = true \
+                     (allowed {tolerance:.2e}); give a consistent q_dot, or set project_velocity = true \
                      under [initial] to project it onto f = 0",
                     self.constraint_name(index)
                 ),
@@ -209,7 +209,7 @@ impl Scene {
                 s.q.clone(),
                 format!(
                     "the initial position violates {}: h = {residual:e} at t = {t} (allowed \
-                     {tolerance:e}); give a q on the constraint, or set project_velocity = true \
+                     {tolerance:.2e}); give a q on the constraint, or set project_velocity = true \
                      under [initial] to project q onto h = 0 (and then q_dot onto the velocity \
                      constraints; the summary says what changed)",
                     // The library numbers the holonomic constraints from 1 among themselves.

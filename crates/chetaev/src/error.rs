@@ -66,7 +66,7 @@ pub enum Error {
     /// The initial velocity does not satisfy the constraints.
     #[error(
         "the initial state violates constraint {index} (numbered from 1): f = {residual:e} at t = {t} (allowed \
-         {tolerance:e}); give a consistent initial velocity, or opt in to Problem::with_projected_velocity to \
+         {tolerance:.2e}); give a consistent initial velocity, or opt in to Problem::with_projected_velocity to \
          project it onto f = 0",
         t = Num(*.t)
     )]
@@ -84,7 +84,7 @@ pub enum Error {
     /// The initial position does not satisfy a holonomic constraint.
     #[error(
         "the initial position violates holonomic constraint {index} (numbered from 1 among the holonomic \
-         ones): h = {residual:e} at t = {t} (allowed {tolerance:e}); give a consistent initial position, or \
+         ones): h = {residual:e} at t = {t} (allowed {tolerance:.2e}); give a consistent initial position, or \
          opt in to Problem::with_projected_velocity, which projects the position onto h = 0 and then the \
          velocity",
         t = Num(*.t)
