@@ -100,7 +100,7 @@ pub use error::BackendError;
 
 use chetaev::integrate::system::{OdeSystem, ReducedOde};
 use chetaev::integrate::Controller;
-use chetaev::model::Model;
+use chetaev::model::{Model, Point};
 use chetaev::prelude::{Atol, Options, Output, Record};
 use chetaev::{Error, Problem, Solution, Status};
 use ode_solvers::dop_shared::IntegrationError;
@@ -202,7 +202,13 @@ pub fn solve_with_ode_solvers<M: Model>(
     }
     let dir = if options.t_end >= t0 { 1.0 } else { -1.0 };
 
+    // Its norm spans the whole state: the forces' work is carried only for a model with forces at
+    // its start (see the crate's docs).
+    let mut buf = vec![0.0; n];
+    let x0 = Point::new(t0, problem.q0(), problem.qd0());
+    let forces_at_start = problem.model().force_blocks(x0, &mut buf);
     let ode = ReducedOde::for_problem(problem, options.record >= Record::Energy)
+        .with_forces_quadrature(forces_at_start)
         .with_rank_tolerance(options.rank_tolerance);
     let mut z0 = vec![0.0; ode.dim() + 1];
     z0[..n].copy_from_slice(problem.q0());

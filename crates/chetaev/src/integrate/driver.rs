@@ -50,10 +50,7 @@ where
 {
     let (n, k) = problem.sizes();
     let t0 = problem.t0();
-    // The forces' work is carried whenever the balance is: a model may state forces from some time
-    // on only (a contact, a switch), and a quadrature of zero costs next to nothing.
     let mut sys = ReducedOde::for_problem(problem, options.record >= Record::Energy)
-        .with_forces_quadrature(true)
         .with_rank_tolerance(options.rank_tolerance);
     if !options.sensitivities.is_empty() {
         if options.projection.is_some() {

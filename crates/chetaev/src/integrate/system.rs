@@ -333,17 +333,14 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         }
     }
 
-    /// The reduced equations of `problem`'s model, as [`ReducedOde::new`], leaving out the
-    /// quadrature of the forces' work when the model has no forces not derivable from `L` (asked
-    /// at the initial state).
+    /// The reduced equations of `problem`'s model, as [`ReducedOde::new`]: with `energy` the state
+    /// carries the forces' work `W_Q` too, whatever the model states at its start, since a model
+    /// may state forces from some time on only.
     pub fn for_problem(problem: &'a crate::Problem<M>, energy: bool) -> Self
     where
         M: Sized,
     {
         let model = problem.model();
-        let mut buf = vec![0.0; problem.q0().len()];
-        let x0 = Point::new(problem.t0(), problem.q0(), problem.qd0());
-        let forces = model.force_blocks(x0, &mut buf);
         let compiled = problem.compiled();
         let need = if energy { Need::Rates } else { Need::Motion };
         let native = match compiled.map(|c| (c, c.native_after(need, 0))) {
@@ -356,7 +353,6 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             _ => NativeState::Off,
         };
         Self {
-            forces,
             compiled,
             native,
             ..Self::new(model, energy)
@@ -364,9 +360,8 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     }
 
     /// Whether the state carries the quadrature of the forces' work `W_Q` when it carries the
-    /// energy balance. [`ReducedOde::for_problem`] leaves it out for a model without forces at its
-    /// initial state; [`solve`](crate::solve) keeps it always, since a model may state forces from
-    /// some time on only.
+    /// energy balance (by default it does): an integrator whose error norm spans the whole state
+    /// may leave it out for a model without forces, where it would stay zero.
     pub fn with_forces_quadrature(mut self, on: bool) -> Self {
         self.forces = on;
         self
