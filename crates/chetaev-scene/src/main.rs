@@ -41,7 +41,7 @@ enum Command {
         out: Option<PathBuf>,
         /// Write even where an earlier run left files this run would not write (they are removed)
         /// or files no earlier run's manifest lists (they are overwritten).
-        #[arg(long, alias = "overwrite")]
+        #[arg(long, visible_alias = "overwrite")]
         force: bool,
         /// Print nothing but errors.
         #[arg(long)]
@@ -64,7 +64,7 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Check as `run --force` would.
-        #[arg(long, alias = "overwrite")]
+        #[arg(long, visible_alias = "overwrite")]
         force: bool,
     },
 }

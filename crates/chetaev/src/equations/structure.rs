@@ -258,7 +258,8 @@ impl Description {
 }
 
 fn vector(v: &[f64]) -> String {
-    let items: Vec<String> = v.iter().map(|x| format!("{x:.6e}")).collect();
+    // `x + 0.0` prints a negative zero (a product with a zero factor) as 0.
+    let items: Vec<String> = v.iter().map(|x| format!("{:.6e}", x + 0.0)).collect();
     format!("[{}]", items.join(", "))
 }
 
