@@ -649,3 +649,24 @@ fn a_scene_of_300_coordinates_is_written_out_and_solved() {
     let t = o.solution.events[0].t;
     assert!((t - 1.085038501948).abs() < 1e-9, "{t}");
 }
+
+#[test]
+fn an_empty_span_or_a_grid_of_one_time_is_refused_saying_what_to_write() {
+    let e = Scene::parse(&BASE.replace("t_end = 0.5", "t_end = 0.0"), "span.toml")
+        .expect_err("t_end = t0");
+    let m = e.to_string();
+    assert!(
+        m.contains("equals the initial time") && m.contains("integrate backwards"),
+        "{m}"
+    );
+    let grid = format!("{BASE}\n[output]\ntimes = {{ from = 0.0, to = \"end\", count = 1 }}\n");
+    let e = Scene::parse(&grid, "grid.toml").expect_err("count = 1");
+    let m = e.to_string();
+    assert!(
+        m.contains("count = 1") && m.contains("count = 2 writes the start and the end"),
+        "{m}"
+    );
+    // What the messages advise is accepted.
+    Scene::parse(&grid.replace("count = 1", "count = 2"), "grid.toml").expect("count = 2");
+    Scene::parse(&BASE.replace("t_end = 0.5", "t_end = -0.5"), "back.toml").expect("backwards");
+}

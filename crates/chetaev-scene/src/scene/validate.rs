@@ -347,7 +347,9 @@ impl Builder {
             return Err(self.err(
                 raw.solve.get_ref().t_end.span(),
                 format!(
-                    "t_end = {} equals the initial time: nothing to integrate",
+                    "t_end = {} equals the initial time: nothing to integrate; give a later t_end, or \
+                     an earlier one to integrate backwards (`chetaev describe` shows the equations \
+                     at the initial state without integrating)",
                     solve.t_end
                 ),
             ));
@@ -1084,7 +1086,10 @@ impl Builder {
                 if *count < 2 {
                     return Err(self.err(
                         t.span(),
-                        format!("the output grid has count = {count}; it needs at least 2 times"),
+                        format!(
+                            "the output grid has count = {count}; it needs at least 2 times, \
+                             `from` and `to` (count = 2 writes the start and the end only)"
+                        ),
                     ));
                 }
                 let constant = |n: &Number, what: &str| -> Result<f64, Error> {
