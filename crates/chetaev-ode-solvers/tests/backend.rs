@@ -358,7 +358,7 @@ fn the_singular_point_check_is_honoured() {
     let stop = |status: &Status| match status {
         Status::Failed(Error::SingularPoint {
             t,
-            constraint: Some(1),
+            cause: chetaev::Singularity::Gradient(1),
             ..
         }) => *t,
         other => panic!("{other:?}"),

@@ -217,7 +217,7 @@ fn a_failure_names_the_constraint_as_the_scene_writes_it() {
     );
     let e = chetaev::Error::SingularPoint {
         t: 0.5,
-        constraint: Some(2),
+        cause: chetaev::Singularity::Gradient(2),
         ratio: 1e-9,
         q: q.clone(),
         qd: qd.clone(),

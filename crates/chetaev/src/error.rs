@@ -140,7 +140,9 @@ pub enum Error {
     /// The Lagrangian, the constraints or their derivatives gave NaN or infinity.
     #[error(
         "the model evaluated to a non-finite number at t = {t} with q = {q:?}, q̇ = {qd:?} (a square root or \
-         logarithm of a negative number, a division by zero, or an overflow); check the model's domain",
+         logarithm of a negative number, a division by zero, or an overflow); check the model's domain, or, \
+         where the state is huge, whether the motion grows without bound (a fixed step beyond the \
+         method's stability boundary: halve the step, or use Rodas4)",
         t = Num(*.t)
     )]
     NonFiniteEvaluation {
@@ -153,17 +155,19 @@ pub enum Error {
     },
 
     /// The equations became singular along the motion: a constraint's gradient `∂f_a/∂q̇` passed
-    /// through zero between two accepted steps, or the kinetic metric `W = ∂²L/∂q̇²` changed size by
-    /// many orders of magnitude within one step.
+    /// through zero between two accepted steps, the constraints' gradients became linearly
+    /// dependent there, or the kinetic metric `W = ∂²L/∂q̇²` changed size by many orders of
+    /// magnitude within one step.
     #[error(
         "singular point at t = {t} (the last state checked, at or after it: q = {q:?}, q̇ = {qd:?}): {} \
          (a rank loss, such as the speed passing through zero under a constraint on its magnitude, \
-         or a pole of the model); the equations do not determine the motion there, and the motion up to t \
-         is kept. Check the model near this state (Problem::equations_at); Options::rank_tolerance sets \
+         or a pole of the model); the equations do not determine the motion there, and the motion up to the \
+         last accepted step before t is kept. Check the model near this state (Problem::equations_at); Options::rank_tolerance sets \
          the threshold",
-        match constraint {
-            Some(a) => format!("the gradient ∂f/∂q̇ of constraint {a} passes through zero, down to {ratio:e} times its size at the ends of the step"),
-            None => format!("the kinetic metric ∂²L/∂q̇² changed size by a factor {ratio:e} within one step"),
+        match cause {
+            Singularity::Gradient(a) => format!("the gradient ∂f/∂q̇ of constraint {a} passes through zero, down to {ratio:e} times its size at the ends of the step"),
+            Singularity::DependentGradients => format!("the gradients ∂f/∂q̇ of the constraints become linearly dependent (the volume they span passes through zero, down to {ratio:e} times its size at the ends of the step)"),
+            Singularity::Metric => format!("the kinetic metric ∂²L/∂q̇² changed size by a factor {ratio:e} within one step"),
         },
         t = Num(*.t)
     )]
@@ -172,11 +176,12 @@ pub enum Error {
         /// ends of consecutive accepted steps), by linear interpolation (exact where the gradient
         /// varies linearly, within the step otherwise); for the metric, the end of the step.
         t: f64,
-        /// The constraint (numbered from 1) whose gradient passes through zero, or `None` for the
-        /// metric `W`.
-        constraint: Option<usize>,
+        /// What became singular.
+        cause: Singularity,
         /// For a gradient, its smallest size on the step over the larger of its sizes at the
-        /// step's ends; for the metric, its size at the end of the step over that at the start.
+        /// step's ends; for dependent gradients, the same for the volume they span (the square
+        /// root of the Gram determinant `det(J Jᵀ)`, 0 when `J` is square and its determinant
+        /// changed sign); for the metric, its size at the end of the step over that at the start.
         ratio: f64,
         /// Position at the last state checked, at or after `t`.
         q: Vec<f64>,
@@ -203,8 +208,10 @@ pub enum Error {
 
     /// The state left the floating-point range (overflowed to infinity or became NaN).
     #[error(
-        "the state is no longer finite after a step from t = {t} (size {h:e}): the motion blows up there, or \
-         the model leaves its domain; the motion up to t is kept",
+        "the state is no longer finite after a step from t = {t} (size {h:e}): the motion blows up there, \
+         the model leaves its domain, or a fixed step (Rk4) lies beyond the method's stability boundary, \
+         so that the motion grows without bound (halve the step, or use Rodas4 for a stiff problem); \
+         the motion up to t is kept",
         t = Num(*.t)
     )]
     NonFiniteState {
@@ -328,6 +335,22 @@ pub enum Error {
         /// `δf_a = ∂f_a/∂q δq0 + ∂f_a/∂q̇ δq̇0 + ∂f_a/∂p δp`.
         residual: f64,
     },
+}
+
+/// What made the equations singular at an [`Error::SingularPoint`].
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Singularity {
+    /// The gradient `∂f_a/∂q̇` of constraint `a` (numbered from 1, velocity constraints first,
+    /// then the holonomic ones) passed through zero.
+    Gradient(usize),
+    /// The gradients of the constraints became linearly dependent, each one staying away from
+    /// zero (two constraints whose gradients turn parallel; for as many constraints as
+    /// coordinates, `det ∂f/∂q̇` changing sign).
+    DependentGradients,
+    /// The kinetic metric `W = ∂²L/∂q̇²` changed size by many orders of magnitude within a step.
+    Metric,
 }
 
 /// A number in a message: as written for moderate magnitudes, in scientific notation for tiny

@@ -72,7 +72,7 @@ pub mod problem;
 pub mod sensitivity;
 pub mod solution;
 
-pub use error::Error;
+pub use error::{Error, Singularity};
 pub use integrate::driver::solve;
 /// The linear algebra the model traits are written in, re-exported so a user's version cannot clash.
 pub use nalgebra;
@@ -93,7 +93,7 @@ pub mod prelude {
     };
     pub use crate::model::{Constraints, DynModel, Lagrangian, Model, Real, Unconstrained};
     pub use crate::solution::Series;
-    pub use crate::{solve, Error, Problem, Route, Seed, Solution, Status};
+    pub use crate::{solve, Error, Problem, Route, Seed, Singularity, Solution, Status};
     pub use nalgebra::{SMatrix, SVector};
 }
 

@@ -4,6 +4,7 @@
 use std::fmt::Write as _;
 
 use chetaev::prelude::{Atol, Status};
+use chetaev::Singularity;
 
 use super::{balance_text, quantity_values, summary_number as num, writes_quantities};
 use crate::run::Outcome;
@@ -132,7 +133,7 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
         },
         E::SingularPoint {
             t,
-            constraint,
+            cause,
             ratio,
             q,
             qd,
@@ -140,22 +141,28 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
             t: Some(*t),
             what: format!(
                 "singular point: {} (the last state checked, at or after t: {})",
-                match constraint {
-                    Some(a) => format!(
+                match cause {
+                    Singularity::Gradient(a) => format!(
                         "the derivative by the velocities of {} passes through zero, down to \
                          {ratio:e} times its size at the ends of the step",
                         scene.constraint_name(*a)
                     ),
-                    None => format!(
+                    Singularity::DependentGradients => format!(
+                        "the derivatives by the velocities of the constraints become linearly \
+                         dependent (the volume they span passes through zero, down to {ratio:e} \
+                         times its size at the ends of the step)"
+                    ),
+                    Singularity::Metric => format!(
                         "the kinetic metric ∂²L/∂q̇² of the lagrangian changed size by a factor \
                          {ratio:e} within one step"
                     ),
+                    other => format!("{other:?}, ratio {ratio:e}"),
                 },
                 state_text(scene, q, qd)
             ),
             advice: "the equations do not determine the motion there (a rank loss, such as the \
                      speed passing through zero under a constraint on its magnitude, or a pole of \
-                     the model); the motion up to t is kept: check the expressions near this \
+                     the model); the motion up to the last step before t is kept: check the expressions near this \
                      state, or stop the motion before it with a terminal [[events]] entry"
                 .to_string(),
         },

@@ -80,10 +80,13 @@ pub struct Options {
     pub event_samples: usize,
     /// Singular points: the run stops with [`Error::SingularPoint`] where a constraint's gradient
     /// `∂f_a/∂q̇` passes through zero between two accepted steps (taken as varying linearly between
-    /// them, its smallest size falls below this fraction of its size at the step's ends), or where
-    /// the size of `W = ∂²L/∂q̇²` changes by more than its inverse within one step. A gradient or a
-    /// metric that grows or shrinks steadily is not singular, however far it goes. Default `1e-8`;
-    /// `0` turns the check off.
+    /// them, its smallest size falls below this fraction of its size at the step's ends), where
+    /// the gradients of two or more constraints become linearly dependent between two accepted
+    /// steps (the orientation of the frame they span reverses, with less than this fraction of
+    /// them leaving the span they had; for as many constraints as coordinates, `det ∂f/∂q̇`
+    /// changing sign), or where the size of `W = ∂²L/∂q̇²` changes by more than its inverse within
+    /// one step. A gradient or a metric that grows or shrinks steadily is not singular, however
+    /// far it goes, nor are gradients that turn fast. Default `1e-8`; `0` turns the check off.
     pub rank_tolerance: f64,
     /// Step-size controller; the method's own (its [`MethodInfo::controller`]) when `None`.
     ///

@@ -12,7 +12,7 @@ use crate::equations::native::{NativeBuffers, NativeEquations};
 use crate::equations::{
     evaluate_with, evaluate_with_unchecked, saddle::SaddleFailure, Dynamics, Need, Workspace,
 };
-use crate::error::Error;
+use crate::error::{Error, Singularity};
 use crate::model::{Model, Point};
 use crate::sensitivity::Variational;
 
@@ -210,6 +210,8 @@ pub struct ReducedOde<'a, M: ?Sized> {
     previous_j: Vec<f64>,
     previous_w: f64,
     previous_t: f64,
+    /// Scratch space for the dependence test of the singular-point check (`k × k`).
+    gram: Vec<f64>,
     /// The time of the last evaluation by `rhs`.
     last_t: f64,
     /// The variational equations, when sensitivities are asked for: `S` follows `(q, q̇)`.
@@ -277,14 +279,32 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
                 let ends = pp.max(cc);
                 if closest < tol * tol * ends {
                     let r = (closest / ends).sqrt();
-                    culprit = Some((Some(a + 1), r, self.previous_t + s * (t - self.previous_t)));
+                    culprit = Some((
+                        Singularity::Gradient(a + 1),
+                        r,
+                        self.previous_t + s * (t - self.previous_t),
+                    ));
                     break;
                 }
             }
+            let k = d.j.len() / n.max(1);
+            if culprit.is_none() && (2..=n).contains(&k) {
+                culprit =
+                    dependence(&self.previous_j, &d.j, k, tol, &mut self.gram).map(|(r, s)| {
+                        (
+                            Singularity::DependentGradients,
+                            r,
+                            self.previous_t + s * (t - self.previous_t),
+                        )
+                    });
+            }
             culprit = culprit.or_else(|| {
                 let ratio = d.w_scale / self.previous_w;
-                (self.previous_w > 0.0 && !(tol..=1.0 / tol).contains(&ratio))
-                    .then_some((None, ratio, t))
+                (self.previous_w > 0.0 && !(tol..=1.0 / tol).contains(&ratio)).then_some((
+                    Singularity::Metric,
+                    ratio,
+                    t,
+                ))
             });
         }
         // Element by element: `clone_from` calls `memcpy`, which costs more for a few words.
@@ -299,9 +319,9 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         self.previous_t = t;
         match culprit {
             None => Ok(()),
-            Some((constraint, ratio, t)) => Err(Error::SingularPoint {
+            Some((cause, ratio, t)) => Err(Error::SingularPoint {
                 t,
-                constraint,
+                cause,
                 ratio,
                 q: q.to_vec(),
                 qd: qd.to_vec(),
@@ -327,6 +347,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             previous_j: Vec::new(),
             previous_w: 0.0,
             previous_t: f64::NAN,
+            gram: Vec::new(),
             last_t: f64::NAN,
             sens: None,
             stats: Stats::default(),
@@ -708,4 +729,103 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         }
         Ok(())
     }
+}
+
+/// The dependence test of the singular-point check, for `2 ≤ k ≤ n` constraints: whether the
+/// gradients `J` (row-major `k × n`) became linearly dependent between the previous state (`p`)
+/// and this one (`c`), each row staying away from zero (the per-row test sees that case).
+///
+/// With `Q` an orthonormal basis of the rows of `p` (Gram–Schmidt, `p = L Q`, `det L > 0`), `J`
+/// taken as varying linearly over the step is `(1 − s) L + s C̃` in that basis plus `s C⊥`, where
+/// `C̃ = c Qᵀ` and `C⊥` is the part of `c` outside the rows of `p`. A regular step keeps the
+/// orientation, `det C̃ > 0`; where it reverses, the square part passes through a singular matrix
+/// inside the step, and `J` with it but for `s C⊥`. So it is a rank loss when `det C̃ < 0` and
+/// `|C⊥| ≤ tol·|c|` (Frobenius norms); for `k = n`, `C⊥ = 0` and it is `det J` changing sign, a zero
+/// between the states whatever the path. Returns `|C⊥|/|c|` and where on the step (`0 … 1`) the
+/// determinant, taken as linear, is zero. Gradients that turn fast but stay independent (by more
+/// than a right angle in a step) leave a large `C⊥` and are not flagged.
+fn dependence(
+    p: &[f64],
+    c: &[f64],
+    k: usize,
+    tol: f64,
+    scratch: &mut Vec<f64>,
+) -> Option<(f64, f64)> {
+    let n = p.len() / k;
+    scratch.clear();
+    scratch.resize(k * n + k * k, 0.0);
+    let (q, m) = scratch.split_at_mut(k * n);
+    // Modified Gram–Schmidt on the rows of p; det L is the product of the norms.
+    let mut det_l = 1.0;
+    for i in 0..k {
+        q[i * n..(i + 1) * n].copy_from_slice(&p[i * n..(i + 1) * n]);
+        for j in 0..i {
+            let (done, row) = q.split_at_mut(i * n);
+            let (qj, qi) = (&done[j * n..(j + 1) * n], &mut row[..n]);
+            let d: f64 = qi.iter().zip(qj).map(|(a, b)| a * b).sum();
+            qi.iter_mut().zip(qj).for_each(|(a, b)| *a -= d * b);
+        }
+        let norm = q[i * n..(i + 1) * n]
+            .iter()
+            .map(|a| a * a)
+            .sum::<f64>()
+            .sqrt();
+        if !(norm > 0.0) {
+            return None;
+        }
+        q[i * n..(i + 1) * n].iter_mut().for_each(|a| *a /= norm);
+        det_l *= norm;
+    }
+    // C̃ = c Qᵀ, and the size of what of c lies outside the rows of p.
+    let (mut outside, mut size) = (0.0, 0.0);
+    for i in 0..k {
+        let ci = &c[i * n..(i + 1) * n];
+        for j in 0..k {
+            m[i * k + j] = ci
+                .iter()
+                .zip(&q[j * n..(j + 1) * n])
+                .map(|(a, b)| a * b)
+                .sum();
+        }
+        for l in 0..n {
+            let inside: f64 = (0..k).map(|j| m[i * k + j] * q[j * n + l]).sum();
+            outside += (ci[l] - inside).powi(2);
+            size += ci[l] * ci[l];
+        }
+    }
+    let det_c = determinant(m, k);
+    if !(det_c < 0.0) {
+        return None;
+    }
+    let ratio = if k == n { 0.0 } else { (outside / size).sqrt() };
+    (ratio <= tol).then(|| (ratio, det_l / (det_l - det_c)))
+}
+
+/// The determinant of the `k × k` row-major matrix `a`, by elimination with partial pivoting
+/// (`a` is overwritten).
+fn determinant(a: &mut [f64], k: usize) -> f64 {
+    let mut det = 1.0;
+    for col in 0..k {
+        let pivot = (col..k)
+            .max_by(|&i, &j| a[i * k + col].abs().total_cmp(&a[j * k + col].abs()))
+            .unwrap_or(col);
+        if a[pivot * k + col] == 0.0 {
+            return 0.0;
+        }
+        if pivot != col {
+            for j in 0..k {
+                a.swap(pivot * k + j, col * k + j);
+            }
+            det = -det;
+        }
+        let d = a[col * k + col];
+        det *= d;
+        for i in col + 1..k {
+            let factor = a[i * k + col] / d;
+            for j in col + 1..k {
+                a[i * k + j] -= factor * a[col * k + j];
+            }
+        }
+    }
+    det
 }
