@@ -458,6 +458,8 @@ fn map_error(
             t: t_of(x),
             max_steps,
             hint: "raise Options::max_steps or loosen the tolerances",
+            // ode_solvers does not say how far its steps went; not judged.
+            stalled: false,
         },
         // ode_solvers gives up when `0.1·|h| ≤ ε·|τ|`; it does not report `h`, so the bound is given.
         IntegrationError::StepSizeUnderflow { x } => Error::StepSizeTooSmall {
@@ -495,6 +497,7 @@ mod tests {
                 t: -1.0,
                 max_steps: 100_000,
                 hint: "raise Options::max_steps or loosen the tolerances",
+                stalled: false,
             }
         );
         let e = map_error(

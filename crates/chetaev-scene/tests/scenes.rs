@@ -670,3 +670,40 @@ fn an_empty_span_or_a_grid_of_one_time_is_refused_saying_what_to_write() {
     Scene::parse(&grid.replace("count = 1", "count = 2"), "grid.toml").expect("count = 2");
     Scene::parse(&BASE.replace("t_end = 0.5", "t_end = -0.5"), "back.toml").expect("backwards");
 }
+
+#[test]
+fn steps_stalled_at_a_kink_are_reported_as_such() {
+    // The apex of the velocity cone ż = k|(ẋ, ẏ)| is reached at t* = s0 (1 + k²)/(g k) = 0.5097.
+    let text = r#"
+[parameters]
+k = 0.5
+[model]
+coordinates = ["x", "y", "z"]
+lagrangian = "0.5*(x_dot^2 + y_dot^2 + z_dot^2) - 9.81*z"
+constraints = ["z_dot - k*sqrt(x_dot^2 + y_dot^2)"]
+[initial]
+q = [0.0, 0.0, 0.0]
+q_dot = [2.0, 0.0, 1.0]
+[solve]
+method = "dop853"
+t_end = 0.75
+rtol = 1e-10
+atol = 1e-10
+max_steps = 20000
+"#;
+    let scene = Scene::parse(text, "cone.toml").expect("parses");
+    let outcome = scene.solve().expect("solves");
+    let Status::Failed(e) = &outcome.status else {
+        panic!("{:?}", outcome.status)
+    };
+    assert!(
+        matches!(e, chetaev::Error::MaxSteps { stalled: true, .. }),
+        "{e}"
+    );
+    let f = output::failure(&scene, e);
+    assert!(
+        f.what.contains("less than a thousandth") && f.advice.contains("kink"),
+        "{f:?}"
+    );
+    assert!(!f.advice.contains("loosen rtol"), "{f:?}");
+}

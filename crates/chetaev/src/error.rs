@@ -242,8 +242,13 @@ pub enum Error {
         /// The limit.
         max_steps: usize,
         /// What to try: raise the limit, or take fewer steps (looser tolerances, or a larger
-        /// fixed step for a method without error control).
+        /// fixed step for a method without error control); or, where the steps have shrunk to
+        /// nothing at one point (`stalled`), look at the model there.
         hint: &'static str,
+        /// Whether the steps shrank to nothing at one point: the second half of them advanced `t`
+        /// by less than a thousandth of what the first half did (a kink of the model, a singular
+        /// point or a blow-up, which more steps will hardly pass).
+        stalled: bool,
     },
 
     /// The explicit method detected stiffness.

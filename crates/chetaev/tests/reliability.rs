@@ -513,6 +513,71 @@ fn gradients_that_turn_fast_but_stay_independent_are_not_a_singular_point() {
     assert_eq!(sol.status, Status::Success, "{:?}", sol.status);
 }
 
+/// A particle in gravity on the cone of velocities `ż = k |(ẋ, ẏ)|`: `μ = m g/(1 + k²)` and the
+/// horizontal speed falls as `s0 − g k t/(1 + k²)`, to zero at `t* = s0 (1 + k²)/(g k)`, the apex,
+/// where `∂f/∂q̇ = (−k v̂, 1)` jumps direction (not a rank loss: it stays of size `√(1 + k²)`).
+struct Cone {
+    k: f64,
+}
+
+impl DynModel for Cone {
+    fn sizes(&self) -> (usize, usize) {
+        (3, 1)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]) * 0.5 - q[2] * 9.81
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd[2] - (qd[0] * qd[0] + qd[1] * qd[1]).sqrt() * self.k;
+    }
+}
+
+#[test]
+fn steps_stuck_at_a_kink_of_the_model_say_so_instead_of_asking_for_more_steps() {
+    let (k, s0) = (0.5, 2.0);
+    let t_apex = s0 * (1.0 + k * k) / (9.81 * k);
+    let problem =
+        Problem::dynamic(Cone { k }, 0.0, vec![0.0; 3], vec![s0, 0.0, k * s0]).expect("valid");
+    let options = Options::until(1.5 * t_apex)
+        .tolerances(1e-10, 1e-10)
+        .max_steps(20_000)
+        .output_final();
+    for method in [
+        AnyMethod::Dop853(Dop853::default()),
+        AnyMethod::Rodas5P(Rodas5P),
+    ] {
+        let sol = solve(&problem, method, &options).expect("valid options");
+        match sol.error() {
+            Some(Error::MaxSteps {
+                t, hint, stalled, ..
+            }) => {
+                assert!(*stalled);
+                assert!((t - t_apex).abs() < 1e-4, "{t} against {t_apex}");
+                assert!(
+                    hint.contains("kink of the model") && !hint.contains("loosen the"),
+                    "{hint}"
+                );
+            }
+            // Stopped at the apex by another check is as good.
+            Some(Error::StepSizeTooSmall { t, .. } | Error::SingularPoint { t, .. }) => {
+                assert!((t - t_apex).abs() < 1e-4, "{t} against {t_apex}");
+            }
+            _ => panic!("{:?}", sol.status),
+        }
+    }
+    // Many steps that do advance keep the usual advice.
+    let sol = solve(
+        &problem,
+        Dop853::default(),
+        &Options::until(0.5 * t_apex).max_steps(3),
+    )
+    .expect("valid options");
+    let Some(Error::MaxSteps { hint, stalled, .. }) = sol.error() else {
+        panic!("{:?}", sol.status)
+    };
+    assert!(!stalled && hint.contains("loosen the tolerances"), "{hint}");
+}
+
 /// The Caldirola–Kanai oscillator `L = e^(γt) (½ ẋ² − ½ ω0² x²)`: `ẍ + γ ẋ + ω0² x = 0`, a damped
 /// (or, for `γ < 0`, an excited) oscillator whose metric `W = e^(γt)` grows (shrinks) without end
 /// and is regular throughout.

@@ -54,6 +54,24 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
     let stiff =
         "if the steps shrank because the problem is stiff, set method = \"rodas4\" under [solve]";
     match e {
+        E::MaxSteps {
+            t,
+            max_steps,
+            stalled: true,
+            ..
+        } => Failure {
+            t: Some(*t),
+            what: format!(
+                "the step limit of {max_steps} steps was reached, the second half of them \
+                 advancing t by less than a thousandth of what the first half did"
+            ),
+            advice: "the steps shrink to nothing at this point, where the motion changes ever \
+                     faster (a kink of an expression, such as abs or sqrt at zero, a singular \
+                     point, or a blow-up): more steps or looser tolerances will hardly pass it; \
+                     check the expressions near this state (chetaev describe shows them at the \
+                     initial state)"
+                .to_string(),
+        },
         E::MaxSteps { t, max_steps, .. } => Failure {
             t: Some(*t),
             what: format!("the step limit of {max_steps} steps was reached"),

@@ -505,17 +505,34 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     let mut steps = 0usize;
     let mut rejected_last = false;
     let mut err_prev = 1e-4f64;
+    // Where the second half of the allowed steps began: steps that advance `t` by a thousandth of
+    // what the first half did are stuck at a point, not merely many.
+    let mut t_half = t0;
     loop {
         if steps >= options.max_steps {
+            let stalled = adaptive
+                && options.max_steps >= 100
+                && (t - t_half).abs() <= 1e-3 * (t_half - t0).abs();
             return Err(Error::MaxSteps {
+                stalled,
                 t,
                 max_steps: options.max_steps,
-                hint: if adaptive {
-                    "raise Options::max_steps or loosen the tolerances"
-                } else {
+                hint: if !adaptive {
                     "raise Options::max_steps or take a larger fixed step"
+                } else if stalled {
+                    "the second half of the steps advanced t by less than a thousandth of what \
+                     the first half did: the steps shrink to nothing at this point, where the \
+                     motion changes ever faster (a kink of the model, such as an absolute value \
+                     or a square root at zero, a singular point, or a blow-up), and more steps or \
+                     looser tolerances will hardly pass it; check the model near this state \
+                     (Problem::equations_at)"
+                } else {
+                    "raise Options::max_steps or loosen the tolerances"
                 },
             });
+        }
+        if steps == options.max_steps / 2 {
+            t_half = t;
         }
         steps += 1;
         let remaining = t_end - t;
