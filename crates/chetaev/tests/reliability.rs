@@ -1227,3 +1227,77 @@ fn the_energy_balance_between_steps_is_as_good_as_the_dense_output() {
         assert!(on_grid < 1e-5, "{}: {on_grid:e}", method.name());
     }
 }
+
+/// The paper's particle (`m = 1`, `g = 10`, `h0 = 5`) at the speed `v0`.
+struct Paper {
+    v0: f64,
+}
+
+impl Lagrangian<2> for Paper {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5 - q[1] * 10.0
+    }
+}
+
+impl Constraints<2, 1> for Paper {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        SVector::from([qd.dot(qd) - self.v0 * self.v0])
+    }
+}
+
+#[test]
+fn the_relative_residual_shows_velocities_lost_under_an_absolute_tolerance() {
+    let solve_at = |v0: f64, atol: Atol| {
+        let problem = Problem::new(
+            Paper { v0 },
+            0.0,
+            SVector::from([0.0, 5.0]),
+            SVector::from([v0, 0.0]),
+        )
+        .expect("valid");
+        let mut options = Options::until(2.0 * 5.0 / v0).output_grid(0.0, 50);
+        options.rtol = 1e-10;
+        options.atol = atol;
+        solve(&problem, Rodas5P, &options).expect("valid options")
+    };
+    // At v0 = 1e-12 an absolute tolerance of 1e-10 leaves the velocities uncontrolled: the speed
+    // wanders off v0 by far more than v0 while |f| stays below 1e-18.
+    let lost = solve_at(1e-12, Atol::Scalar(1e-10));
+    let (abs, rel) = (
+        lost.max_residual().expect("recorded"),
+        lost.max_relative_residual().expect("recorded"),
+    );
+    let speed = lost.qd.iter().map(|v| v[0].hypot(v[1])).fold(0.0, f64::max);
+    assert!(speed > 10.0 * 1e-12, "the speed stayed near v0: {speed:e}");
+    assert!(abs < 1e-18 && rel > 0.1, "|f| {abs:e}, relative {rel:e}");
+    // With absolute tolerances scaled to the motion it is accurate, and the relative residual says so.
+    let scaled = solve_at(1e-12, Atol::PerComponent(vec![1e-10, 1e-10, 1e-22, 1e-22]));
+    let rel = scaled.max_relative_residual().expect("recorded");
+    assert!(rel < 1e-8, "relative {rel:e}");
+    // Each point's value is max_a δ_a/(|q̇| + δ_a), δ_a = |f_a|/|∂f_a/∂q̇| = |f|/(2|q̇|) here.
+    for (i, qd) in lost.qd.iter().enumerate() {
+        let speed = qd[0].hypot(qd[1]);
+        let delta = lost.residual[i][0].abs() / (2.0 * speed);
+        let expected = delta / (speed + delta);
+        assert!(
+            (lost.relative_residual[i] - expected).abs() <= 1e-12 * expected.max(1e-300),
+            "{i}: {} against {expected}",
+            lost.relative_residual[i]
+        );
+    }
+    // Not recorded: None, as for the absolute residual.
+    let problem = Problem::new(
+        Paper { v0: 1.0 },
+        0.0,
+        SVector::from([0.0, 5.0]),
+        SVector::from([1.0, 0.0]),
+    )
+    .expect("valid");
+    let sol = solve(
+        &problem,
+        Dopri5::default(),
+        &Options::until(1.0).record(Record::State),
+    )
+    .expect("valid options");
+    assert_eq!(sol.max_relative_residual(), None);
+}

@@ -463,12 +463,21 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
     let _ = writeln!(s, "  stats    {work}");
     if k > 0 {
         if let Some(max) = max_abs(out.residual.iter().flatten()) {
-            let _ = writeln!(
+            let _ = write!(
                 s,
                 "  residual max |f| = {} over {}",
                 num(max),
                 count(out.residual.len(), "output point", "output points")
             );
+            // What |f| means for the velocity: how far q̇ misses the constraints, relative to it.
+            match out.max_relative_residual() {
+                Some(r) => {
+                    let _ = writeln!(s, "; q̇ misses them by at most {} of its size", num(r));
+                }
+                None => {
+                    let _ = writeln!(s);
+                }
+            }
         }
     }
     if let Some(b) = max_abs(&out.balance) {
