@@ -439,7 +439,7 @@ fn constraints_whose_gradients_turn_parallel_stop_the_run_where_they_do() {
             for tol in [1e-6, 1e-10] {
                 let sol = solve(
                     &problem,
-                    method.clone(),
+                    method,
                     &Options::until(3.0).tolerances(tol, tol),
                 )
                 .expect("valid options");

@@ -770,7 +770,7 @@ fn dependence(
             .map(|a| a * a)
             .sum::<f64>()
             .sqrt();
-        if !(norm > 0.0) {
+        if norm.is_nan() || norm <= 0.0 {
             return None;
         }
         q[i * n..(i + 1) * n].iter_mut().for_each(|a| *a /= norm);
@@ -794,7 +794,7 @@ fn dependence(
         }
     }
     let det_c = determinant(m, k);
-    if !(det_c < 0.0) {
+    if det_c.is_nan() || det_c >= 0.0 {
         return None;
     }
     let ratio = if k == n { 0.0 } else { (outside / size).sqrt() };
