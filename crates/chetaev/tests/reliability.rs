@@ -437,12 +437,8 @@ fn constraints_whose_gradients_turn_parallel_stop_the_run_where_they_do() {
         for method in AnyMethod::all(1e-2) {
             let name = method.info().name;
             for tol in [1e-6, 1e-10] {
-                let sol = solve(
-                    &problem,
-                    method,
-                    &Options::until(3.0).tolerances(tol, tol),
-                )
-                .expect("valid options");
+                let sol = solve(&problem, method, &Options::until(3.0).tolerances(tol, tol))
+                    .expect("valid options");
                 // Stopped at the point, by this check or by the block solve's pivot test; never
                 // across it with a branch chosen silently.
                 let t = match sol.error() {
