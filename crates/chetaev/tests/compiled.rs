@@ -7,22 +7,18 @@ use chetaev::equations::structure::Structure;
 use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
-/// The paper's particle: `W` constant and diagonal, `∂L/∂q` constant, `g = 0`, `c = 0`.
-#[derive(Clone)]
-struct Uniform;
-impl Lagrangian<2> for Uniform {
-    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
-        qd.dot(qd) * 0.5 - q[1] * 10.0
-    }
-}
-impl Constraints<2, 1> for Uniform {
-    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
-        SVector::from([qd.dot(qd) - 100.0])
-    }
-}
+mod common;
+use common::Paper;
 
-fn uniform() -> Problem<Fixed<Uniform, 2, 1>> {
-    Problem::new(Uniform, 0.0, [0.0, 5.0].into(), [10.0, 0.0].into()).expect("ok")
+/// The paper's particle at `v0 = 10`.
+fn uniform() -> Problem<Fixed<Paper, 2, 1>> {
+    Problem::new(
+        Paper { v0: 10.0 },
+        0.0,
+        [0.0, 5.0].into(),
+        [10.0, 0.0].into(),
+    )
+    .expect("ok")
 }
 
 /// A double pendulum (angles) whose joint speeds keep `θ̇1² + θ̇2² = v²`: `W` depends on `q`.

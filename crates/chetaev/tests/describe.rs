@@ -3,6 +3,9 @@
 
 use chetaev::prelude::*;
 
+mod common;
+use common::Paper;
+
 /// `L = ½ (1 + x²) ẋ² + ½ ẏ² + t ẋ − y sin t` with `f = ẋ ẏ − x`: `W` depends on `x` only,
 /// `g = (2 x ẋ², 0) + (1, 0)` on `q` and `q̇`, `∂L/∂t = ẋ − y cos t` on all three, `J = (ẏ, ẋ)` on
 /// `q̇` only, `c = −ẋ` on `q̇`.
@@ -59,26 +62,17 @@ fn the_structure_of_each_block_is_found_and_reported() -> Result<(), Error> {
     Ok(())
 }
 
-/// The paper's model at its start, where `μ(0) = −(m g / 2 v0)·tanh 0` comes out as a negative
-/// zero: the report prints `0`, not `-0`.
-struct Uniform;
-
-impl Lagrangian<2> for Uniform {
-    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
-        qd.dot(qd) * 0.5 - q[1] * 10.0
-    }
-}
-
-impl Constraints<2, 1> for Uniform {
-    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
-        SVector::from([qd.dot(qd) - 100.0])
-    }
-}
-
 #[test]
 fn a_negative_zero_is_reported_as_zero() -> Result<(), Error> {
     let (q0, qd0) = ([0.0, 5.0], [10.0, 0.0]);
-    let problem = Problem::new(Uniform, 0.0, SVector::from(q0), SVector::from(qd0))?;
+    // The paper's model at its start, where `μ(0) = −(m g / 2 v0)·tanh 0` comes out as a negative
+    // zero: the report prints `0`, not `-0`.
+    let problem = Problem::new(
+        Paper { v0: 10.0 },
+        0.0,
+        SVector::from(q0),
+        SVector::from(qd0),
+    )?;
     let d = problem.describe(0.0, &q0, &qd0)?;
     assert_eq!(d.dynamics.mu[0], 0.0);
     let text = d.to_string();

@@ -3,6 +3,9 @@
 
 use chetaev::prelude::*;
 
+mod common;
+use common::Paper;
+
 /// A particle pushed by a constant force `−a`, whose Lagrangian has a *value* that leaves its domain
 /// beyond `x = 1` (NaN there) while every derivative stays finite: the defect class of a value that
 /// nothing checks.
@@ -1221,23 +1224,6 @@ fn the_energy_balance_between_steps_is_as_good_as_the_dense_output() {
         assert!(at_steps < 1e-8, "{}: {at_steps:e}", method.name());
         // Between them it is at most the interpolant's error, which the steps do not control.
         assert!(on_grid < 1e-5, "{}: {on_grid:e}", method.name());
-    }
-}
-
-/// The paper's particle (`m = 1`, `g = 10`, `h0 = 5`) at the speed `v0`.
-struct Paper {
-    v0: f64,
-}
-
-impl Lagrangian<2> for Paper {
-    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
-        qd.dot(qd) * 0.5 - q[1] * 10.0
-    }
-}
-
-impl Constraints<2, 1> for Paper {
-    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
-        SVector::from([qd.dot(qd) - self.v0 * self.v0])
     }
 }
 
