@@ -707,3 +707,25 @@ max_steps = 20000
     );
     assert!(!f.advice.contains("loosen rtol"), "{f:?}");
 }
+
+#[test]
+fn the_residual_table_names_each_row_and_shows_the_holonomic_position_residual() {
+    let scene = Scene::load(scenes_dir().join("cartesian-pendulum.toml")).expect("loads");
+    assert_eq!(
+        (scene.constraints.len(), scene.holonomic.len()),
+        (0, 1),
+        "the scene changed"
+    );
+    let outcome = scene.solve().expect("solves");
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("residual-table");
+    let _ = std::fs::remove_dir_all(&dir);
+    output::write(&scene, &outcome, &dir).expect("writes");
+    let text = std::fs::read_to_string(dir.join("residual.csv")).expect("written");
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("t,hdot_1,h_1"));
+    // h is the rod's x² + y² − l², as recorded in the solution.
+    for (i, line) in lines.enumerate() {
+        let h: f64 = line.split(',').nth(2).expect("h").parse().expect("number");
+        assert_eq!(h, outcome.position_residual[i][0], "row {i}");
+    }
+}

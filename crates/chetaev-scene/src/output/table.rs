@@ -69,7 +69,21 @@ pub(super) fn write_table<W: Write>(
             c.iter().map(|x| format!("Phi_{x}")).collect(),
             vec![Part::Rows(&out.phi, n)],
         ),
-        Table::Residual => (indexed("f").collect(), vec![Part::Rows(&out.residual, k)]),
+        Table::Residual => {
+            // The velocity constraints' f, then the holonomic ones' ḣ (the rows the equations
+            // hold at zero) and their h itself.
+            let (kv, kh) = (scene.constraints.len(), scene.holonomic.len());
+            let header = (1..=kv)
+                .map(|a| format!("f_{a}"))
+                .chain((1..=kh).map(|b| format!("hdot_{b}")))
+                .chain((1..=kh).map(|b| format!("h_{b}")))
+                .collect();
+            let mut parts = vec![Part::Rows(&out.residual, k)];
+            if kh > 0 {
+                parts.push(Part::Rows(&out.position_residual, kh));
+            }
+            (header, parts)
+        }
         Table::Energy => (
             ["E", "W_Phi", "W_Q", "int_dL_dt", "balance"]
                 .map(String::from)
