@@ -1283,3 +1283,50 @@ fn the_relative_residual_shows_velocities_lost_under_an_absolute_tolerance() {
     .expect("valid options");
     assert_eq!(sol.max_relative_residual(), None);
 }
+
+/// Two constraints on the paper's particle that are nearly one, `f = (|q̇|² − 100, |q̇|² − 100 +
+/// ε ẏ)`: together `|q̇| = 10` and `ẏ = 0`, so at `q̇ = (10, 0)` gravity is held by the multipliers
+/// and `q̈ = 0` exactly. `J = ((20, 0), (20, ε))` has condition about `40/ε`.
+#[derive(Clone)]
+struct NearlyOne {
+    eps: f64,
+}
+
+impl Lagrangian<2> for NearlyOne {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5 - q[1] * 10.0
+    }
+}
+
+impl Constraints<2, 2> for NearlyOne {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 2> {
+        let speed = qd.dot(qd) - 100.0;
+        SVector::from([speed, speed + qd[1] * self.eps])
+    }
+}
+
+/// A known limit, measured: the block solve loses accuracy as the square of the constraints'
+/// condition (docs/where-it-breaks.md). Prints `|q̈|` (exact: 0) for each `ε`, by both routes.
+#[test]
+fn nearly_dependent_constraints_lose_accuracy_as_the_square_of_their_condition() {
+    for eps in [1e-2, 1e-3, 1e-4] {
+        let (q, qd) = ([0.0, 5.0], [10.0, 0.0]);
+        let problem = Problem::new(NearlyOne { eps }, 0.0, SVector::from(q), SVector::from(qd))
+            .expect("regular");
+        for route in [Route::Graph, Route::Dual] {
+            let problem = problem.clone().with_route(route);
+            let d = problem.equations_at(0.0, &q, &qd).expect("regular");
+            let error = d.qdd.iter().map(|v| v.abs()).fold(0.0, f64::max);
+            let condition = 40.0 / eps;
+            eprintln!(
+                "ε = {eps:e}, {route:?}: |q̈| = {error:.2e} (exact 0; g = 10, cond(J)² ε = {:.1e})",
+                condition * condition * f64::EPSILON
+            );
+            // Within cond(J)²·ε·g (and far from cond(J)·ε·g at ε = 1e-4).
+            assert!(
+                error <= condition * condition * f64::EPSILON * 10.0,
+                "{error:e}"
+            );
+        }
+    }
+}
