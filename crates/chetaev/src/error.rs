@@ -161,12 +161,13 @@ pub enum Error {
     #[error(
         "singular point at t = {t} (the last state checked, at or after it: q = {q:?}, q̇ = {qd:?}): {} \
          (a rank loss, such as the speed passing through zero under a constraint on its magnitude, \
-         or a pole of the model); the equations do not determine the motion there, and the motion up to the \
+         or a pole of the model; or a computed state that has drifted off the constraints, which tighter \
+         tolerances or Options::project prevent); the equations do not determine the motion there, and the motion up to the \
          last accepted step before t is kept. Check the model near this state (Problem::equations_at); Options::rank_tolerance sets \
          the threshold",
         match cause {
             Singularity::Gradient(a) => format!("the gradient ∂f/∂q̇ of constraint {a} passes through zero, down to {ratio:e} times its size at the ends of the step"),
-            Singularity::DependentGradients => format!("the gradients ∂f/∂q̇ of the constraints become linearly dependent (the volume they span passes through zero, down to {ratio:e} times its size at the ends of the step)"),
+            Singularity::DependentGradients => format!("the gradients ∂f/∂q̇ of the constraints become linearly dependent (the frame they span reverses its orientation within one step, each of them leaving that span by at most {ratio:e} of its size)"),
             Singularity::Metric => format!("the kinetic metric ∂²L/∂q̇² changed size by a factor {ratio:e} within one step"),
         },
         t = Num(*.t)
@@ -179,9 +180,10 @@ pub enum Error {
         /// What became singular.
         cause: Singularity,
         /// For a gradient, its smallest size on the step over the larger of its sizes at the
-        /// step's ends; for dependent gradients, the same for the volume they span (the square
-        /// root of the Gram determinant `det(J Jᵀ)`, 0 when `J` is square and its determinant
-        /// changed sign); for the metric, its size at the end of the step over that at the start.
+        /// step's ends; for dependent gradients, the largest part of one of them (scaled to unit
+        /// size) that left the span they had at the start of the step (0 when `J` is square and
+        /// its determinant changed sign); for the metric, its size at the end of the step over
+        /// that at the start.
         ratio: f64,
         /// Position at the last state checked, at or after `t`.
         q: Vec<f64>,
@@ -245,9 +247,10 @@ pub enum Error {
         /// fixed step for a method without error control); or, where the steps have shrunk to
         /// nothing at one point (`stalled`), look at the model there.
         hint: &'static str,
-        /// Whether the steps shrank to nothing at one point: the second half of them advanced `t`
-        /// by less than a thousandth of what the first half did (a kink of the model, a singular
-        /// point or a blow-up, which more steps will hardly pass).
+        /// Whether the steps shrank: the second half of them advanced `t` by less than a
+        /// thousandth of what the first half did. At a kink of the model, a singular point or a
+        /// blow-up they shrink to nothing and more steps will not pass; a fast but regular phase
+        /// after a slow one (the pericentre of an eccentric orbit) looks the same from here.
         stalled: bool,
     },
 

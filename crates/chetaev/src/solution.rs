@@ -200,11 +200,15 @@ pub struct Solution {
     /// The constraint residual `f(t, q, q̇)` ([`Record::Dynamics`] and above; width `k`): the
     /// velocity constraints, then `ḣ` of the holonomic ones.
     pub residual: Series,
-    /// How far `q̇` misses the constraints, relative to its size ([`Record::Dynamics`] and above):
-    /// `max_a δ_a / (|q̇| + δ_a)` with `δ_a = |f_a| / |∂f_a/∂q̇|`, the first-order distance of `q̇`
-    /// from the surface `f_a = 0`; about `δ/|q̇|` when small, below 1 always, 0 without
-    /// constraints. The absolute residual says little where the velocities are small: at speeds
-    /// of `1e-12`, `|f| = 1e-19` can be a velocity wrong by a third of its size, which this shows.
+    /// How far `q̇` misses the velocity constraints, relative to the terms that make them up
+    /// ([`Record::Dynamics`] and above): `max_a |f_a| / (Σ_i |∂f_a/∂q̇_i · q̇_i| + |f_a|)`, the
+    /// residual over the size of each constraint's velocity terms, so that coordinates of other
+    /// units or a constraint's scale do not enter. Below 1 always; 0 without velocity constraints
+    /// (the holonomic ones have their position residual). The absolute residual says little
+    /// where the velocities are small: at speeds of `1e-12`, `|f| = 1e-19` can be a velocity far
+    /// off, which this shows. It is a first-order measure: a velocity lost altogether reads
+    /// about 1/3 under `|q̇|² = v0²` and at most 1/2 under a constraint linear in `q̇`, not how far
+    /// off it is; and near rest it compares with a small velocity.
     pub relative_residual: Vec<f64>,
     /// The position residual `h(t, q)` of the holonomic constraints ([`Record::Dynamics`] and
     /// above; width the number of holonomic constraints, 0 without them).
@@ -302,7 +306,7 @@ impl Solution {
             self.phi.push(&d.phi);
             self.residual.push(&d.f);
             self.relative_residual
-                .push(relative_residual(&d.f, &d.j, qd));
+                .push(relative_residual(&d.f[..d.f.len() - holonomic], &d.j, qd));
             self.energy.push(d.energy);
             if let Some(h) = h {
                 if self.position_residual.width() != h.len() {
@@ -490,20 +494,18 @@ impl Solution {
     }
 }
 
-/// `max_a δ_a / (|q̇| + δ_a)`, `δ_a = |f_a| / |J_a|` (see [`Solution::relative_residual`]); a row
-/// `J_a = 0` with `f_a ≠ 0` counts as missing by the whole velocity (1).
+/// `max_a |f_a| / (Σ_i |J_ai q̇_i| + |f_a|)` over the velocity constraints `f` (see
+/// [`Solution::relative_residual`]).
 fn relative_residual(f: &[f64], j: &[f64], qd: &[f64]) -> f64 {
-    let n = qd.len();
-    let speed = qd.iter().map(|v| v * v).sum::<f64>().sqrt();
     f.iter()
-        .zip(j.chunks(n.max(1)))
+        .zip(j.chunks(qd.len().max(1)))
         .map(|(fa, ja)| {
-            let norm = ja.iter().map(|v| v * v).sum::<f64>().sqrt();
-            let delta = fa.abs() / norm;
-            match (fa.abs() > 0.0, norm > 0.0) {
-                (false, _) => 0.0,
-                (true, false) => 1.0,
-                (true, true) => delta / (speed + delta),
+            let terms: f64 = ja.iter().zip(qd).map(|(a, v)| (a * v).abs()).sum();
+            let fa = fa.abs();
+            if fa > 0.0 {
+                fa / (terms + fa)
+            } else {
+                0.0
             }
         })
         .fold(0.0, f64::max)

@@ -479,37 +479,52 @@ fn constraints_whose_gradients_turn_parallel_stop_the_run_where_they_do() {
     }
 }
 
-/// Gradients that turn fast but stay independent are regular: `f = (ẋ cos ωt + ẏ sin ωt − 1, ż)`
-/// with a step over which the first turns by more than a right angle (`ω h = 2`).
+/// Gradients that turn fast but stay independent are regular: `f = (ẋ cos ωt + ẏ sin ωt − 1, s ż)`
+/// with a step over which the first turns by more than a right angle (`ω h = 2`), whatever the
+/// scale `s` of the other row (a row `1e9` times larger must not hide the turn of the small one).
 struct Turning {
     omega: f64,
+    scale: f64,
 }
 
 impl DynModel for Turning {
     fn sizes(&self) -> (usize, usize) {
         (3, 2)
     }
-    fn lagrangian<R: Real>(&self, _t: R, _q: &[R], qd: &[R]) -> R {
-        (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]) * 0.5
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]) * 0.5 - q[2]
     }
     fn constraints<R: Real>(&self, t: R, _q: &[R], qd: &[R], f: &mut [R]) {
         let wt = t * self.omega;
         f[0] = qd[0] * wt.cos() + qd[1] * wt.sin() - 1.0;
-        f[1] = qd[2];
+        f[1] = qd[2] * self.scale;
     }
 }
 
 #[test]
 fn gradients_that_turn_fast_but_stay_independent_are_not_a_singular_point() {
-    let problem = Problem::dynamic(
-        Turning { omega: 20.0 },
-        0.0,
-        vec![0.0; 3],
-        vec![1.0, 0.0, 0.0],
-    )
-    .expect("valid");
-    let sol = solve(&problem, Rk4::new(0.1), &Options::until(2.0)).expect("valid options");
-    assert_eq!(sol.status, Status::Success, "{:?}", sol.status);
+    for scale in [1.0, 1e9, 1e-9] {
+        let problem = Problem::dynamic(
+            Turning { omega: 20.0, scale },
+            0.0,
+            vec![0.0; 3],
+            vec![1.0, 0.0, 0.0],
+        )
+        .expect("valid");
+        for method in [
+            AnyMethod::Rk4(Rk4::new(0.1)),
+            AnyMethod::Dopri5(Dopri5::default()),
+        ] {
+            let options = Options::until(2.0).max_step(0.1);
+            let sol = solve(&problem, method, &options).expect("valid options");
+            assert_eq!(
+                sol.status,
+                Status::Success,
+                "scale {scale}: {:?}",
+                sol.status
+            );
+        }
+    }
 }
 
 /// A particle in gravity on the cone of velocities `ż = k |(ẋ, ẏ)|`: `μ = m g/(1 + k²)` and the
@@ -1256,11 +1271,10 @@ fn the_relative_residual_shows_velocities_lost_under_an_absolute_tolerance() {
     let scaled = solve_at(1e-12, Atol::PerComponent(vec![1e-10, 1e-10, 1e-22, 1e-22]));
     let rel = scaled.max_relative_residual().expect("recorded");
     assert!(rel < 1e-8, "relative {rel:e}");
-    // Each point's value is max_a δ_a/(|q̇| + δ_a), δ_a = |f_a|/|∂f_a/∂q̇| = |f|/(2|q̇|) here.
+    // Each point's value is |f|/(Σ_i |∂f/∂q̇_i · q̇_i| + |f|) = |f|/(2ẋ² + 2ẏ² + |f|) here.
     for (i, qd) in lost.qd.iter().enumerate() {
-        let speed = qd[0].hypot(qd[1]);
-        let delta = lost.residual[i][0].abs() / (2.0 * speed);
-        let expected = delta / (speed + delta);
+        let f = lost.residual[i][0].abs();
+        let expected = f / (2.0 * (qd[0] * qd[0] + qd[1] * qd[1]) + f);
         assert!(
             (lost.relative_residual[i] - expected).abs() <= 1e-12 * expected.max(1e-300),
             "{i}: {} against {expected}",
@@ -1329,4 +1343,42 @@ fn nearly_dependent_constraints_lose_accuracy_as_the_square_of_their_condition()
             );
         }
     }
+}
+
+/// The paper's particle with a free spin `φ` beside it, `L = ½(ẋ² + ẏ² + φ̇²) − 10 y`,
+/// `f = ẋ² + ẏ² − 100`: the spin's speed has nothing to do with the constraint.
+struct Spinning;
+
+impl Lagrangian<3> for Spinning {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 3>, qd: &SVector<R, 3>) -> R {
+        qd.dot(qd) * 0.5 - q[1] * 10.0
+    }
+}
+
+impl Constraints<3, 1> for Spinning {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 3>, qd: &SVector<R, 3>) -> SVector<R, 1> {
+        SVector::from([qd[0] * qd[0] + qd[1] * qd[1] - 100.0])
+    }
+}
+
+#[test]
+fn the_relative_residual_is_not_diluted_by_coordinates_the_constraint_does_not_involve() {
+    let relative = |spin: f64| {
+        let problem = Problem::new(
+            Spinning,
+            0.0,
+            SVector::from([0.0, 5.0, 0.0]),
+            SVector::from([10.0, 0.0, spin]),
+        )
+        .expect("valid");
+        // Rk4 with a coarse step leaves a residual worth measuring.
+        let sol = solve(&problem, Rk4::new(0.1), &Options::until(1.0)).expect("valid options");
+        sol.max_relative_residual().expect("recorded")
+    };
+    let (still, fast) = (relative(0.0), relative(1000.0));
+    assert!(still > 1e-8, "{still:e}");
+    assert!(
+        (fast - still).abs() <= 1e-6 * still,
+        "{fast:e} against {still:e}"
+    );
 }

@@ -65,12 +65,13 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
                 "the step limit of {max_steps} steps was reached, the second half of them \
                  advancing t by less than a thousandth of what the first half did"
             ),
-            advice: "the steps shrink to nothing at this point, where the motion changes ever \
-                     faster (a kink of an expression, such as abs or sqrt at zero, a singular \
-                     point, or a blow-up): more steps or looser tolerances will hardly pass it; \
-                     check the expressions near this state (chetaev describe shows them at the \
-                     initial state)"
-                .to_string(),
+            advice: format!(
+                "the motion changes ever faster here. At a kink of an expression (abs or sqrt at \
+                 zero), a singular point or a blow-up the steps shrink to nothing and more steps \
+                 will not pass it: check the expressions near this state. In a fast but regular \
+                 phase (a close passage of an orbit) raise max_steps under [solve] (now \
+                 {max_steps})"
+            ),
         },
         E::MaxSteps { t, max_steps, .. } => Failure {
             t: Some(*t),
@@ -167,8 +168,8 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
                     ),
                     Singularity::DependentGradients => format!(
                         "the derivatives by the velocities of the constraints become linearly \
-                         dependent (the volume they span passes through zero, down to {ratio:e} \
-                         times its size at the ends of the step)"
+                         dependent (the frame they span reverses its orientation within one step, \
+                         each of them leaving that span by at most {ratio:e} of its size)"
                     ),
                     Singularity::Metric => format!(
                         "the kinetic metric ∂²L/∂q̇² of the lagrangian changed size by a factor \
@@ -180,8 +181,10 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
             ),
             advice: "the equations do not determine the motion there (a rank loss, such as the \
                      speed passing through zero under a constraint on its magnitude, or a pole of \
-                     the model); the motion up to the last step before t is kept: check the expressions near this \
-                     state, or stop the motion before it with a terminal [[events]] entry"
+                     the model; or a computed state drifted off the constraints, which tighter \
+                     tolerances or `projection = true` under [solve] prevent); the motion up to \
+                     the last step before t is kept: check the expressions near this state, or \
+                     stop the motion before it with a terminal [[events]] entry"
                 .to_string(),
         },
         E::ProjectionFailed {
@@ -469,10 +472,10 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
                 num(max),
                 count(out.residual.len(), "output point", "output points")
             );
-            // What |f| means for the velocity: how far q̇ misses the constraints, relative to it.
+            // |f| against the velocity terms of each constraint (Solution::relative_residual).
             match out.max_relative_residual() {
                 Some(r) => {
-                    let _ = writeln!(s, "; q̇ misses them by at most {} of its size", num(r));
+                    let _ = writeln!(s, "; against their velocity terms at most {}", num(r));
                 }
                 None => {
                     let _ = writeln!(s);

@@ -521,11 +521,11 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
                     "raise Options::max_steps or take a larger fixed step"
                 } else if stalled {
                     "the second half of the steps advanced t by less than a thousandth of what \
-                     the first half did: the steps shrink to nothing at this point, where the \
-                     motion changes ever faster (a kink of the model, such as an absolute value \
-                     or a square root at zero, a singular point, or a blow-up), and more steps or \
-                     looser tolerances will hardly pass it; check the model near this state \
-                     (Problem::equations_at)"
+                     the first half did: the motion changes ever faster here. At a kink of the \
+                     model (an absolute value or a square root at zero), a singular point or a \
+                     blow-up the steps shrink to nothing and more steps will not pass it: check \
+                     the model near this state (Problem::equations_at). In a fast but regular \
+                     phase (a close passage of an orbit) raise Options::max_steps"
                 } else {
                     "raise Options::max_steps or loosen the tolerances"
                 },

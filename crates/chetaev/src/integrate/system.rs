@@ -740,8 +740,10 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
 /// `C̃ = c Qᵀ` and `C⊥` is the part of `c` outside the rows of `p`. A regular step keeps the
 /// orientation, `det C̃ > 0`; where it reverses, the square part passes through a singular matrix
 /// inside the step, and `J` with it but for `s C⊥`. So it is a rank loss when `det C̃ < 0` and
-/// `|C⊥| ≤ tol·|c|` (Frobenius norms); for `k = n`, `C⊥ = 0` and it is `det J` changing sign, a zero
-/// between the states whatever the path. Returns `|C⊥|/|c|` and where on the step (`0 … 1`) the
+/// every row of `c` lies in the span of `p` but for less than `tol` of its size (each row of `p`
+/// and `c` is scaled to unit size first, so that rows of very different sizes are judged alike);
+/// for `k = n`, `C⊥ = 0` and it is `det J` changing sign, a zero between the states whatever the
+/// path. Returns the largest such part and where on the step (`0 … 1`) the
 /// determinant, taken as linear, is zero. Gradients that turn fast but stay independent (by more
 /// than a right angle in a step) leave a large `C⊥` and are not flagged.
 fn dependence(
@@ -755,49 +757,63 @@ fn dependence(
     scratch.clear();
     scratch.resize(k * n + k * k, 0.0);
     let (q, m) = scratch.split_at_mut(k * n);
-    // Modified Gram–Schmidt on the rows of p; det L is the product of the norms.
+    let size = |row: &[f64]| row.iter().map(|a| a * a).sum::<f64>().sqrt();
+    // Modified Gram–Schmidt on the rows of p, each first scaled to unit size (which changes no
+    // orientation, and keeps a large row from hiding a small one); det L is the product of the
+    // norms.
     let mut det_l = 1.0;
     for i in 0..k {
-        q[i * n..(i + 1) * n].copy_from_slice(&p[i * n..(i + 1) * n]);
+        let row = &p[i * n..(i + 1) * n];
+        let unit = size(row);
+        if unit.is_nan() || unit <= 0.0 {
+            return None;
+        }
+        q[i * n..(i + 1) * n]
+            .iter_mut()
+            .zip(row)
+            .for_each(|(a, b)| *a = b / unit);
         for j in 0..i {
             let (done, row) = q.split_at_mut(i * n);
             let (qj, qi) = (&done[j * n..(j + 1) * n], &mut row[..n]);
             let d: f64 = qi.iter().zip(qj).map(|(a, b)| a * b).sum();
             qi.iter_mut().zip(qj).for_each(|(a, b)| *a -= d * b);
         }
-        let norm = q[i * n..(i + 1) * n]
-            .iter()
-            .map(|a| a * a)
-            .sum::<f64>()
-            .sqrt();
+        let norm = size(&q[i * n..(i + 1) * n]);
         if norm.is_nan() || norm <= 0.0 {
             return None;
         }
         q[i * n..(i + 1) * n].iter_mut().for_each(|a| *a /= norm);
         det_l *= norm;
     }
-    // C̃ = c Qᵀ, and the size of what of c lies outside the rows of p.
-    let (mut outside, mut size) = (0.0, 0.0);
+    // C̃ = ĉ Qᵀ for the rows of c scaled to unit size, and the largest part of one of them that
+    // lies outside the rows of p.
+    let mut outside = 0.0f64;
     for i in 0..k {
         let ci = &c[i * n..(i + 1) * n];
+        let unit = size(ci);
+        if unit.is_nan() || unit <= 0.0 {
+            return None;
+        }
         for j in 0..k {
             m[i * k + j] = ci
                 .iter()
                 .zip(&q[j * n..(j + 1) * n])
                 .map(|(a, b)| a * b)
-                .sum();
+                .sum::<f64>()
+                / unit;
         }
+        let mut out_i = 0.0;
         for l in 0..n {
             let inside: f64 = (0..k).map(|j| m[i * k + j] * q[j * n + l]).sum();
-            outside += (ci[l] - inside).powi(2);
-            size += ci[l] * ci[l];
+            out_i += (ci[l] / unit - inside).powi(2);
         }
+        outside = outside.max(out_i);
     }
     let det_c = determinant(m, k);
     if det_c.is_nan() || det_c >= 0.0 {
         return None;
     }
-    let ratio = if k == n { 0.0 } else { (outside / size).sqrt() };
+    let ratio = if k == n { 0.0 } else { outside.sqrt() };
     (ratio <= tol).then(|| (ratio, det_l / (det_l - det_c)))
 }
 
