@@ -720,6 +720,13 @@ fn the_residual_table_names_each_row_and_shows_the_holonomic_position_residual()
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("residual-table");
     let _ = std::fs::remove_dir_all(&dir);
     output::write(&scene, &outcome, &dir).expect("writes");
+    // The summary gives the holonomic residual h beside f, and no relative measure of velocity
+    // constraints the scene does not have.
+    let summary = output::summary(&scene, &outcome);
+    assert!(
+        summary.contains("; max |h| = ") && !summary.contains("velocity terms"),
+        "{summary}"
+    );
     let text = std::fs::read_to_string(dir.join("residual.csv")).expect("written");
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("t,hdot_1,h_1"));

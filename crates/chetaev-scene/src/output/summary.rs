@@ -472,15 +472,17 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
                 num(max),
                 count(out.residual.len(), "output point", "output points")
             );
-            // |f| against the velocity terms of each constraint (Solution::relative_residual).
-            match out.max_relative_residual() {
-                Some(r) => {
-                    let _ = writeln!(s, "; against their velocity terms at most {}", num(r));
-                }
-                None => {
-                    let _ = writeln!(s);
+            // |f| against the velocity terms of each velocity constraint
+            // (Solution::relative_residual), and the holonomic constraints' own residual h.
+            if !scene.constraints.is_empty() {
+                if let Some(r) = out.max_relative_residual() {
+                    let _ = write!(s, "; against their velocity terms at most {}", num(r));
                 }
             }
+            if let Some(h) = max_abs(out.position_residual.iter().flatten()) {
+                let _ = write!(s, "; max |h| = {}", num(h));
+            }
+            let _ = writeln!(s);
         }
     }
     if let Some(b) = max_abs(&out.balance) {
