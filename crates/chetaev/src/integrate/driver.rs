@@ -506,7 +506,8 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     let mut rejected_last = false;
     let mut err_prev = 1e-4f64;
     // Where the second half of the allowed steps began: steps that advance `t` by a thousandth of
-    // what the first half did are stuck at a point, not merely many.
+    // what the first half did have slowed at a point (a kink, a singular point, a blow-up, or a
+    // fast regular phase), not merely been many.
     let mut t_half = t0;
     loop {
         if steps >= options.max_steps {
