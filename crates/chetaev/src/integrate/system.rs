@@ -757,17 +757,18 @@ fn dependence(
     scratch.clear();
     scratch.resize(k * n + k * k, 0.0);
     let (q, m) = scratch.split_at_mut(k * n);
-    let size = |row: &[f64]| row.iter().map(|a| a * a).sum::<f64>().sqrt();
+    // The size of a row, `None` for a zero (or NaN) one: then there is nothing to judge.
+    let size = |row: &[f64]| {
+        let s = row.iter().map(|a| a * a).sum::<f64>().sqrt();
+        (s > 0.0).then_some(s)
+    };
     // Modified Gram–Schmidt on the rows of p, each first scaled to unit size (which changes no
     // orientation, and keeps a large row from hiding a small one); det L is the product of the
     // norms.
     let mut det_l = 1.0;
     for i in 0..k {
         let row = &p[i * n..(i + 1) * n];
-        let unit = size(row);
-        if unit.is_nan() || unit <= 0.0 {
-            return None;
-        }
+        let unit = size(row)?;
         q[i * n..(i + 1) * n]
             .iter_mut()
             .zip(row)
@@ -778,10 +779,7 @@ fn dependence(
             let d: f64 = qi.iter().zip(qj).map(|(a, b)| a * b).sum();
             qi.iter_mut().zip(qj).for_each(|(a, b)| *a -= d * b);
         }
-        let norm = size(&q[i * n..(i + 1) * n]);
-        if norm.is_nan() || norm <= 0.0 {
-            return None;
-        }
+        let norm = size(&q[i * n..(i + 1) * n])?;
         q[i * n..(i + 1) * n].iter_mut().for_each(|a| *a /= norm);
         det_l *= norm;
     }
@@ -790,10 +788,7 @@ fn dependence(
     let mut outside = 0.0f64;
     for i in 0..k {
         let ci = &c[i * n..(i + 1) * n];
-        let unit = size(ci);
-        if unit.is_nan() || unit <= 0.0 {
-            return None;
-        }
+        let unit = size(ci)?;
         for j in 0..k {
             m[i * k + j] = ci
                 .iter()
