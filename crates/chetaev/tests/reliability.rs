@@ -565,6 +565,12 @@ fn steps_stuck_at_a_kink_of_the_model_say_so_instead_of_asking_for_more_steps() 
             Some(Error::MaxSteps {
                 t, hint, stalled, ..
             }) => {
+                eprintln!(
+                    "{}: stalled at t − t* = {:.1e} after {} steps",
+                    method.name(),
+                    t - t_apex,
+                    sol.stats.accepted_steps + sol.stats.rejected_steps
+                );
                 assert!(*stalled);
                 assert!((t - t_apex).abs() < 1e-4, "{t} against {t_apex}");
                 assert!(
