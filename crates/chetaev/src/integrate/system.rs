@@ -210,8 +210,9 @@ pub struct ReducedOde<'a, M: ?Sized> {
     previous_j: Vec<f64>,
     previous_w: f64,
     previous_t: f64,
-    /// Scratch space for the dependence test of the singular-point check (`k × k`).
-    gram: Vec<f64>,
+    /// Scratch space for the dependence test of the singular-point check: an orthonormal basis
+    /// of the previous gradients (`k × n`) and the current ones in it (`k × k`).
+    frame: Vec<f64>,
     /// The time of the last evaluation by `rhs`.
     last_t: f64,
     /// The variational equations, when sensitivities are asked for: `S` follows `(q, q̇)`.
@@ -290,7 +291,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             let k = d.j.len() / n.max(1);
             if culprit.is_none() && (2..=n).contains(&k) {
                 culprit =
-                    dependence(&self.previous_j, &d.j, k, tol, &mut self.gram).map(|(r, s)| {
+                    dependence(&self.previous_j, &d.j, k, tol, &mut self.frame).map(|(r, s)| {
                         (
                             Singularity::DependentGradients,
                             r,
@@ -347,7 +348,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             previous_j: Vec::new(),
             previous_w: 0.0,
             previous_t: f64::NAN,
-            gram: Vec::new(),
+            frame: Vec::new(),
             last_t: f64::NAN,
             sens: None,
             stats: Stats::default(),
