@@ -159,8 +159,86 @@ fn an_inconsistent_initial_position_is_refused_or_projected_on_request() -> Resu
     Ok(())
 }
 
+/// `q̇0` off a velocity constraint and off the rate `ḣ` of a holonomic one are told apart, and a
+/// model with too many constraints counts each kind.
+#[test]
+fn refusals_name_the_kind_of_constraint_they_are_about() {
+    let sled = || Sled {
+        m: 1.0,
+        g: 9.81,
+        alpha: PI / 9.0,
+        v0: 2.0,
+        a: 0.5,
+        h0: 3.0,
+    };
+    let q0 = SVector::from([0.0, 0.0, 3.0]);
+    // At the prescribed speed but straight up, off the plane: ḣ = ż + ẏ tan α = 2.
+    let err = Problem::new(sled(), 0.0, q0, SVector::from([0.0, 0.0, 2.0])).expect_err("ḣ ≠ 0");
+    assert!(
+        matches!(
+            err,
+            Error::InconsistentInitialState {
+                index: 2,
+                holonomic: Some(1),
+                ..
+            }
+        ),
+        "{err}"
+    );
+    let text = err.to_string();
+    assert!(
+        text.contains("holonomic constraint 1") && text.contains("ḣ = ∂h/∂q·q̇ + ∂h/∂t = 2e0"),
+        "{text}"
+    );
+    // Along the plane at half the speed: f = 1 − 4.
+    let err = Problem::new(sled(), 0.0, q0, SVector::from([1.0, 0.0, 0.0])).expect_err("f ≠ 0");
+    assert!(
+        matches!(
+            err,
+            Error::InconsistentInitialState {
+                index: 1,
+                holonomic: None,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err
+        .to_string()
+        .contains("velocity constraint 1 (numbered from 1): f = -3e0"));
+
+    /// One velocity and two holonomic constraints on two coordinates.
+    #[derive(Debug)]
+    struct Crowded;
+    impl DynModel for Crowded {
+        fn sizes(&self) -> (usize, usize) {
+            (2, 1)
+        }
+        fn lagrangian<R: Real>(&self, _t: R, _q: &[R], qd: &[R]) -> R {
+            (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5
+        }
+        fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+            f[0] = qd[0] - 1.0;
+        }
+        fn holonomic_count(&self) -> usize {
+            2
+        }
+        fn holonomic<R: Real>(&self, _t: R, q: &[R], h: &mut [R]) {
+            h[0] = q[1];
+            h[1] = q[0] + q[1] * 2.0;
+        }
+    }
+    let err = Problem::dynamic(Crowded, 0.0, vec![0.0; 2], vec![1.0, 0.0]).expect_err("3 > 2");
+    assert!(
+        err.to_string()
+            .contains("1 velocity and 2 holonomic constraints (3 in all) on 2 coordinates"),
+        "{err}"
+    );
+}
+
 /// The sled on an inclined plane with a prescribed speed (docs/scenes.md), the plane given as
 /// a holonomic constraint.
+#[derive(Debug)]
 struct Sled {
     m: f64,
     g: f64,

@@ -173,9 +173,10 @@ impl Scene {
             E::InconsistentInitialState {
                 t,
                 index,
+                holonomic: Some(_),
                 residual,
                 tolerance,
-            } if index > v => self.error_at(
+            } => self.error_at(
                 // A holonomic constraint, through its time derivative ḣ = ∂h/∂q q̇ + ∂h/∂t.
                 s.q_dot.clone(),
                 format!(
@@ -189,6 +190,7 @@ impl Scene {
             E::InconsistentInitialState {
                 t,
                 index,
+                holonomic: None,
                 residual,
                 tolerance,
             } => self.error_at(
@@ -268,10 +270,11 @@ impl Scene {
             E::InconsistentSeed {
                 seed,
                 constraint,
+                holonomic,
                 residual,
             } => {
                 // A velocity constraint ties q_dot to the parameter, a holonomic one q and q_dot.
-                let span = if constraint <= v {
+                let span = if holonomic.is_none() {
                     s.q_dot.clone()
                 } else {
                     s.initial.clone()

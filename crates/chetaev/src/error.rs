@@ -63,19 +63,34 @@ pub enum Error {
         t_end: f64,
     },
 
-    /// The initial velocity does not satisfy the constraints.
+    /// The initial velocity does not satisfy the constraints: a velocity constraint `f_a = 0`, or
+    /// the time derivative `ḣ_b = ∂h_b/∂q·q̇ + ∂h_b/∂t = 0` of a holonomic one.
     #[error(
-        "the initial state violates constraint {index} (numbered from 1): f = {residual:e} at t = {t} (allowed \
-         {tolerance:.2e}); give a consistent initial velocity, or opt in to Problem::with_projected_velocity to \
-         project it onto f = 0",
-        t = Num(*.t)
+        "the initial velocity violates {row}{value} = {residual:e} at t = {t} (allowed {tolerance:.2e}); \
+         give {what}, or opt in to Problem::with_projected_velocity to project it onto {target} = 0",
+        row = Row(*.index, *.holonomic),
+        value = if .holonomic.is_some() {
+            " differentiated in time: ḣ = ∂h/∂q·q̇ + ∂h/∂t"
+        } else {
+            ": f"
+        },
+        t = Num(*.t),
+        what = if .holonomic.is_some() {
+            "a q̇0 along the holonomic constraints (ḣ = 0: the motion would leave h = 0 at once)"
+        } else {
+            "a consistent initial velocity"
+        },
+        target = if .holonomic.is_some() { "ḣ" } else { "f" }
     )]
     InconsistentInitialState {
         /// Initial time.
         t: f64,
-        /// The constraint's number, from 1.
+        /// The row's number, from 1: the velocity constraints first, then the holonomic ones.
         index: usize,
-        /// `f_a(t0, q0, q̇0)`.
+        /// For a holonomic constraint, its number among the holonomic ones (from 1); `None` for
+        /// a velocity constraint.
+        holonomic: Option<usize>,
+        /// `f_a(t0, q0, q̇0)`, or `ḣ_b(t0, q0, q̇0)`.
         residual: f64,
         /// The largest residual accepted.
         tolerance: f64,
@@ -330,17 +345,29 @@ pub enum Error {
 
     /// A seed of the sensitivities moves the initial state off the constraints to first order.
     #[error(
-        "sensitivity seed \"{seed}\" moves the initial state off constraint {constraint}: its \
-         first-order residual is {residual:e}; move the initial state with the parameter, with \
-         Seed::with_position and Seed::with_velocity (for example, for f = |q̇|² − v0², seed v0 \
-         with the velocity's direction too: Seed::parameter(\"v0\").with_velocity(i, dq̇_i/dv0))"
+        "sensitivity seed \"{seed}\" moves the initial state off {row}{through}: its first-order \
+         residual is {residual:e}; move the initial state with the parameter, with Seed::with_position and \
+         Seed::with_velocity ({example})",
+        row = Row(*.constraint, *.holonomic),
+        through = if .holonomic.is_some() { ", through its rate ḣ" } else { "" },
+        example = if .holonomic.is_some() {
+            "for h = y − x tan ωt, whose ḣ = ẏ − ẋ tan ωt − ω x sec² ωt depends on ω, seed ω with \
+             the velocity that keeps ḣ = 0: Seed::parameter(\"omega\").with_velocity(i, dq̇_i/dω)"
+        } else {
+            "for f = |q̇|² − v0², seed v0 with the velocity's direction too: \
+             Seed::parameter(\"v0\").with_velocity(i, dq̇_i/dv0)"
+        }
     )]
     InconsistentSeed {
         /// The seed's name.
         seed: String,
         /// The constraint (numbered from 1; holonomic ones after the velocity constraints).
         constraint: usize,
-        /// `δf_a = ∂f_a/∂q δq0 + ∂f_a/∂q̇ δq̇0 + ∂f_a/∂p δp`.
+        /// For a holonomic constraint, its number among the holonomic ones (from 1); `None` for
+        /// a velocity constraint.
+        holonomic: Option<usize>,
+        /// `δf_a = ∂f_a/∂q δq0 + ∂f_a/∂q̇ δq̇0 + ∂f_a/∂p δp` (for a holonomic constraint, the
+        /// same of `ḣ_b`).
         residual: f64,
     },
 }
@@ -359,6 +386,23 @@ pub enum Singularity {
     DependentGradients,
     /// The kinetic metric `W = ∂²L/∂q̇²` changed size by many orders of magnitude within a step.
     Metric,
+}
+
+/// A constraint row in a message: `Row(index, holonomic)` with `index` numbered from 1 over the
+/// velocity constraints and then the holonomic ones, and `holonomic` the number among the
+/// holonomic ones when the row is one.
+struct Row(usize, Option<usize>);
+
+impl std::fmt::Display for Row {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.1 {
+            None => write!(f, "velocity constraint {} (numbered from 1)", self.0),
+            Some(b) => write!(
+                f,
+                "holonomic constraint {b} (numbered from 1 among the holonomic ones)"
+            ),
+        }
+    }
 }
 
 /// A number in a message: as written for moderate magnitudes, in scientific notation for tiny

@@ -380,6 +380,7 @@ impl<M: Model> Problem<M> {
                 return Err(Error::InconsistentInitialState {
                     t: t0,
                     index: a + 1,
+                    holonomic: a.checked_sub(k - holonomic).map(|b| b + 1),
                     residual,
                     tolerance,
                 });
@@ -452,10 +453,19 @@ fn check_state<M: Model>(
         });
     }
     if k > n {
+        let holonomic = model.holonomic_count();
+        let which = if holonomic > 0 {
+            format!(
+                "{} velocity and {holonomic} holonomic constraints ({k} in all)",
+                k.saturating_sub(holonomic)
+            )
+        } else {
+            format!("{k} velocity constraints")
+        };
         return Err(Error::InvalidModel {
             what: format!(
-                "the model has {k} velocity constraints on {n} coordinates; at most N = {n} \
-                 independent constraints can hold"
+                "the model has {which} on {n} coordinates; at most N = {n} independent \
+                 constraints can hold"
             ),
         });
     }

@@ -360,6 +360,8 @@ impl Variational {
                 1.0 + s.iter().chain(&v.dp[j]).map(|x| x.abs()).sum::<f64>()
             })
             .collect();
+        // The rows of `f` are the velocity constraints, then `ḣ` of the holonomic ones.
+        let velocity = k - model.holonomic_count();
         for first in (0..seeds.len()).step_by(LANES) {
             let d = v.lanes(model, Point::new(t0, q0, qd0), &s0, first, Need::All)?;
             for (a, fa) in d.f.iter().enumerate() {
@@ -371,6 +373,7 @@ impl Variational {
                         return Err(Error::InconsistentSeed {
                             seed: seeds[j].name.clone(),
                             constraint: a + 1,
+                            holonomic: a.checked_sub(velocity).map(|b| b + 1),
                             residual: rate,
                         });
                     }

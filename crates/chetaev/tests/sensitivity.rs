@@ -215,6 +215,29 @@ fn a_holonomic_pendulums_quarter_period_moves_as_the_square_root_of_l_over_g() -
     let dynamic = Problem::dynamic(Rod { g, l }, 0.0, q0.to_vec(), vec![0.0, 0.0])?;
     check(&solve(&dynamic, Dop853::default(), &options)?);
     check(&solve(&dynamic, Rodas4, &options)?);
+    // A velocity seed across the rod moves q̇0 off ḣ = 2 q·q̇ = 0: the refusal names the holonomic
+    // constraint (the model has no velocity constraint) and the seeds that keep ḣ = 0.
+    let e = solve(
+        &fixed,
+        Dop853::default(),
+        &Options::until(1.0).sensitivity(Seed::velocity(0)),
+    )
+    .expect_err("δḣ = 2 x0 ≠ 0");
+    assert!(
+        matches!(
+            e,
+            Error::InconsistentSeed {
+                constraint: 1,
+                holonomic: Some(1),
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let text = e.to_string();
+    assert!(text.contains("off holonomic constraint 1"), "{text}");
+    assert!(text.contains("through its rate ḣ"), "{text}");
+    assert!(!text.contains("|q̇|² − v0²"), "{text}");
     Ok(())
 }
 
@@ -338,9 +361,17 @@ fn bad_seeds_are_typed_errors() -> Result<(), Error> {
     )
     .expect_err("inconsistent seed");
     assert!(
-        matches!(e, Error::InconsistentSeed { constraint: 1, .. }),
+        matches!(
+            e,
+            Error::InconsistentSeed {
+                constraint: 1,
+                holonomic: None,
+                ..
+            }
+        ),
         "{e}"
     );
+    assert!(e.to_string().contains("off velocity constraint 1"), "{e}");
     // Out-of-range coordinate, duplicate names, projection.
     let e = solve(
         &problem,
