@@ -163,14 +163,7 @@ fn an_inconsistent_initial_position_is_refused_or_projected_on_request() -> Resu
 /// model with too many constraints counts each kind.
 #[test]
 fn refusals_name_the_kind_of_constraint_they_are_about() {
-    let sled = || Sled {
-        m: 1.0,
-        g: 9.81,
-        alpha: PI / 9.0,
-        v0: 2.0,
-        a: 0.5,
-        h0: 3.0,
-    };
+    let sled = || Sled::GUIDE;
     let q0 = SVector::from([0.0, 0.0, 3.0]);
     // At the prescribed speed but straight up, off the plane: ḣ = ż + ẏ tan α = 2.
     let err = Problem::new(sled(), 0.0, q0, SVector::from([0.0, 0.0, 2.0])).expect_err("ḣ ≠ 0");
@@ -248,6 +241,18 @@ struct Sled {
     h0: f64,
 }
 
+impl Sled {
+    /// The guide's sled: 1 kg on a 20° slope from 3 m, at `2 + 0.5 t` m/s.
+    const GUIDE: Sled = Sled {
+        m: 1.0,
+        g: 9.81,
+        alpha: PI / 9.0,
+        v0: 2.0,
+        a: 0.5,
+        h0: 3.0,
+    };
+}
+
 impl Lagrangian<3> for Sled {
     fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 3>, qd: &SVector<R, 3>) -> R {
         qd.dot(qd) * (0.5 * self.m) - q[2] * (self.m * self.g)
@@ -270,14 +275,7 @@ impl Constraints<3, 1> for Sled {
 #[test]
 fn a_sled_on_a_holonomic_plane_at_a_prescribed_speed_follows_the_guides_closed_forms(
 ) -> Result<(), Error> {
-    let s = Sled {
-        m: 1.0,
-        g: 9.81,
-        alpha: PI / 9.0,
-        v0: 2.0,
-        a: 0.5,
-        h0: 3.0,
-    };
+    let s = Sled::GUIDE;
     let (m, g, alpha, v0, a, h0) = (s.m, s.g, s.alpha, s.v0, s.a, s.h0);
     let k = g * alpha.sin() / a;
     let problem = Problem::new(
