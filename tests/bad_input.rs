@@ -109,6 +109,110 @@ impl Lagrangian<2> for Expiring {
     }
 }
 
+/// The paper's particle at speed 10 with the domain ending at `t = 1` elsewhere: in a term of `L`
+/// in `t` alone, which the motion never differentiates into but the energy balance does (`∂L/∂t`),
+/// and in a constraint whose value and gradient carry the factor `√(1 − t)`.
+struct EndsAtOne {
+    in_l: bool,
+}
+
+impl DynModel for EndsAtOne {
+    fn sizes(&self) -> (usize, usize) {
+        (2, 1)
+    }
+    fn lagrangian<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> R {
+        let l = (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5 - q[1] * 10.0;
+        if self.in_l {
+            l + (-t + 1.0).sqrt()
+        } else {
+            l
+        }
+    }
+    fn constraints<R: Real>(&self, t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        let factor = if self.in_l {
+            R::one()
+        } else {
+            (-t + 1.0).sqrt()
+        };
+        f[0] = (qd[0] * qd[0] + qd[1] * qd[1] - 100.0) * factor;
+    }
+}
+
+/// Where the model stops existing, every route and method stops there as at a NaN (rejecting the
+/// step, then `NonFiniteEvaluation` or `StepSizeTooSmall`), keeping the motion up to it: not a
+/// singular block system past the end, nor a non-finite state.
+#[test]
+fn a_model_that_leaves_its_domain_mid_run_stops_there_on_every_route() {
+    for in_l in [true, false] {
+        for route in [Route::Graph, Route::Dual] {
+            let problem =
+                Problem::dynamic(EndsAtOne { in_l }, 0.0, vec![0.0, 5.0], vec![10.0, 0.0])
+                    .expect("valid at t0")
+                    .with_route(route);
+            for method in [
+                AnyMethod::Dopri5(Dopri5::default()),
+                AnyMethod::Dop853(Dop853::default()),
+                AnyMethod::Rodas4(Rodas4),
+            ] {
+                let options = Options::until(2.0).record(Record::Energy);
+                let sol = solve(&problem, method, &options).expect("valid options");
+                let case = format!("in_l {in_l}, {route:?}, {}", method.name());
+                let t = match sol.error() {
+                    Some(
+                        Error::NonFiniteEvaluation { t, .. } | Error::StepSizeTooSmall { t, .. },
+                    ) => *t,
+                    other => panic!("{case}: expected a stop at a NaN, got {other:?}"),
+                };
+                assert!(t > 0.99 && t <= 1.0 + 1e-9, "{case}: t = {t}");
+                let last = *sol.t.last().expect("points");
+                assert!(last > 0.99, "{case}: the motion is kept to {last} only");
+                assert!(
+                    sol.work
+                        .iter()
+                        .chain(&sol.dl_dt_integral)
+                        .all(|v| v.is_finite()),
+                    "{case}: no NaN in the balance"
+                );
+            }
+        }
+    }
+    // The limit docs/where-it-breaks.md states: by a static model's compiled equations a term of
+    // `L` in `t` alone is evaluated only where `L` is recorded, so a run recording the state alone
+    // goes on past the end of its domain; by dual numbers it stops there.
+    struct Static;
+    impl Lagrangian<2> for Static {
+        fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+            EndsAtOne { in_l: true }.lagrangian(t, q.as_slice(), qd.as_slice())
+        }
+    }
+    impl Constraints<2, 1> for Static {
+        fn constraints<R: Real>(
+            &self,
+            _t: R,
+            _q: &SVector<R, 2>,
+            qd: &SVector<R, 2>,
+        ) -> SVector<R, 1> {
+            SVector::from([qd.dot(qd) - 100.0])
+        }
+    }
+    let problem = Problem::new(
+        Static,
+        0.0,
+        SVector::from([0.0, 5.0]),
+        SVector::from([10.0, 0.0]),
+    )
+    .expect("valid at t0");
+    let state = Options::until(2.0).record(Record::State);
+    let sol = solve(&problem, Dop853::default(), &state).expect("valid options");
+    assert_eq!(sol.status, Status::Success);
+    let sol = solve(&problem.with_route(Route::Dual), Dop853::default(), &state).expect("valid");
+    assert!(
+        matches!(sol.error(), Some(Error::NonFiniteEvaluation { t, .. } | Error::StepSizeTooSmall { t, .. }) if *t <= 1.0 + 1e-9),
+        "{:?}",
+        sol.status
+    );
+}
+
 #[test]
 fn nan_mid_run_is_reported_with_time_and_the_trajectory_so_far() {
     let p = Problem::unconstrained(Expiring, 0.0, SVector::zeros(), SVector::from([1.0, 0.0]))

@@ -803,7 +803,16 @@ impl Compiled {
             ws.core = slots;
         }
         read?;
-        d.pivot_ratio = self.solve(ws)?;
+        d.pivot_ratio = self.solve(ws).map_err(|e| {
+            // A factorisation fails on a NaN as on a zero pivot: the inputs tell which it was (a
+            // model that left its domain is no singular point, and a smaller step may avoid it).
+            let finite = |x: &[T]| x.iter().all(|v| v.re().is_finite());
+            if finite(&ws.r) && finite(&ws.j) && finite(&ws.c) && finite(&ws.w) {
+                e
+            } else {
+                SaddleFailure::NonFinite
+            }
+        })?;
         d.qdd.copy_from_slice(&ws.a);
         d.mu.copy_from_slice(&ws.mu);
         // Without a branch per entry, so that the loop is vectorised.

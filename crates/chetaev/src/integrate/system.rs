@@ -457,7 +457,8 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         let done = match &mut self.native {
             NativeState::On(native, buf) if !native_failed => native
                 .evaluate(buf, t, &y[..2 * n], &mut dy[..2 * n])
-                .then(|| native.rates(buf)),
+                .then(|| native.rates(buf))
+                .filter(|r| r.is_none_or(|r| r.iter().all(|x| x.is_finite()))),
             _ => None,
         };
         if let Some(rates) = done {
@@ -476,6 +477,11 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
                 *dqd = a;
             }
             if self.energy {
+                // The rates may leave their domain where the motion does not (a term of `L` in
+                // `t` alone): a step there is rejected as at any non-finite evaluation.
+                if !(d.power.is_finite() && d.dl_dt.is_finite() && d.power_forces.is_finite()) {
+                    return Err(locate(SaddleFailure::NonFinite, t, q, qd));
+                }
                 dy[e] = d.power;
                 dy[e + 1] = d.dl_dt;
                 if self.forces {
@@ -564,10 +570,13 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 let n = self.n;
                 if native.evaluate(buf, t, &y[..2 * n], &mut dy[..2 * n]) {
                     let rates = native.rates(buf);
-                    self.stats.rhs_evaluations += 1;
-                    self.native_done(rates, dy);
-                    self.last_t = t;
-                    return Ok(());
+                    // Non-finite rates take the general route, which reports them.
+                    if rates.is_none_or(|r| r.iter().all(|x| x.is_finite())) {
+                        self.stats.rhs_evaluations += 1;
+                        self.native_done(rates, dy);
+                        self.last_t = t;
+                        return Ok(());
+                    }
                 }
                 return self.rhs_general(t, y, dy, true);
             }
