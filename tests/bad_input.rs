@@ -337,6 +337,85 @@ fn bad_tolerances_are_rejected() {
         .event_samples(MAX_EVENT_SAMPLES);
     let sol = solve(&p, Dopri5::default(), &options).expect("valid");
     assert!(sol.is_success(), "{:?}", sol.status);
+    // A projection tolerance below the rounding error of f can never be met.
+    let tight = |tol| Projection {
+        tol,
+        ..Projection::default()
+    };
+    let e = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(1.0).project(tight(1e-17)),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, Error::InvalidOption { name: "projection tol", value, .. } if value == 1e-17),
+        "{e}"
+    );
+    let sol = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(1.0).project(tight(1e-14)),
+    );
+    assert!(sol.expect("valid").is_success());
+}
+
+/// Steps too short to change `t` (below 4 ulps of it) are refused before the run, whether they are
+/// a fixed step or the bound `max_step`; steps held at a bound that the step limit stops say so.
+#[test]
+fn steps_held_too_short_by_the_users_own_bound_are_named() {
+    let late = |t0: f64| {
+        Problem::new(
+            model(10.0),
+            t0,
+            SVector::from([0.0, 5.0]),
+            SVector::from([10.0, 0.0]),
+        )
+        .expect("valid")
+    };
+    let p = late(1e9);
+    let until = Options::until(1e9 + 1.0);
+    let e = solve(&p, Rk4::new(1e-10), &until).unwrap_err();
+    assert!(
+        matches!(e, Error::InvalidOption { name: "Rk4::h", .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("nearer origin"), "{e}");
+    let e = solve(&p, Dopri5::default(), &until.clone().max_step(1e-10)).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::InvalidOption {
+                name: "max_step",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    // The same steps from t0 = 0 are valid.
+    let p = late(0.0);
+    let sol = solve(&p, Rk4::new(1e-10), &Options::until(1e-9)).expect("valid");
+    assert!(sol.is_success(), "{:?}", sol.status);
+    // The step limit reached with the steps at the bound names the bound, not the tolerances.
+    let held = Options::until(1.0).max_step(1e-6).max_steps(1000);
+    for method in [
+        AnyMethod::Dopri5(Dopri5::default()),
+        AnyMethod::Rodas4(Rodas4),
+        AnyMethod::Rk4(Rk4::new(1e-3)),
+    ] {
+        let sol = solve(&p, method, &held).expect("valid");
+        let e = sol.error().expect("1000 steps of 1e-6 do not reach t = 1");
+        assert!(
+            matches!(e, Error::MaxSteps { .. }) && e.to_string().contains("Options::max_step"),
+            "{}: {e}",
+            method.name()
+        );
+    }
+    // Without a bound, or with one the steps stay well below, the hint is the usual one.
+    let sol = solve(&p, Dopri5::default(), &Options::until(1.0).max_steps(3)).expect("valid");
+    let e = sol.error().expect("3 steps");
+    assert!(!e.to_string().contains("Options::max_step "), "{e}");
+    assert!(e.to_string().contains("loosen the tolerances"), "{e}");
 }
 
 #[test]
@@ -359,7 +438,8 @@ fn step_limit_keeps_the_partial_solution() {
 #[test]
 fn the_step_limit_of_a_fixed_step_advises_a_larger_step_and_prints_t_readably() {
     let p = uniform_problem(&Params::PAPER).expect("valid");
-    let sol = solve(&p, Rk4::new(1e-300), &Options::until(1.0).max_steps(10)).expect("valid");
+    // (Up to t = 1e-290: a step of 1e-300 would stop changing t before t = 1, which is refused.)
+    let sol = solve(&p, Rk4::new(1e-300), &Options::until(1e-290).max_steps(10)).expect("valid");
     let e = sol.error().expect("the step limit").to_string();
     // Rk4 has no tolerances to loosen; and t, about 1e-299, is not three hundred digits long.
     assert!(e.contains("take a larger fixed step"), "{e}");

@@ -131,6 +131,19 @@ impl<'o> LoopSettings<'o> {
         info.validate()?;
         // The method's controller is checked with its facts, the options' with the options.
         o.validate_components(t0, block)?;
+        let t_max = t0.abs().max(o.t_end.abs());
+        if let Some(fixed) = info.fixed_step.filter(|h| *h <= 4.0 * f64::EPSILON * t_max) {
+            return Err(Error::InvalidOption {
+                name: if info.name == "Rk4" {
+                    "Rk4::h"
+                } else {
+                    "fixed step"
+                },
+                value: fixed,
+                hint: "a fixed step this short no longer changes t (it is below 4 ulps of t \
+                       over the interval): take a larger step, or count time from a nearer origin",
+            });
+        }
         let atol = o.atol_of(controlled);
         let controller = o.controller.unwrap_or(info.controller);
         Ok(Self {
@@ -385,6 +398,12 @@ pub fn solve_ode<S: OdeSystem, Me: Method>(
     Ok(sol)
 }
 
+/// Whether `steps` steps that advanced `t` by `advanced` were held at the bound `max_step`: at
+/// least half of it each on average.
+fn held_at_max_step(max_step: Option<f64>, steps: usize, advanced: f64) -> bool {
+    max_step.is_some_and(|h| advanced.abs() >= 0.5 * h * steps as f64)
+}
+
 /// Whether a trial step's outcome means "the step left the model's domain or the floating-point
 /// range": such a step is retried smaller rather than failing at once.
 fn left_domain(trial: &Result<f64, Error>, y_new: &[f64]) -> bool {
@@ -498,6 +517,10 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         * dir;
 
     let adaptive = info.fixed_step.is_none();
+    // The user's bound on the step, where it is below the method's own fixed step.
+    let bound = options
+        .max_step
+        .filter(|&m| info.fixed_step.is_none_or(|f| m < f));
     let q = info.control_order;
     let mut t = t0;
     let mut y_new = vec![0.0; dim];
@@ -518,7 +541,10 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
                 stalled,
                 t,
                 max_steps: options.max_steps,
-                hint: if !adaptive {
+                hint: if held_at_max_step(bound, steps, t - t0) {
+                    "the steps are held at Options::max_step (they took at least half of it on \
+                     average): raise it, or Options::max_steps; tolerances do not change them"
+                } else if !adaptive {
                     "raise Options::max_steps or take a larger fixed step"
                 } else if stalled {
                     "the second half of the steps advanced t by less than a thousandth of what \

@@ -198,6 +198,14 @@ impl Options {
         }
         if let Some(h) = self.max_step {
             positive("max_step", h, "a finite positive bound")?;
+            if h <= 4.0 * f64::EPSILON * t0.abs().max(self.t_end.abs()) {
+                return invalid(
+                    "max_step",
+                    h,
+                    "steps this short no longer change t (they are below 4 ulps of t over the \
+                     interval): give a larger bound, or count time from a nearer origin",
+                );
+            }
         }
         if self.max_steps == 0 {
             return invalid("max_steps", 0.0, "allow at least one step");
@@ -234,6 +242,14 @@ impl Options {
                 p.tol,
                 "a small positive relative residual such as 1e-14",
             )?;
+            if p.tol < f64::EPSILON {
+                return invalid(
+                    "projection tol",
+                    p.tol,
+                    "below the rounding error of f in f64 (2.2e-16 of its terms) no projection can \
+                     reach it; use 1e-14 or more (the default is 1e-12)",
+                );
+            }
             if p.max_iterations == 0 {
                 return invalid(
                     "projection max_iterations",
