@@ -117,6 +117,44 @@ fn a_state_that_overflows_is_a_typed_error_with_the_motion_kept() {
     }
 }
 
+/// `L = (1 − t) ẋ²/2`: the metric `W = 1 − t` passes through zero at `t = 1`, where the motion
+/// `ẋ = 1/(1 − t)` blows up.
+struct FadingMass;
+
+impl Lagrangian<1> for FadingMass {
+    fn lagrangian<R: Real>(&self, t: R, _q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        (-t + 1.0) * qd[0] * qd[0] * 0.5
+    }
+}
+
+#[test]
+fn a_metric_that_changes_sign_stops_the_adaptive_methods_and_not_rk4() {
+    let problem =
+        Problem::unconstrained(FadingMass, 0.0, SVector::from([0.0]), SVector::from([1.0]))
+            .expect("valid");
+    for method in AnyMethod::all(0.03) {
+        let sol = solve(&problem, method, &Options::until(2.0)).expect("valid options");
+        let (t, _, _) = sol.last().expect("kept");
+        if method.info().fixed_step.is_none() {
+            assert!(
+                sol.error().is_some() && t < 1.0,
+                "{}: {:?} at {t}",
+                method.name(),
+                sol.status
+            );
+        } else {
+            // The limit docs/where-it-breaks.md states: W goes from 0.01 to −0.02 within one
+            // step, a change of size the metric check does not flag, and no value overflows.
+            assert!(sol.is_success(), "{:?}", sol.status);
+            println!(
+                "Rk4, h = 0.03: Success, x(2) = {:.2}, ẋ(2) = {:.2}",
+                sol.q[sol.len() - 1][0],
+                sol.qd[sol.len() - 1][0]
+            );
+        }
+    }
+}
+
 /// `ẍ = −10⁶ x`: with Rk4's step `0.01`, `h·|λ| = 10`, far beyond its stability boundary (2.78).
 struct StiffSpring;
 
