@@ -183,6 +183,7 @@ pub enum Error {
         match cause {
             Singularity::Gradient(a) => format!("the gradient ∂f/∂q̇ of constraint {a} passes through zero, down to {ratio:e} times its size at the ends of the step"),
             Singularity::DependentGradients => format!("the gradients ∂f/∂q̇ of the constraints become linearly dependent (the frame they span reverses its orientation within one step, each of them leaving that span by at most {ratio:e} of its size)"),
+            Singularity::BlockSystem => format!("the block system [W −Jᵀ; J 0] passed through a singular one within one step: its determinant changed sign (the kinetic metric W = ∂²L/∂q̇² on the constraints' tangent space passed through zero; its size changed by a factor {ratio:e})"),
             Singularity::Metric => format!("the kinetic metric ∂²L/∂q̇² changed size by a factor {ratio:e} within one step"),
         },
         t = Num(*.t)
@@ -386,6 +387,10 @@ pub enum Singularity {
     DependentGradients,
     /// The kinetic metric `W = ∂²L/∂q̇²` changed size by many orders of magnitude within a step.
     Metric,
+    /// The block matrix `[W −Jᵀ; J 0]` passed through a singular one within a step: the sign of
+    /// its determinant changed (`W` on the constraints' tangent space passing through zero, as
+    /// `W = 1 − t` at `t = 1`), however little `W` changed in size.
+    BlockSystem,
 }
 
 /// A constraint row in a message: `Row(index, holonomic)` with `index` numbered from 1 over the

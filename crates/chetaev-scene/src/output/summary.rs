@@ -175,6 +175,12 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
                         "the kinetic metric ∂²L/∂q̇² of the lagrangian changed size by a factor \
                          {ratio:e} within one step"
                     ),
+                    Singularity::BlockSystem => format!(
+                        "the kinetic metric ∂²L/∂q̇² of the lagrangian, on the constraints' \
+                         tangent space, passed through zero within one step (the determinant of \
+                         the block system changed sign; the metric's size changed by a factor \
+                         {ratio:e})"
+                    ),
                     other => format!("{other:?}, ratio {ratio:e}"),
                 },
                 state_text(scene, q, qd)

@@ -197,6 +197,9 @@ pub struct CompiledWorkspace<T> {
     /// The id of the [`Compiled`] this was made for.
     owner: u64,
     saddle: SaddleWorkspace<T>,
+    /// The sign of the block matrix's determinant at the last solve: `+1` through the Cholesky
+    /// factors, the pivoted elimination's otherwise.
+    det_sign: f64,
 }
 
 impl<T: Real> CompiledWorkspace<T> {
@@ -219,6 +222,7 @@ impl<T: Real> CompiledWorkspace<T> {
             params: compiled.parameters.iter().map(|p| T::from(p.1)).collect(),
             owner: compiled.id,
             saddle: SaddleWorkspace::default(),
+            det_sign: 1.0,
         }
     }
 }
@@ -839,6 +843,7 @@ impl Compiled {
             Metric::Varying => ws.w.iter().fold(0.0f64, |m, v| m.max(v.re().abs())),
             _ => self.w_scale,
         };
+        d.det_sign = ws.det_sign;
         Ok(())
     }
 
@@ -900,6 +905,7 @@ impl Compiled {
     /// `ws.a`, `μ` into `ws.mu`; returns the pivot ratio.
     fn solve<T: Real>(&self, ws: &mut CompiledWorkspace<T>) -> Result<f64, SaddleFailure> {
         let (n, k) = (self.n, self.k);
+        ws.det_sign = 1.0;
         // A constraint row that vanishes is reported as such. The Schur complement finds it as a
         // singular `S` (checked then, below); the elimination needs it checked first.
         let zero_row = |ws: &CompiledWorkspace<T>| {
@@ -1055,6 +1061,7 @@ impl Compiled {
         } = ws;
         let ratio =
             saddle::solve_blocks(saddle, n, k, w, |a, i| j[a * n + i], |i| r[i], |a| -c[a])?;
+        ws.det_sign = ws.saddle.det_sign();
         let x = ws.saddle.solution();
         ws.a.copy_from_slice(&x[..n]);
         ws.mu.copy_from_slice(&x[n..n + k]);

@@ -95,6 +95,9 @@ pub struct Dynamics<T> {
     pub j: Vec<f64>,
     /// The size of the kinetic metric, `max_ij |W_ij|`.
     pub w_scale: f64,
+    /// The sign of the determinant of the block matrix `[W −Jᵀ; J 0]`: `+1` where `W` is
+    /// positive definite; it changes only where the block system passes through a singular one.
+    pub det_sign: f64,
 }
 
 /// Scratch space of the equations engine for one model's sizes, reused across evaluations so the
@@ -135,6 +138,7 @@ impl<T: Real> Workspace<T> {
                 pivot_ratio: 1.0,
                 j: vec![0.0; k * n],
                 w_scale: 0.0,
+                det_sign: 1.0,
             },
         }
     }
@@ -365,6 +369,7 @@ where
         *dst = src.re();
     }
     d.w_scale = lb.w.iter().fold(0.0f64, |m, v| m.max(v.re().abs()));
+    d.det_sign = sw.det_sign();
     Ok(())
 }
 
@@ -501,6 +506,9 @@ where
             }
         }),
     };
+    // Through the Cholesky factors `W` and `S` are positive definite, and so is the sign of the
+    // block matrix's determinant; otherwise the pivoted elimination finds it.
+    let mut det_sign = 1.0;
     let (qdd, mu, pivot_ratio) = match w_ratio {
         Some(w_ratio) if K == 0 => (a0, SVector::<T, K>::zeros(), w_ratio),
         Some(w_ratio) => {
@@ -543,6 +551,7 @@ where
                 |i| r[i],
                 |a| -c[a],
             )?;
+            det_sign = ws.saddle.det_sign();
             let solution = ws.saddle.solution();
             (
                 SVector::<T, N>::from_column_slice(&solution[..N]),
@@ -588,6 +597,7 @@ where
         }
     }
     d.pivot_ratio = pivot_ratio;
+    d.det_sign = det_sign;
     for a in 0..K {
         for i in 0..N {
             d.j[a * N + i] = j[(a, i)].re();

@@ -957,5 +957,7 @@ impl NativeEquations {
         } else {
             self.w_scale
         };
+        // The program runs only through the Cholesky factors of W and S: positive definite.
+        d.det_sign = 1.0;
     }
 }

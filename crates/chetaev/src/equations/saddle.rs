@@ -87,6 +87,7 @@ pub struct SaddleWorkspace<T> {
     x: Vec<T>,
     col: Vec<usize>,
     scale: Vec<f64>,
+    det_sign: f64,
 }
 
 impl<T> Default for SaddleWorkspace<T> {
@@ -97,6 +98,7 @@ impl<T> Default for SaddleWorkspace<T> {
             x: Vec::new(),
             col: Vec::new(),
             scale: Vec::new(),
+            det_sign: 1.0,
         }
     }
 }
@@ -105,6 +107,13 @@ impl<T> SaddleWorkspace<T> {
     /// The last solution of [`solve_blocks`]: `q̈` (first `n`), then `μ` (last `k`).
     pub fn solution(&self) -> &[T] {
         &self.x
+    }
+
+    /// The sign of the determinant of the block matrix `[W −Jᵀ; J 0]` at the last successful
+    /// [`solve_blocks`]: `+1` where `W` is positive definite (and `J` of full rank), and wherever
+    /// the matrix can be reached from such a state without passing through a singular one.
+    pub fn det_sign(&self) -> f64 {
+        self.det_sign
     }
 }
 
@@ -220,10 +229,11 @@ pub fn solve_blocks<T: Real>(
         ws.b[row] *= *d;
     }
 
-    let (pivot_ratio, singular) = eliminate(a, &mut ws.b, &mut ws.col, m);
+    let (pivot_ratio, singular, det_sign) = eliminate(a, &mut ws.b, &mut ws.col, m);
     if singular {
         return Err(SaddleFailure::Singular { pivot_ratio });
     }
+    ws.det_sign = det_sign;
     back_substitute(a, &ws.b, &ws.col, &mut ws.x, m);
     for (c, d) in ws.scale.iter().enumerate() {
         ws.x[n + c] *= *d;
@@ -234,9 +244,11 @@ pub fn solve_blocks<T: Real>(
 /// In-place Gaussian elimination with complete pivoting on the row-major `m × m` matrix `a` and
 /// right-hand side `b`; `col` records the column permutation. Pivots are chosen by the magnitude of
 /// the real part. Returns the pivot ratio and whether the matrix is singular to working precision.
-fn eliminate<T: Real>(a: &mut [T], b: &mut [T], col: &mut [usize], m: usize) -> (f64, bool) {
+fn eliminate<T: Real>(a: &mut [T], b: &mut [T], col: &mut [usize], m: usize) -> (f64, bool, f64) {
     let mut max_pivot = 0.0f64;
     let mut min_pivot = f64::INFINITY;
+    // The sign of the determinant: of each pivot, and of each swap of rows or columns.
+    let mut sign = 1.0f64;
     for k in 0..m {
         let (mut pr, mut pc, mut best) = (k, k, -1.0f64);
         for i in k..m {
@@ -250,21 +262,24 @@ fn eliminate<T: Real>(a: &mut [T], b: &mut [T], col: &mut [usize], m: usize) -> 
         max_pivot = max_pivot.max(best);
         min_pivot = min_pivot.min(best);
         if best == 0.0 || best <= SINGULAR_PIVOT_RATIO * max_pivot {
-            return (best / max_pivot.max(f64::MIN_POSITIVE), true);
+            return (best / max_pivot.max(f64::MIN_POSITIVE), true, 0.0);
         }
         if pr != k {
+            sign = -sign;
             for c in 0..m {
                 a.swap(k * m + c, pr * m + c);
             }
             b.swap(k, pr);
         }
         if pc != k {
+            sign = -sign;
             for i in 0..m {
                 a.swap(i * m + k, i * m + pc);
             }
             col.swap(k, pc);
         }
         let pivot = a[k * m + k];
+        sign *= pivot.re().signum();
         for i in k + 1..m {
             // No skip where `l` is zero: a dual number whose value is zero may still carry a
             // derivative (a constraint gradient `2q̇` with `q̇_i = 0`, seeded along `q̇_i`), and
@@ -279,7 +294,7 @@ fn eliminate<T: Real>(a: &mut [T], b: &mut [T], col: &mut [usize], m: usize) -> 
             b[i] -= l * bk;
         }
     }
-    (min_pivot / max_pivot, false)
+    (min_pivot / max_pivot, false, sign)
 }
 
 /// Solves the upper-triangular system left by [`eliminate`] and undoes the column permutation.

@@ -209,6 +209,8 @@ pub struct ReducedOde<'a, M: ?Sized> {
     /// before the first).
     previous_j: Vec<f64>,
     previous_w: f64,
+    /// The sign of the block matrix's determinant there.
+    previous_sign: f64,
     previous_t: f64,
     /// Scratch space for the dependence test of the singular-point check: an orthonormal basis
     /// of the previous gradients (`k × n`) and the current ones in it (`k × k`).
@@ -301,11 +303,18 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             }
             culprit = culprit.or_else(|| {
                 let ratio = d.w_scale / self.previous_w;
-                (self.previous_w > 0.0 && !(tol..=1.0 / tol).contains(&ratio)).then_some((
-                    Singularity::Metric,
-                    ratio,
-                    t,
-                ))
+                if self.previous_w > 0.0 && !(tol..=1.0 / tol).contains(&ratio) {
+                    Some((Singularity::Metric, ratio, t))
+                } else {
+                    // The block matrix's determinant changed sign: it passed through a singular
+                    // one (W, on the constraints' tangent space, through zero), however little
+                    // W changed in size.
+                    (d.det_sign * self.previous_sign < 0.0).then_some((
+                        Singularity::BlockSystem,
+                        ratio,
+                        t,
+                    ))
+                }
             });
         }
         // Element by element: `clone_from` calls `memcpy`, which costs more for a few words.
@@ -317,6 +326,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             self.previous_j.clone_from(&d.j);
         }
         self.previous_w = d.w_scale;
+        self.previous_sign = d.det_sign;
         self.previous_t = t;
         match culprit {
             None => Ok(()),
@@ -347,6 +357,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             rank_tolerance: 0.0,
             previous_j: Vec::new(),
             previous_w: 0.0,
+            previous_sign: 1.0,
             previous_t: f64::NAN,
             frame: Vec::new(),
             last_t: f64::NAN,
