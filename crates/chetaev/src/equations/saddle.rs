@@ -243,7 +243,8 @@ pub fn solve_blocks<T: Real>(
 
 /// In-place Gaussian elimination with complete pivoting on the row-major `m × m` matrix `a` and
 /// right-hand side `b`; `col` records the column permutation. Pivots are chosen by the magnitude of
-/// the real part. Returns the pivot ratio and whether the matrix is singular to working precision.
+/// the real part. Returns the pivot ratio, whether the matrix is singular to working precision, and
+/// the sign of its determinant (0 when singular).
 fn eliminate<T: Real>(a: &mut [T], b: &mut [T], col: &mut [usize], m: usize) -> (f64, bool, f64) {
     let mut max_pivot = 0.0f64;
     let mut min_pivot = f64::INFINITY;
