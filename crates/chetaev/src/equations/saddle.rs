@@ -380,6 +380,55 @@ mod tests {
     }
 
     #[test]
+    fn the_determinants_sign_is_that_of_the_full_block_matrix() {
+        // Against nalgebra's determinant of [W −Jᵀ; J 0], over metrics of every inertia, with
+        // and without a constraint (the sign of a positive definite W is +1 either way).
+        let sign_of = |w: SMatrix<f64, 2, 2>, j: Option<SMatrix<f64, 1, 2>>| {
+            let mut ws = SaddleWorkspace::default();
+            let (r, s) = (
+                SVector::<f64, 2>::new(1.0, -2.0),
+                SVector::<f64, 1>::new(0.5),
+            );
+            match j {
+                Some(j) => {
+                    solve(&mut ws, &w, &j, &r, &s).expect("regular");
+                    let full = Matrix3::new(
+                        w[(0, 0)],
+                        w[(0, 1)],
+                        -j[0],
+                        w[(1, 0)],
+                        w[(1, 1)],
+                        -j[1],
+                        j[0],
+                        j[1],
+                        0.0,
+                    );
+                    (ws.det_sign(), full.determinant().signum())
+                }
+                None => {
+                    let none = SMatrix::<f64, 0, 2>::zeros();
+                    solve(&mut ws, &w, &none, &r, &SVector::<f64, 0>::zeros()).expect("regular");
+                    (ws.det_sign(), w.determinant().signum())
+                }
+            }
+        };
+        let metrics = [
+            SMatrix::<f64, 2, 2>::new(2.0, 0.4, 0.4, 1.0),
+            SMatrix::<f64, 2, 2>::new(1.0, 0.0, 0.0, -0.5),
+            SMatrix::<f64, 2, 2>::new(-1.0, 0.2, 0.2, -3.0),
+            SMatrix::<f64, 2, 2>::new(0.0, 1.0, 1.0, 0.0),
+        ];
+        let j = SMatrix::<f64, 1, 2>::new(1.0, 3.0);
+        for w in metrics {
+            for j in [None, Some(j)] {
+                let (got, want) = sign_of(w, j);
+                assert_eq!(got, want, "W = {w}, J = {j:?}");
+            }
+        }
+        assert_eq!(sign_of(metrics[0], Some(j)).0, 1.0);
+    }
+
+    #[test]
     fn duplicated_constraint_is_singular() {
         let w = SMatrix::<f64, 2, 2>::identity();
         let j = SMatrix::<f64, 2, 2>::new(1.0, 2.0, 1.0, 2.0);
