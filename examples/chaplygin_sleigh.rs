@@ -12,7 +12,7 @@ use std::process::ExitCode;
 use chetaev::prelude::*;
 use chetaev_catalogue::chaplygin_sleigh::{self, body_velocities};
 use chetaev_catalogue::{compare, Reference};
-use chetaev_suite::{finish, run_summary};
+use chetaev_suite::{finish, run_summary, verdict};
 use clap::Parser;
 
 /// The Chaplygin sleigh against the closed form of its body velocities (Bloch, §1.7).
@@ -68,12 +68,13 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
         )?;
     }
     writeln!(out)?;
+    let error = compare(&sol, cf)?.max();
     writeln!(
         out,
-        "error: largest |numerical − exact| over u, ω, θ, μ and E, each against its scale \
+        "largest |numerical − exact| over u, ω, θ, μ and E, each against its scale \
          (V, V √(m/(I + m a²)), ...): {:.2e}",
-        compare(&sol, cf)?.max()
+        error
     )?;
     writeln!(out, "{}", run_summary(&sol, ""))?;
-    Ok(())
+    verdict(out, error, tol)
 }

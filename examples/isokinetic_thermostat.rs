@@ -14,7 +14,7 @@ use std::process::ExitCode;
 use chetaev::prelude::*;
 use chetaev_catalogue::isokinetic_thermostat::{self, friction_coefficient, Params};
 use chetaev_catalogue::{compare, Reference};
-use chetaev_suite::{finish, run_summary};
+use chetaev_suite::{finish, run_summary, verdict};
 use clap::Parser;
 
 /// The Gaussian isokinetic thermostat (four particles in 3D) against its closed form for constant forces.
@@ -74,16 +74,16 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
         )?;
     }
     writeln!(out)?;
+    let error = compare(&sol, cf)?.max();
     writeln!(
         out,
-        "error: largest |numerical − exact| over all 12 positions and velocities, μ (closed form) \
-         and K, each against its scale: {:.2e}",
-        compare(&sol, cf)?.max()
+        "largest |numerical − exact| over all 12 positions and velocities, μ (closed form) \
+         and K, each against its scale: {error:.2e}"
     )?;
     writeln!(
         out,
         "{}",
         run_summary(&sol, " (E = K − F·q changes by the work of Φ = μ M q̇)")
     )?;
-    Ok(())
+    verdict(out, error, tol)
 }

@@ -12,7 +12,7 @@ use std::process::ExitCode;
 use chetaev::prelude::*;
 use chetaev_catalogue::kepler_constant_speed::{self, invariant, Params};
 use chetaev_catalogue::{compare, Kind};
-use chetaev_suite::{finish, run_summary, sci};
+use chetaev_suite::{finish, run_summary, sci, verdict};
 use clap::Parser;
 
 /// A particle at constant speed in a Kepler field: its invariant and its orbit against the quadratures.
@@ -94,7 +94,7 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
     writeln!(out)?;
     writeln!(
         out,
-        "error: |C − C0|/|C0| ≤ {:.1e}; q against the quadrature, relative to r: ≤ {:.1e}; \
+        "deviation: |C − C0|/|C0| ≤ {:.1e}; q against the quadrature, relative to r: ≤ {:.1e}; \
          μ against k m ṙ/(2 v0² r²): ≤ {:.1e}",
         cmp.max_of(Kind::Invariant),
         cmp.max_of(Kind::Position),
@@ -108,5 +108,5 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
             " (E = ½ m v0² − k m/r changes by the work of Φ = 2μ q̇)"
         )
     )?;
-    Ok(())
+    verdict(out, cmp.max(), tol)
 }

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use chetaev::prelude::*;
 use chetaev_catalogue::{compare, knife_edge, Reference};
-use chetaev_suite::{finish, run_summary, sci};
+use chetaev_suite::{finish, run_summary, sci, verdict};
 use clap::Parser;
 
 /// The knife edge on an inclined plane against its closed form (Bloch, §1.6).
@@ -64,12 +64,13 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
         )?;
     }
     writeln!(out)?;
+    let error = compare(&sol, cf)?.max();
     writeln!(
         out,
-        "error: largest |numerical − exact| over x, y, φ, q̇, μ, E, each against its scale \
+        "largest |numerical − exact| over x, y, φ, q̇, μ, E, each against its scale \
          (g sin α/ω², g sin α/ω, m g sin α, ...): {:.2e}",
-        compare(&sol, cf)?.max()
+        error
     )?;
     writeln!(out, "{}", run_summary(&sol, ""))?;
-    Ok(())
+    verdict(out, error, tol)
 }

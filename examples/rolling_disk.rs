@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use chetaev::prelude::*;
 use chetaev_catalogue::{compare, rolling_disk, Reference};
-use chetaev_suite::{finish, run_summary, sci};
+use chetaev_suite::{finish, run_summary, sci, verdict};
 use clap::Parser;
 
 /// The vertical rolling disk against its closed form (Bloch, §1.4).
@@ -72,12 +72,13 @@ fn run(out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
         )?;
     }
     writeln!(out)?;
+    let error = compare(&sol, cf)?.max();
     writeln!(
         out,
-        "error: largest |numerical − exact| over x, y, θ, φ, q̇, μ, E, each against its scale \
+        "largest |numerical − exact| over x, y, θ, φ, q̇, μ, E, each against its scale \
          (ρ, R ω, m R ω Ω, E, ...): {:.2e}",
-        compare(&sol, cf)?.max()
+        error
     )?;
     writeln!(out, "{}", run_summary(&sol, ""))?;
-    Ok(())
+    verdict(out, error, tol)
 }

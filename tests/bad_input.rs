@@ -188,11 +188,11 @@ fn a_model_that_leaves_its_domain_mid_run_stops_there_on_every_route() {
     impl Constraints<2, 1> for Static {
         fn constraints<R: Real>(
             &self,
-            _t: R,
-            _q: &SVector<R, 2>,
+            t: R,
+            q: &SVector<R, 2>,
             qd: &SVector<R, 2>,
         ) -> SVector<R, 1> {
-            SVector::from([qd.dot(qd) - 100.0])
+            model(10.0).constraints(t, q, qd)
         }
     }
     let problem = Problem::new(

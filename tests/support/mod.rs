@@ -18,6 +18,32 @@ pub fn finish(result: Result<(), Box<dyn std::error::Error>>) -> std::process::E
     }
 }
 
+/// The verdict line of an example checked against a closed form: `VERIFIED` when the largest
+/// scaled deviation `error` is within `100 × tol` (the limit the paper's own check uses), else
+/// `NOT VERIFIED`, and then an `Err`, so that the program exits with failure.
+pub fn verdict(
+    out: &mut impl std::io::Write,
+    error: f64,
+    tol: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let limit = 100.0 * tol;
+    if error <= limit {
+        writeln!(
+            out,
+            "VERIFIED: largest scaled deviation from the closed form {error:.1e}, within the limit \
+             {limit:.0e} (100 × tol)"
+        )?;
+        Ok(())
+    } else {
+        writeln!(
+            out,
+            "NOT VERIFIED: largest scaled deviation from the closed form {error:.1e}, beyond the \
+             limit {limit:.0e} (100 × tol)"
+        )?;
+        Err(format!("the deviation {error:.1e} exceeds the limit {limit:.0e}").into())
+    }
+}
+
 /// A small error for a table: `0` when exact, otherwise two significant digits (`3.6e-16`).
 pub fn sci(v: f64) -> String {
     if v == 0.0 {
