@@ -207,6 +207,9 @@ fn main() -> Result<(), Error> {
             println!("  c.d. error {d_err:.1e}: no sensitivity run here is that accurate");
         }
     }
-    println!("\nSeeds: {NAMES:?}; free: the seeds on the motion's steps, without error control.");
+    println!(
+        "\nSeeds: {}; free: the seeds on the motion's steps, without error control.",
+        NAMES.join(", ")
+    );
     Ok(())
 }

@@ -43,7 +43,7 @@ struct Cli {
     #[arg(long, default_value_t = 1.0, value_parser = positive)]
     m: f64,
     /// Relative and absolute tolerance of the table and error runs (1e-13 or more).
-    #[arg(long, default_value_t = 1e-12, value_parser = tolerance)]
+    #[arg(long, default_value = "1e-12", value_parser = tolerance)]
     tol: f64,
     /// Largest error accepted by the verdict, for the closed forms and the derivatives
     /// [default: 100 × tol].

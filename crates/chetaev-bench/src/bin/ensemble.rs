@@ -64,7 +64,7 @@ struct RunArgs {
     #[arg(long, default_value_t = 9.81)]
     g: f64,
     /// Relative tolerance (absolute tolerances scaled to each point's motion).
-    #[arg(long, default_value_t = 1e-10)]
+    #[arg(long, default_value = "1e-10")]
     tol: f64,
     /// Threads of the parallel run (compared with one thread).
     #[arg(long, default_value_t = 2)]
