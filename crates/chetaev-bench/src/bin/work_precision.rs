@@ -691,7 +691,33 @@ fn report(study: &Study, whole: &Part, out: &Path) -> Result<String, Box<dyn Err
         "{} configurations ({skipped} skipped, {failed} failed) in {elapsed:.0} s{shards}",
         all.len(),
     );
+    if skipped + failed > 0 {
+        let _ = writeln!(summary, "{}", not_measured(&all));
+    }
     Ok(summary)
+}
+
+/// What was not measured, grouped: the skipped points by their reason (up to its first colon:
+/// "invalid option rtol = 1e-14", say), the failed ones by scene and the first words of the
+/// failure ("the problem became stiff"), so that a run says which failures are the expected
+/// stops of explicit methods on a stiff scene.
+fn not_measured(all: &[Point]) -> String {
+    let mut groups: std::collections::BTreeMap<String, usize> = Default::default();
+    for p in all {
+        let key = match &p.outcome {
+            PointOutcome::Measured => continue,
+            PointOutcome::Skipped(why) => {
+                format!("skipped, {}", why.split(':').next().unwrap_or(why))
+            }
+            PointOutcome::Failed(why) => {
+                let cause = why.split(" at t =").next().unwrap_or(why);
+                format!("failed on the {} scene, {cause}", p.scene)
+            }
+        };
+        *groups.entry(key).or_default() += 1;
+    }
+    let parts: Vec<String> = groups.iter().map(|(k, n)| format!("{n} {k}")).collect();
+    format!("not measured: {}", parts.join("; "))
 }
 
 /// `nproc`, the processor and the compiler, for the report.
