@@ -12,7 +12,7 @@ use std::io::{self, Write};
 use std::process::ExitCode;
 
 use chetaev::prelude::*;
-use chetaev_suite::finish;
+use chetaev_suite::{finish, positive};
 use clap::Parser;
 use uniform_projectile::closed_form::{uniform, Params};
 use uniform_projectile::model::{impact, uniform_problem};
@@ -21,16 +21,16 @@ use uniform_projectile::model::{impact, uniform_problem};
 #[derive(Parser)]
 struct Cli {
     /// The distance to land at [m]: any positive distance (R grows from 0 to ∞ with v0).
-    #[arg(long, default_value_t = 12.0)]
+    #[arg(long, default_value_t = 12.0, value_parser = positive, allow_negative_numbers = true)]
     target: f64,
     /// Gravity [m/s²].
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 10.0, value_parser = positive, allow_negative_numbers = true)]
     g: f64,
     /// Launch height [m].
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 5.0, value_parser = positive, allow_negative_numbers = true)]
     h0: f64,
     /// First guess of the speed [m/s].
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 10.0, value_parser = positive, allow_negative_numbers = true)]
     v0: f64,
 }
 
@@ -64,12 +64,6 @@ fn range_and_slope(p: &Params) -> Result<(f64, f64), Box<dyn std::error::Error>>
 }
 
 fn run(cli: &Cli, out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
-    if ![cli.target, cli.g, cli.h0, cli.v0]
-        .iter()
-        .all(|x| x.is_finite() && *x > 0.0)
-    {
-        return Err("target, g, h0 and the first guess v0 must be positive finite numbers".into());
-    }
     let mut p = Params {
         v0: cli.v0,
         g: cli.g,

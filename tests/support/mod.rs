@@ -44,6 +44,16 @@ pub fn verdict(
     }
 }
 
+/// A command-line value that must be a finite positive number (clap's `value_parser`), so that a
+/// bad one is refused with clap's message and exit status 2.
+pub fn positive(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Ok(v) => Err(format!("must be a finite positive number, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 /// A small error for a table: `0` when exact, otherwise two significant digits (`3.6e-16`).
 pub fn sci(v: f64) -> String {
     if v == 0.0 {
