@@ -65,6 +65,13 @@ fn main() -> ExitCode {
 
 fn run(cli: &Cli, stdout: &mut impl Write) -> Result<(), Box<dyn Error>> {
     let out = &cli.out;
+    if out.exists() && !out.is_dir() {
+        return Err(format!(
+            "{} is a file, not a folder: give a folder for the figures (it is created if missing)",
+            out.display()
+        )
+        .into());
+    }
     let p = Params::PAPER;
     let kin = table(&p);
 
