@@ -101,6 +101,13 @@ impl Stats {
     }
 }
 
+/// Whether the rates of the energy balance the machine code wrote (`None`: it writes none) are
+/// finite; where they are not, the general route evaluates again and reports them.
+#[inline(always)]
+fn finite_rates(rates: Option<[f64; 3]>) -> bool {
+    rates.is_none_or(|r| r.iter().all(|x| x.is_finite()))
+}
+
 /// Adds `t` and the state to a failure of the block solve. Constraints are numbered from 1.
 #[cold]
 pub(crate) fn locate(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
@@ -469,7 +476,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             NativeState::On(native, buf) if !native_failed => native
                 .evaluate(buf, t, &y[..2 * n], &mut dy[..2 * n])
                 .then(|| native.rates(buf))
-                .filter(|r| r.is_none_or(|r| r.iter().all(|x| x.is_finite()))),
+                .filter(|&r| finite_rates(r)),
             _ => None,
         };
         if let Some(rates) = done {
@@ -582,7 +589,7 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 if native.evaluate(buf, t, &y[..2 * n], &mut dy[..2 * n]) {
                     let rates = native.rates(buf);
                     // Non-finite rates take the general route, which reports them.
-                    if rates.is_none_or(|r| r.iter().all(|x| x.is_finite())) {
+                    if finite_rates(rates) {
                         self.stats.rhs_evaluations += 1;
                         self.native_done(rates, dy);
                         self.last_t = t;
