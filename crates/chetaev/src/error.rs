@@ -213,7 +213,7 @@ pub enum Error {
          (a singularity of the model or of the motion, such as a collision or a blow-up in finite time; or a \
          stiff problem: {advice}); or t itself is so large that a step this short no longer changes it \
          (steps below 4 ulps of t, {resolution:e} here: count time from a nearer origin)",
-        resolution = 4.0 * f64::EPSILON * t.abs(), t = Num(*.t)
+        resolution = crate::integrate::time_resolution(*.t), t = Num(*.t)
     )]
     StepSizeTooSmall {
         /// Time.

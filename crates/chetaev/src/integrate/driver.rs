@@ -5,7 +5,7 @@ use super::events::{crosses, locate_root, Direction, EventHit};
 use super::options::{Options, Output, Record};
 use super::projection::{project_positions, project_velocity};
 use super::system::{OdeSystem, ReducedOde, Stats};
-use super::{Controller, ErrorNorm, Method, MethodInfo, Stepper};
+use super::{time_resolution, Controller, ErrorNorm, Method, MethodInfo, Stepper};
 use crate::error::Error;
 use crate::model::Model;
 use crate::problem::{check_finite, Problem};
@@ -131,8 +131,8 @@ impl<'o> LoopSettings<'o> {
         info.validate()?;
         // The method's controller is checked with its facts, the options' with the options.
         o.validate_components(t0, block)?;
-        let t_max = t0.abs().max(o.t_end.abs());
-        if let Some(fixed) = info.fixed_step.filter(|h| *h <= 4.0 * f64::EPSILON * t_max) {
+        let floor = time_resolution(t0).max(time_resolution(o.t_end));
+        if let Some(fixed) = info.fixed_step.filter(|h| *h <= floor) {
             return Err(Error::InvalidOption {
                 name: if info.name == "Rk4" {
                     "Rk4::h"
@@ -568,7 +568,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         if last {
             h = remaining;
         }
-        if h.abs() <= 4.0 * f64::EPSILON * t.abs() && !last {
+        if h.abs() <= time_resolution(t) && !last {
             return Err(Error::StepSizeTooSmall {
                 t,
                 h,
@@ -587,7 +587,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
             counts.rejected_steps += 1;
             h *= 0.25;
             rejected_last = true;
-            if h.abs() <= 4.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
+            if h.abs() <= time_resolution(t.abs().max(f64::MIN_POSITIVE)) {
                 return Err(match trial {
                     Err(e) => e,
                     Ok(_) => Error::NonFiniteState { t, h },

@@ -691,6 +691,13 @@ impl Stages54 {
     }
 }
 
+/// The shortest step that still changes `t`: 4 ulps of it. The step loop stops with
+/// [`Error::StepSizeTooSmall`](crate::Error::StepSizeTooSmall) below it, and a fixed step or a
+/// `max_step` below it somewhere in the interval is refused before the run.
+pub(crate) fn time_resolution(t: f64) -> f64 {
+    4.0 * f64::EPSILON * t.abs()
+}
+
 /// `out = y + h Σ_s a_s k_s` over the stages `k` with the coefficients `a`.
 #[inline(always)]
 pub(crate) fn combine<const S: usize>(

@@ -198,7 +198,7 @@ impl Options {
         }
         if let Some(h) = self.max_step {
             positive("max_step", h, "a finite positive bound")?;
-            if h <= 4.0 * f64::EPSILON * t0.abs().max(self.t_end.abs()) {
+            if h <= super::time_resolution(t0).max(super::time_resolution(self.t_end)) {
                 return invalid(
                     "max_step",
                     h,
