@@ -210,15 +210,35 @@ impl Lagrangian<1> for PushedLate {
 
 impl Constraints<1, 0> for PushedLate {}
 
-#[test]
-fn forces_that_begin_after_the_start_have_their_work_recorded() -> Result<(), Error> {
-    let problem = Problem::new(PushedLate, 0.0, SVector::zeros(), SVector::from([1.0]))?;
+/// [`PushedLate`] with the switch written as a comparison of the recorded time, which the
+/// compiled equations keep as a guard (the first takes the value out with `re()`, which they
+/// cannot follow).
+struct PushedLateByComparison;
+
+impl Lagrangian<1> for PushedLateByComparison {
+    fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        PushedLate.lagrangian(t, q, qd)
+    }
+    fn forces<R: Real>(
+        &self,
+        t: R,
+        _q: &SVector<R, 1>,
+        _qd: &SVector<R, 1>,
+    ) -> Option<SVector<R, 1>> {
+        (t > 0.5).then(|| SVector::from([R::one()]))
+    }
+}
+
+impl Constraints<1, 0> for PushedLateByComparison {}
+
+/// The late push's work and the energy balance to `t = 1`, by every method.
+fn late_push_work<M: chetaev::model::Model>(problem: &Problem<M>) -> Result<(), Error> {
     for method in AnyMethod::all(1e-3) {
         let options = Options::until(1.0)
             .tolerances(1e-12, 1e-12)
             .record(Record::Energy)
             .output_final();
-        let sol = solve(&problem, method, &options)?;
+        let sol = solve(problem, method, &options)?;
         assert!(sol.is_success(), "{:?}", sol.status);
         let w = *sol.work_forces.last().expect("recorded");
         // The jump of the force at t = ½ costs the adaptive methods a few digits; Rk4's fixed
@@ -228,5 +248,44 @@ fn forces_that_begin_after_the_start_have_their_work_recorded() -> Result<(), Er
         let balance = sol.energy_balance().last().copied().expect("recorded");
         assert!(balance.abs() < tol, "{}: balance {balance}", method.name());
     }
+    Ok(())
+}
+
+#[test]
+fn forces_that_begin_after_the_start_have_their_work_recorded() -> Result<(), Error> {
+    let (q0, qd0) = (SVector::zeros(), SVector::from([1.0]));
+    late_push_work(&Problem::new(PushedLate, 0.0, q0, qd0)?)?;
+    late_push_work(&Problem::new(PushedLateByComparison, 0.0, q0, qd0)?)
+}
+
+/// The state carries the forces' work `W_Q` with the energy balance unless the compiled
+/// equations prove the model has no forces anywhere: not for the paper's model, but for a force
+/// behind a comparison, a force the recording cannot follow, a dissipation function, and on the
+/// dual-number route, which proves nothing.
+#[test]
+fn the_forces_work_is_left_out_only_where_the_model_provably_has_no_forces() -> Result<(), Error> {
+    use chetaev::integrate::system::ReducedOde;
+    fn carries<M: chetaev::model::Model>(problem: &Problem<M>) -> bool {
+        let ode = ReducedOde::for_problem(problem, true);
+        assert!(ode.has_energy());
+        ode.has_forces_quadrature()
+    }
+    let paper = uniform_projectile::model::uniform_problem(&Params::PAPER)?;
+    assert!(!carries(&paper));
+    assert!(carries(&paper.clone().with_route(Route::Dual)));
+    let (q0, qd0) = (SVector::zeros(), SVector::from([1.0]));
+    assert!(carries(&Problem::new(PushedLate, 0.0, q0, qd0)?));
+    assert!(carries(&Problem::new(
+        PushedLateByComparison,
+        0.0,
+        q0,
+        qd0
+    )?));
+    let dragged = DraggedUniform {
+        p: Params::PAPER,
+        c: 0.7,
+    };
+    let (q0, qd0) = (SVector::from([0.0, 5.0]), SVector::from([10.0, 0.0]));
+    assert!(carries(&Problem::new(dragged, 0.0, q0, qd0)?));
     Ok(())
 }

@@ -212,8 +212,9 @@ fn compare_integrator_functions<M: Model + Clone>(problem: &Problem<M>) {
     }
     let dual = problem.clone().with_route(Route::Dual);
     for energy in [false, true] {
-        let mut a = ReducedOde::for_problem(problem, energy);
-        let mut b = ReducedOde::for_problem(&dual, energy);
+        // Both carry the forces' work, which the compiled route may leave out: the same layout.
+        let mut a = ReducedOde::for_problem(problem, energy).with_forces_quadrature(true);
+        let mut b = ReducedOde::for_problem(&dual, energy).with_forces_quadrature(true);
         let dim = a.dim();
         for (t, q, qd) in states_around(problem) {
             let mut y = [q, qd].concat();
@@ -356,8 +357,8 @@ fn jacobian<M: Model>(problem: &Problem<M>, t: f64, y: &[f64]) -> (Vec<f64>, Vec
     jacobian_with(problem, true, t, y)
 }
 
-/// The integrator's Jacobian at `(t, y)`, with the energy quadratures or without (`y` is padded
-/// with zeros for them).
+/// The integrator's Jacobian at `(t, y)`, with the energy quadratures (all three, the forces' work
+/// too, so that every route has the same layout) or without (`y` is padded with zeros for them).
 fn jacobian_with<M: Model>(
     problem: &Problem<M>,
     energy: bool,
@@ -365,7 +366,7 @@ fn jacobian_with<M: Model>(
     y: &[f64],
 ) -> (Vec<f64>, Vec<f64>) {
     use chetaev::integrate::system::{OdeSystem, ReducedOde};
-    let mut sys = ReducedOde::for_problem(problem, energy);
+    let mut sys = ReducedOde::for_problem(problem, energy).with_forces_quadrature(true);
     let dim = sys.dim();
     let mut y = y.to_vec();
     y.resize(dim, 0.0);

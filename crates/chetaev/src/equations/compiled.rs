@@ -664,6 +664,14 @@ impl Compiled {
                 .any(|d| d.t)
     }
 
+    /// Whether the model provably has no forces `Q` and no dissipation `D` anywhere: both are zero
+    /// in the recording, and no comparison in the model's code could switch to a branch that
+    /// states them. The energy balance then needs no quadrature of the forces' work.
+    pub fn without_forces(&self) -> bool {
+        self.graph.guards().is_empty()
+            && self.blocks.forces.iter().all(|&id| self.graph.is_zero(id))
+    }
+
     /// The number of comparisons in the model's code that the tape re-checks.
     pub fn guards(&self) -> usize {
         self.graph.guards().len()

@@ -375,7 +375,10 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
 
     /// The reduced equations of `problem`'s model, as [`ReducedOde::new`]: with `energy` the state
     /// carries the forces' work `W_Q` too, whatever the model states at its start, since a model
-    /// may state forces from some time on only.
+    /// may state forces from some time on only; unless its compiled equations prove that it has
+    /// none anywhere ([`Compiled::without_forces`]), where `W_Q` would stay zero.
+    ///
+    /// [`Compiled::without_forces`]: crate::equations::compiled::Compiled::without_forces
     pub fn for_problem(problem: &'a crate::Problem<M>, energy: bool) -> Self
     where
         M: Sized,
@@ -395,6 +398,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         Self {
             compiled,
             native,
+            forces: !compiled.is_some_and(|c| c.without_forces()),
             ..Self::new(model, energy)
         }
     }
