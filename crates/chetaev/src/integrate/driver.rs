@@ -185,6 +185,20 @@ struct ChetaevHooks<'s> {
     event_evaluations: usize,
 }
 
+impl ChetaevHooks<'_> {
+    /// The error of event `i`'s non-finite value `value` at `t`; out of the way of the event
+    /// function's hot path (it clones the event's name).
+    #[cold]
+    fn non_finite_event(&self, i: usize, t: f64, value: f64) -> Error {
+        Error::NonFiniteEvent {
+            index: i,
+            name: self.options.events[i].name.clone(),
+            t,
+            value,
+        }
+    }
+}
+
 impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
     fn record(&mut self, sys: &mut ReducedOde<'_, M>, t: f64, y: &[f64]) -> Result<(), Error> {
         self.sol.record(sys, t, y)
@@ -198,6 +212,7 @@ impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
         self.options.events.len()
     }
 
+    #[inline]
     fn event_value(&mut self, i: usize, t: f64, y: &[f64]) -> Result<f64, Error> {
         let n = self.n;
         self.event_evaluations += 1;
@@ -205,12 +220,7 @@ impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
         if v.is_finite() {
             Ok(v)
         } else {
-            Err(Error::NonFiniteEvent {
-                index: i,
-                name: self.options.events[i].name.clone(),
-                t,
-                value: v,
-            })
+            Err(self.non_finite_event(i, t, v))
         }
     }
 
