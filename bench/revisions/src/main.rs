@@ -2,10 +2,47 @@
 //! path of two revisions of chetaev, in one process, interleaved (A, B, A, B, ...), and prints the
 //! median time of each and their ratio, at equal tolerance and at equal error. Usage:
 //! `cargo run --release -- [--rounds N] [--event-samples N] [--i-controller] [--route dual] [--reuse]`,
-//! or `--build-only` to time building the problem and compiling its equations alone.
+//! or `--build-only` to time building the problem and compiling its equations alone, or
+//! `--allocations` to count the heap allocations of one solve of each (exact, not timed).
 
+use std::alloc::{GlobalAlloc, Layout, System};
 use std::hint::black_box;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
+
+/// The system allocator, counting allocations (one relaxed increment each, for both revisions
+/// alike) so that `--allocations` can report them.
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        System.alloc(layout)
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        System.alloc_zeroed(layout)
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        System.realloc(ptr, layout, new_size)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// The allocations (and reallocations) made by `f`.
+fn allocations(f: &dyn Fn() -> f64) -> usize {
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    black_box(f());
+    ALLOCATIONS.load(Ordering::Relaxed) - before
+}
 
 mod base {
     use chetaev_base::prelude::*;
@@ -69,6 +106,31 @@ mod base {
         }
         .expect("solved");
         sol.events[0].t
+    }
+
+    /// The counters of one solve to the impact, as text.
+    pub fn stats(method: &str, tol: f64) -> String {
+        let problem = problem();
+        let impact = Event::new("impact", |_t, q, _qd| q[1]).falling().terminal();
+        let o = Options::until(10.0)
+            .tolerances(tol, tol)
+            .event(impact)
+            .output_final();
+        let sol = match method {
+            "dop853" => solve(&problem, Dop853::default(), &o),
+            "rodas4" => solve(&problem, Rodas4, &o),
+            _ => solve(&problem, Dopri5::default(), &o),
+        }
+        .expect("solved");
+        let s = sol.stats;
+        format!(
+            "rhs {} accepted {} rejected {} events {} output {}",
+            s.rhs_evaluations,
+            s.accepted_steps,
+            s.rejected_steps,
+            s.event_evaluations,
+            s.output_evaluations
+        )
     }
 }
 
@@ -148,12 +210,52 @@ mod head {
             o
         };
         let sol = match method {
-            "dop853" => solve(&problem, Dop853::default(), &o),
-            "rodas4" => solve(&problem, Rodas4, &o),
-            _ => solve(&problem, Dopri5::default(), &o),
+            "dop853" => solve(problem, Dop853::default(), &o),
+            "rodas4" => solve(problem, Rodas4, &o),
+            _ => solve(problem, Dopri5::default(), &o),
         }
         .expect("solved");
         sol.events[0].t
+    }
+
+    /// The counters of one solve to the impact (as [`run`] makes it), as text.
+    pub fn stats(method: &str, tol: f64) -> String {
+        static REUSED: std::sync::OnceLock<Problem<chetaev::model::Fixed<Uniform, 2, 1>>> =
+            std::sync::OnceLock::new();
+        let fresh;
+        let problem = if crate::reuse() {
+            REUSED.get_or_init(problem)
+        } else {
+            fresh = problem();
+            &fresh
+        };
+        let impact = Event::new("impact", |_t, q, _qd| q[1]).falling().terminal();
+        let o = Options::until(10.0)
+            .tolerances(tol, tol)
+            .event(impact)
+            .output_final();
+        let (samples, i_controller) = crate::settings();
+        let o = o.event_samples(samples);
+        let o = if i_controller {
+            o.controller(Controller::i(0.2, 10.0))
+        } else {
+            o
+        };
+        let sol = match method {
+            "dop853" => solve(problem, Dop853::default(), &o),
+            "rodas4" => solve(problem, Rodas4, &o),
+            _ => solve(problem, Dopri5::default(), &o),
+        }
+        .expect("solved");
+        let s = sol.stats;
+        format!(
+            "rhs {} accepted {} rejected {} events {} output {}",
+            s.rhs_evaluations,
+            s.accepted_steps,
+            s.rejected_steps,
+            s.event_evaluations,
+            s.output_evaluations
+        )
     }
 }
 
@@ -248,6 +350,38 @@ fn main() {
         );
         return;
     }
+    // `--methods a,b`: which of dopri5, dop853, rodas4 (default dopri5,dop853).
+    let methods: Vec<String> = args
+        .iter()
+        .position(|a| a == "--methods")
+        .and_then(|i| args.get(i + 1))
+        .map_or_else(|| "dopri5,dop853".to_string(), Clone::clone)
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    if args.iter().any(|a| a == "--allocations") {
+        println!(
+            "heap allocations of one run (problem built, its equations compiled, solved): base, head"
+        );
+        println!(
+            "build only: {}, {}",
+            allocations(&base::build),
+            allocations(&head::build)
+        );
+        for method in methods.iter().map(String::as_str) {
+            for e in [6, 9, 13] {
+                let tol = 10f64.powi(-e);
+                println!(
+                    "{method} {tol:.0e}: {}, {}",
+                    allocations(&|| base::run(method, tol)),
+                    allocations(&|| head::run(method, tol))
+                );
+                println!("  base: {}", base::stats(method, tol));
+                println!("  head: {}", head::stats(method, tol));
+            }
+        }
+        return;
+    }
     let (samples, i_controller) = settings();
     println!(
         "head: event_samples = {samples}, controller = {}",
@@ -259,7 +393,11 @@ fn main() {
     );
     println!(
         "head: route = {}, problem {}",
-        if dual_route() { "dual" } else { "graph (compiled equations)" },
+        if dual_route() {
+            "dual"
+        } else {
+            "graph (compiled equations)"
+        },
         if reuse() {
             "built once and reused"
         } else {
@@ -272,15 +410,6 @@ fn main() {
         "{:8} {:>6} {:>10} {:>10} {:>9} {:>9} {:>8} {:>12}",
         "method", "tol", "base [µs]", "head [µs]", "err base", "err head", "at tol", "at equal err"
     );
-    // `--methods a,b`: which of dopri5, dop853, rodas4 (default dopri5,dop853).
-    let methods: Vec<String> = args
-        .iter()
-        .position(|a| a == "--methods")
-        .and_then(|i| args.get(i + 1))
-        .map_or_else(|| "dopri5,dop853".to_string(), Clone::clone)
-        .split(',')
-        .map(str::to_string)
-        .collect();
     for method in methods.iter().map(String::as_str) {
         let mut rows = Vec::new();
         for e in 6..=13 {
