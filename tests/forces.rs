@@ -191,8 +191,12 @@ fn a_model_without_forces_records_zero_work_of_forces() -> Result<(), Error> {
 
 /// A free particle pushed by a unit force from `t = 1/2` on only, stated as `None` before: with
 /// `q̇(0) = 1`, `q̇ = 1 + (t − ½)` after it, and the force's work to `t = 1` is
-/// `∫_{½}^{1} q̇ dt = ½ + ⅛`.
-struct PushedLate;
+/// `∫_{½}^{1} q̇ dt = ½ + ⅛`. The switch is a comparison of the recorded time (`t > ½`), which the
+/// compiled equations keep as a guard, or, `by_value`, of the value taken out with `re()`, which
+/// they cannot follow.
+struct PushedLate {
+    by_value: bool,
+}
 
 impl Lagrangian<1> for PushedLate {
     fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
@@ -204,32 +208,12 @@ impl Lagrangian<1> for PushedLate {
         _q: &SVector<R, 1>,
         _qd: &SVector<R, 1>,
     ) -> Option<SVector<R, 1>> {
-        (t.re() > 0.5).then(|| SVector::from([R::one()]))
+        let on = if self.by_value { t.re() > 0.5 } else { t > 0.5 };
+        on.then(|| SVector::from([R::one()]))
     }
 }
 
 impl Constraints<1, 0> for PushedLate {}
-
-/// [`PushedLate`] with the switch written as a comparison of the recorded time, which the
-/// compiled equations keep as a guard (the first takes the value out with `re()`, which they
-/// cannot follow).
-struct PushedLateByComparison;
-
-impl Lagrangian<1> for PushedLateByComparison {
-    fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
-        PushedLate.lagrangian(t, q, qd)
-    }
-    fn forces<R: Real>(
-        &self,
-        t: R,
-        _q: &SVector<R, 1>,
-        _qd: &SVector<R, 1>,
-    ) -> Option<SVector<R, 1>> {
-        (t > 0.5).then(|| SVector::from([R::one()]))
-    }
-}
-
-impl Constraints<1, 0> for PushedLateByComparison {}
 
 /// The late push's work and the energy balance to `t = 1`, by every method.
 fn late_push_work<M: chetaev::model::Model>(problem: &Problem<M>) -> Result<(), Error> {
@@ -254,8 +238,10 @@ fn late_push_work<M: chetaev::model::Model>(problem: &Problem<M>) -> Result<(), 
 #[test]
 fn forces_that_begin_after_the_start_have_their_work_recorded() -> Result<(), Error> {
     let (q0, qd0) = (SVector::zeros(), SVector::from([1.0]));
-    late_push_work(&Problem::new(PushedLate, 0.0, q0, qd0)?)?;
-    late_push_work(&Problem::new(PushedLateByComparison, 0.0, q0, qd0)?)
+    for by_value in [true, false] {
+        late_push_work(&Problem::new(PushedLate { by_value }, 0.0, q0, qd0)?)?;
+    }
+    Ok(())
 }
 
 /// The state carries the forces' work `W_Q` with the energy balance unless the compiled
@@ -274,13 +260,14 @@ fn the_forces_work_is_left_out_only_where_the_model_provably_has_no_forces() -> 
     assert!(!carries(&paper));
     assert!(carries(&paper.clone().with_route(Route::Dual)));
     let (q0, qd0) = (SVector::zeros(), SVector::from([1.0]));
-    assert!(carries(&Problem::new(PushedLate, 0.0, q0, qd0)?));
-    assert!(carries(&Problem::new(
-        PushedLateByComparison,
-        0.0,
-        q0,
-        qd0
-    )?));
+    for by_value in [true, false] {
+        assert!(carries(&Problem::new(
+            PushedLate { by_value },
+            0.0,
+            q0,
+            qd0
+        )?));
+    }
     let dragged = DraggedUniform {
         p: Params::PAPER,
         c: 0.7,
