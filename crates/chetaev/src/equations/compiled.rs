@@ -21,7 +21,10 @@
 //! with `W` factorised by Cholesky once when it is constant (inverted outright when diagonal), and
 //! at each evaluation when it varies. Where `W` is not positive definite (a singular or indefinite
 //! metric that is regular only on the null space of `J`), the pivoted elimination of [`saddle`]
-//! solves the whole block system instead, as the dual-number path does.
+//! solves the whole block system instead, as the dual-number path does. Where the constraint
+//! gradients are nearly dependent (`S`'s pivot ratio below [`saddle::NULL_SPACE_PIVOT_RATIO`]),
+//! `a + Y μ` would cancel what a large `μ` carries, and the null-space method of [`saddle`] solves
+//! the system instead.
 //!
 //! A comparison in the model's code is a guard of the tape: when one flips, [`Compiled::evaluate`] reports
 //! it and the caller falls back to the dual-number path ([`super::evaluate`]) for that evaluation.
@@ -99,6 +102,8 @@ pub struct Compiled {
     w_ratio: f64,
     /// `max |W_ij|` of a constant `W`.
     w_scale: f64,
+    /// The entries of a constant `W` (empty where it varies), for the null-space solve.
+    w_values: Vec<f64>,
     /// `r` and `∂L/∂q`, where constant.
     r_const: Option<Vec<f64>>,
     dl_dq_const: Option<Vec<f64>>,
@@ -473,6 +478,7 @@ impl Compiled {
             metric,
             w_ratio,
             w_scale,
+            w_values: if w_constant { w_values } else { Vec::new() },
             r_const,
             dl_dq_const,
             parameters,
@@ -495,6 +501,11 @@ impl Compiled {
             self.w_ratio,
             self.w_scale,
         ))
+    }
+
+    /// The entries of a constant `W`, row-major (empty where it varies).
+    pub(crate) fn constant_w(&self) -> &[f64] {
+        &self.w_values
     }
 
     /// `r = ∂L/∂q − g + Q` where it is constant.
@@ -1036,6 +1047,23 @@ impl Compiled {
             return Err(zero_row(ws).unwrap_or(SaddleFailure::Singular {
                 pivot_ratio: s_ratio,
             }));
+        }
+        if k > 1 && s_ratio < saddle::NULL_SPACE_PIVOT_RATIO {
+            // Nearly dependent constraints: `a + Yᵀ μ` would cancel what the large `μ` carries.
+            let CompiledWorkspace {
+                j, r, c, w, saddle, ..
+            } = &mut *ws;
+            let w: &[T] = w;
+            let cw = &self.w_values;
+            let w_at = |i: usize, m: usize| match self.metric {
+                Metric::Varying => w[i * n + m],
+                _ => T::from(cw[i * n + m]),
+            };
+            saddle::solve_null_space(saddle, n, k, w_at, |a, i| j[a * n + i], |i| r[i], |a| -c[a])?;
+            let x = ws.saddle.solution();
+            ws.a.copy_from_slice(&x[..n]);
+            ws.mu.copy_from_slice(&x[n..n + k]);
+            return Ok(w_ratio.min(s_ratio));
         }
         for a in 0..k {
             let mu = ws.mu[a];

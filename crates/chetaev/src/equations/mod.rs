@@ -538,7 +538,31 @@ where
                     pivot_ratio: s_ratio,
                 });
             }
-            (a0 + y * mu, mu, w_ratio.min(s_ratio))
+            if K > 1 && s_ratio < saddle::NULL_SPACE_PIVOT_RATIO {
+                // Nearly dependent constraints: `a + Y μ` would cancel what the large `μ` carries.
+                let wm = match (w, plan.map(|p| p.constant_w())) {
+                    (Some(w), _) => w,
+                    (None, Some(cw)) => SMatrix::<T, N, N>::from_fn(|i, m| T::from(cw[i * N + m])),
+                    (None, None) => unreachable!("a constant W comes with the plan"),
+                };
+                saddle::solve_null_space(
+                    &mut ws.saddle,
+                    N,
+                    K,
+                    |i, m| wm[(i, m)],
+                    |a, i| j[(a, i)],
+                    |i| r[i],
+                    |a| -c[a],
+                )?;
+                let x = ws.saddle.solution();
+                (
+                    SVector::<T, N>::from_column_slice(&x[..N]),
+                    SVector::<T, K>::from_column_slice(&x[N..N + K]),
+                    w_ratio.min(s_ratio),
+                )
+            } else {
+                (a0 + y * mu, mu, w_ratio.min(s_ratio))
+            }
         }
         None => {
             let wm = w.unwrap_or_else(SMatrix::<T, N, N>::zeros);

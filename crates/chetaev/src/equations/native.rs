@@ -15,8 +15,9 @@
 //! with every entry the structure proves zero or one folded away (a zero of `W` or `J` costs
 //! nothing), so that the program of the paper's particle is 26 operations. The program checks the
 //! pivots of the two factorisations as the interpreted route does (positive, and above the singular
-//! ratio of [`saddle`](super::saddle)), the guards of the recording, and that `q̈` and `μ` are
-//! finite: where a check fails, [`NativeEquations::evaluate`] declines and the caller takes the
+//! ratio of [`saddle`](super::saddle); with more than one constraint, `S`'s above the ratio below
+//! which that route takes the null-space method), the guards of the recording, and that `q̈` and
+//! `μ` are finite: where a check fails, [`NativeEquations::evaluate`] declines and the caller takes the
 //! interpreted route, which pivots, falls back to dual numbers, or reports the failure exactly as
 //! without this route. The program reads `t` and `(q, q̇)` where the integrator keeps them and
 //! writes `(q̇, q̈)` in place. It is made once a problem has run [`NATIVE_AFTER`] right-hand sides
@@ -35,7 +36,7 @@ use chetaev_native::{Guard, Native, Op, Program};
 
 use super::compiled::{Compiled, Metric};
 use super::graph::{Fun, Node};
-use super::saddle::SINGULAR_PIVOT_RATIO;
+use super::saddle::{NULL_SPACE_PIVOT_RATIO, SINGULAR_PIVOT_RATIO};
 use super::Dynamics;
 
 /// The largest program compiled. Beyond it the code generator's time grows faster than the
@@ -320,17 +321,17 @@ pub(crate) struct NativeBuffers {
     outputs: Vec<f64>,
 }
 
-/// The guards that keep the program to what it can decide alone: `a > 0` and `d > ε a` for each
-/// pivot `(d, a)` (as `cholesky` checks them; together they give `d > 0`), and that `q̈` and `μ`
-/// are finite, as one test: `Σ (x − x) = 0`, which a single infinite or NaN entry breaks. A guard
-/// whose operands are constants is decided here: dropped where it holds, and `None` (no program)
-/// where it does not.
-fn checks(b: &mut Builder, pivots: &[(u32, u32)], finite: &[u32]) -> Option<Vec<Guard>> {
+/// The guards that keep the program to what it can decide alone: `a > 0` and `d > ρ a` for each
+/// pivot `(d, a, ρ)` (as `cholesky` checks them with `ρ` its singular ratio; together they give
+/// `d > 0`), and that `q̈` and `μ` are finite, as one test: `Σ (x − x) = 0`, which a single
+/// infinite or NaN entry breaks. A guard whose operands are constants is decided here: dropped
+/// where it holds, and `None` (no program) where it does not.
+fn checks(b: &mut Builder, pivots: &[(u32, u32, f64)], finite: &[u32]) -> Option<Vec<Guard>> {
     let zero = b.constant(0.0);
-    let eps = b.constant(SINGULAR_PIVOT_RATIO);
     let mut conditions = Vec::new();
-    for &(d, a) in pivots {
-        let floor = b.mul(eps, a);
+    for &(d, a, rho) in pivots {
+        let rho = b.constant(rho);
+        let floor = b.mul(rho, a);
         conditions.push((a, zero, Ordering::Greater));
         conditions.push((d, floor, Ordering::Greater));
     }
@@ -505,7 +506,18 @@ fn build(compiled: &Compiled, rates: bool) -> Option<Built> {
     }
     outputs.extend(j.iter().flatten());
     outputs.extend(&w_out);
-    let pivots: Vec<(u32, u32)> = w_pivots.iter().chain(&s_pivots).copied().collect();
+    // The pivots of S with more than one constraint also keep the program to where the Schur
+    // complement is accurate: below the null-space ratio the interpreted route solves otherwise.
+    let s_floor = if k > 1 {
+        NULL_SPACE_PIVOT_RATIO
+    } else {
+        SINGULAR_PIVOT_RATIO
+    };
+    let pivots: Vec<(u32, u32, f64)> = w_pivots
+        .iter()
+        .map(|&(d, a)| (d, a, SINGULAR_PIVOT_RATIO))
+        .chain(s_pivots.iter().map(|&(d, a)| (d, a, s_floor)))
+        .collect();
     let finite: Vec<u32> = a.iter().chain(&mu).copied().collect();
     guards.extend(checks(&mut b, &pivots, &finite)?);
     debug_assert_eq!(outputs.len(), layout.len());

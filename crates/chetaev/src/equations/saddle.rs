@@ -16,6 +16,20 @@
 //! by Gaussian elimination with complete pivoting. The ratio of the smallest to the largest pivot is
 //! returned as a cheap conditioning estimate; below [`SINGULAR_PIVOT_RATIO`] the system is reported
 //! as singular instead of producing a meaningless answer.
+//!
+//! Both the elimination and the Schur complement `J W⁻¹ Jᵀ` of the faster routes lose accuracy as
+//! the square of the constraints' condition: with two constraint gradients nearly parallel the
+//! multipliers grow as `1/sin θ`, and `q̈` is what is left when they nearly cancel. Below
+//! [`NULL_SPACE_PIVOT_RATIO`] the system is therefore solved again by the null-space method
+//! ([`solve_null_space`]), whose error grows as the condition itself:
+//!
+//! ```text
+//! Jᵀ = Q [R; 0]  (Householder),   q̈ = Q [y; z],   Rᵀ y = s,
+//! (QᵀWQ)₂₂ z = (Qᵀr)₂ − (QᵀWQ)₂₁ y,   R μ = (QᵀWQ)₁ [y; z] − (Qᵀr)₁
+//! ```
+//!
+//! `y` is fixed by the constraints alone and `z` by the dynamics on their null space, so nothing
+//! large cancels. It needs `W` regular on the null space of `J` only, as the elimination does.
 
 use nalgebra::{SMatrix, SVector};
 
@@ -23,6 +37,12 @@ use crate::model::Real;
 
 /// Pivot ratio (smallest over largest pivot magnitude) below which the block system is singular.
 pub const SINGULAR_PIVOT_RATIO: f64 = 64.0 * f64::EPSILON;
+
+/// Pivot ratio (of the elimination, or of the Schur complement's Cholesky factor) below which the
+/// block system is solved again by the null-space method: two constraint gradients within about
+/// `0.01` rad of each other (in the metric `W`). Above it the faster solve loses at most about
+/// `ε/ratio` relative, `2e-12`.
+pub const NULL_SPACE_PIVOT_RATIO: f64 = 1e-4;
 
 /// Why the block system could not be solved.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -88,6 +108,7 @@ pub struct SaddleWorkspace<T> {
     col: Vec<usize>,
     scale: Vec<f64>,
     det_sign: f64,
+    null: NullSpace<T>,
 }
 
 impl<T> Default for SaddleWorkspace<T> {
@@ -99,6 +120,56 @@ impl<T> Default for SaddleWorkspace<T> {
             col: Vec::new(),
             scale: Vec::new(),
             det_sign: 1.0,
+            null: NullSpace::default(),
+        }
+    }
+}
+
+/// Scratch storage of [`solve_null_space`].
+#[derive(Clone, Debug)]
+struct NullSpace<T> {
+    /// The rows of `J` (the columns of `Jᵀ`), scaled; then the Householder vectors below the
+    /// diagonal of `R` and `R` above it, column `a` of `Jᵀ` at `a n ..`.
+    h: Vec<T>,
+    /// `2/(vᵀv)` of each Householder vector.
+    beta: Vec<T>,
+    /// The diagonal of `R`.
+    diag: Vec<T>,
+    /// `1/max_i |J_ai|`, the scale of each constraint row.
+    scale: Vec<f64>,
+    /// `QᵀWQ`, row-major `n × n`.
+    wq: Vec<T>,
+    /// `Qᵀr`.
+    qr: Vec<T>,
+    /// `[y; z]`, then `q̈`.
+    x: Vec<T>,
+    /// `μ` (scaled).
+    mu: Vec<T>,
+    /// The block on the null space, its right-hand side, solution and column permutation.
+    red: Vec<T>,
+    rhs: Vec<T>,
+    z: Vec<T>,
+    col: Vec<usize>,
+    /// The Gram matrix of the scaled rows of `J` ([`nearly_dependent`]).
+    gram: Vec<f64>,
+}
+
+impl<T> Default for NullSpace<T> {
+    fn default() -> Self {
+        Self {
+            h: Vec::new(),
+            beta: Vec::new(),
+            diag: Vec::new(),
+            scale: Vec::new(),
+            wq: Vec::new(),
+            qr: Vec::new(),
+            x: Vec::new(),
+            mu: Vec::new(),
+            red: Vec::new(),
+            rhs: Vec::new(),
+            z: Vec::new(),
+            col: Vec::new(),
+            gram: Vec::new(),
         }
     }
 }
@@ -234,11 +305,238 @@ pub fn solve_blocks<T: Real>(
         return Err(SaddleFailure::Singular { pivot_ratio });
     }
     ws.det_sign = det_sign;
+    // A small pivot ratio may come from W alone (masses of very different sizes), which the
+    // elimination handles better than an orthogonal transformation would: the null-space method
+    // only where the constraint gradients themselves are nearly dependent.
+    if k > 1 && pivot_ratio < NULL_SPACE_PIVOT_RATIO && nearly_dependent(&mut ws.null, n, k, &j) {
+        solve_null_space(ws, n, k, w, j, r, s)?;
+        return Ok(pivot_ratio);
+    }
     back_substitute(a, &ws.b, &ws.col, &mut ws.x, m);
     for (c, d) in ws.scale.iter().enumerate() {
         ws.x[n + c] *= *d;
     }
     Ok(pivot_ratio)
+}
+
+/// Whether the rows of `J`, each scaled to largest entry 1, are nearly dependent: the Cholesky
+/// factor of their Gram matrix has a pivot ratio (the smallest `sin²` of the angle between a row
+/// and the span of those before it) below [`NULL_SPACE_PIVOT_RATIO`].
+fn nearly_dependent<T: Real>(
+    scratch: &mut NullSpace<T>,
+    n: usize,
+    k: usize,
+    j: impl Fn(usize, usize) -> T,
+) -> bool {
+    let NullSpace {
+        scale: rows, gram, ..
+    } = scratch;
+    rows.clear();
+    for a in 0..k {
+        let start = rows.len();
+        rows.extend((0..n).map(|i| j(a, i).re()));
+        let m = rows[start..].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        rows[start..].iter_mut().for_each(|v| *v /= m);
+    }
+    gram.clear();
+    gram.resize(k * k, 0.0);
+    for a in 0..k {
+        for b in 0..=a {
+            let g: f64 = (0..n).map(|i| rows[a * n + i] * rows[b * n + i]).sum();
+            gram[a * k + b] = g;
+            gram[b * k + a] = g;
+        }
+    }
+    super::compiled::cholesky(gram, k).map_or(true, |ratio| ratio < NULL_SPACE_PIVOT_RATIO)
+}
+
+/// Solves `[W −Jᵀ; J 0] [q̈; μ] = [r; s]` by the null-space method (see the module docs), with the
+/// blocks given as for [`solve_blocks`]; the solution goes to [`SaddleWorkspace::solution`]. Its
+/// error in `q̈` grows as the condition of `J`, not as its square. It leaves the determinant's sign
+/// as it was: the callers know it from their own factorisation.
+pub(crate) fn solve_null_space<T: Real>(
+    ws: &mut SaddleWorkspace<T>,
+    n: usize,
+    k: usize,
+    w: impl Fn(usize, usize) -> T,
+    j: impl Fn(usize, usize) -> T,
+    r: impl Fn(usize) -> T,
+    s: impl Fn(usize) -> T,
+) -> Result<(), SaddleFailure> {
+    if k > n {
+        return Err(SaddleFailure::Singular { pivot_ratio: 0.0 });
+    }
+    let NullSpace {
+        h,
+        beta,
+        diag,
+        scale,
+        wq,
+        qr,
+        x,
+        mu,
+        red,
+        rhs,
+        z,
+        col,
+        ..
+    } = &mut ws.null;
+
+    // The scaled rows of J, each of largest entry 1.
+    h.clear();
+    scale.clear();
+    for a in 0..k {
+        let start = h.len();
+        h.extend((0..n).map(|i| j(a, i)));
+        let m = h[start..].iter().fold(0.0f64, |m, v| m.max(v.re().abs()));
+        if !m.is_finite() {
+            return Err(SaddleFailure::NonFinite);
+        }
+        if m == 0.0 {
+            return Err(SaddleFailure::ZeroConstraintRow { row: a });
+        }
+        let d = 1.0 / m;
+        h[start..].iter_mut().for_each(|v| *v *= d);
+        scale.push(d);
+    }
+
+    // Householder QR of Jᵀ: column p becomes its Householder vector from entry p on, with R_pq
+    // (q > p) left in column q above its own vector.
+    beta.clear();
+    diag.clear();
+    for p in 0..k {
+        let mut norm2 = T::zero();
+        for i in p..n {
+            norm2 += h[p * n + i] * h[p * n + i];
+        }
+        if norm2.re() == 0.0 {
+            return Err(SaddleFailure::Singular { pivot_ratio: 0.0 });
+        }
+        let norm = norm2.sqrt();
+        let alpha = if h[p * n + p].re() >= 0.0 {
+            -norm
+        } else {
+            norm
+        };
+        h[p * n + p] -= alpha;
+        let mut vtv = T::zero();
+        for i in p..n {
+            vtv += h[p * n + i] * h[p * n + i];
+        }
+        let b = T::from(2.0) / vtv;
+        for q in p + 1..k {
+            let mut t = T::zero();
+            for i in p..n {
+                t += h[p * n + i] * h[q * n + i];
+            }
+            t *= b;
+            for i in p..n {
+                let v = h[p * n + i];
+                h[q * n + i] -= t * v;
+            }
+        }
+        beta.push(b);
+        diag.push(alpha);
+    }
+    let (lo, hi) = diag.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), d| {
+        (lo.min(d.re().abs()), hi.max(d.re().abs()))
+    });
+    if lo <= SINGULAR_PIVOT_RATIO * hi {
+        return Err(SaddleFailure::Singular {
+            pivot_ratio: lo / hi.max(f64::MIN_POSITIVE),
+        });
+    }
+    // x ← H_p x for the Householder reflection p, on the entries `at(i)` of `x`.
+    let reflect = |p: usize, x: &mut [T], at: &dyn Fn(usize) -> usize| {
+        let v = &h[p * n..(p + 1) * n];
+        let mut t = T::zero();
+        for i in p..n {
+            t += v[i] * x[at(i)];
+        }
+        t *= beta[p];
+        for i in p..n {
+            x[at(i)] -= t * v[i];
+        }
+    };
+
+    // QᵀWQ: Qᵀ applied to each row of W (giving WQ), then to each column.
+    wq.clear();
+    for i in 0..n {
+        wq.extend((0..n).map(|c| w(i, c)));
+    }
+    for i in 0..n {
+        for p in 0..k {
+            reflect(p, wq, &|c| i * n + c);
+        }
+    }
+    for c in 0..n {
+        for p in 0..k {
+            reflect(p, wq, &|i| i * n + c);
+        }
+    }
+    qr.clear();
+    qr.extend((0..n).map(&r));
+    for p in 0..k {
+        reflect(p, qr, &|i| i);
+    }
+
+    // Rᵀ y = D s, forward (R_qp, q < p, is entry q of column p).
+    x.clear();
+    for p in 0..k {
+        let mut v = s(p) * scale[p];
+        for (q, &xq) in x.iter().enumerate() {
+            v -= h[p * n + q] * xq;
+        }
+        x.push(v / diag[p]);
+    }
+    // (QᵀWQ)₂₂ z = (Qᵀr)₂ − (QᵀWQ)₂₁ y, by the pivoted elimination.
+    let m = n - k;
+    if m > 0 {
+        red.clear();
+        rhs.clear();
+        for i in k..n {
+            red.extend_from_slice(&wq[i * n + k..(i + 1) * n]);
+            let mut v = qr[i];
+            for (p, &yp) in x.iter().enumerate() {
+                v -= wq[i * n + p] * yp;
+            }
+            rhs.push(v);
+        }
+        col.clear();
+        col.extend(0..m);
+        z.clear();
+        z.resize(m, T::zero());
+        let (pivot_ratio, singular, _) = eliminate(red, rhs, col, m);
+        if singular {
+            return Err(SaddleFailure::Singular { pivot_ratio });
+        }
+        back_substitute(red, rhs, col, z, m);
+        x.extend_from_slice(z);
+    }
+    // R μ̃ = (QᵀWQ)₁ [y; z] − (Qᵀr)₁, backward (R_pq, q > p, is entry p of column q).
+    mu.clear();
+    mu.resize(k, T::zero());
+    for p in (0..k).rev() {
+        let mut v = -qr[p];
+        for (c, &xc) in x.iter().enumerate() {
+            v += wq[p * n + c] * xc;
+        }
+        for q in p + 1..k {
+            v -= h[q * n + p] * mu[q];
+        }
+        mu[p] = v / diag[p];
+    }
+    // q̈ = Q [y; z], and μ = D μ̃.
+    for p in (0..k).rev() {
+        reflect(p, x, &|i| i);
+    }
+    ws.x.clear();
+    ws.x.extend_from_slice(x);
+    ws.x.extend(mu.iter().zip(scale.iter()).map(|(&m, &d)| m * d));
+    if ws.x.iter().any(|v| !v.re().is_finite()) {
+        return Err(SaddleFailure::NonFinite);
+    }
+    Ok(())
 }
 
 /// In-place Gaussian elimination with complete pivoting on the row-major `m × m` matrix `a` and
@@ -426,6 +724,104 @@ mod tests {
             }
         }
         assert_eq!(sign_of(metrics[0], Some(j)).0, 1.0);
+    }
+
+    /// The solution by elimination and by the null-space method of `[W −Jᵀ; J 0] x = [r; s]`, for
+    /// `W` and `J` given row-major, with entries made from `u` (a dual number carries their
+    /// derivative along `u`).
+    fn both_ways<T: Real>(w: &[f64], j: &[f64], n: usize, k: usize, u: T) -> (Vec<T>, Vec<T>) {
+        let wf = |i: usize, m: usize| u * w[i * n + m] + w[i * n + m] * w[i * n + m];
+        let jf = |a: usize, i: usize| u * u * j[a * n + i] + (a + 2 * i) as f64;
+        let rf = |i: usize| u * (i as f64 - 1.5);
+        let sf = |a: usize| u * 0.5 + a as f64;
+        let mut ws = SaddleWorkspace::default();
+        solve_blocks(&mut ws, n, k, wf, jf, rf, sf).expect("regular");
+        let eliminated = ws.solution().to_vec();
+        solve_null_space(&mut ws, n, k, wf, jf, rf, sf).expect("regular");
+        (eliminated, ws.solution().to_vec())
+    }
+
+    #[test]
+    fn the_null_space_method_agrees_with_the_elimination_values_and_derivatives() {
+        // Well conditioned: positive definite, indefinite (regular on ker J) and singular W; as
+        // many constraints as coordinates; one constraint.
+        let cases: [(&[f64], &[f64], usize, usize); 5] = [
+            (
+                &[2.0, 0.4, 0.0, 0.4, 1.0, 0.3, 0.0, 0.3, 3.0],
+                &[1.0, -2.0, 0.5, 0.3, 1.0, 2.0],
+                3,
+                2,
+            ),
+            (
+                &[1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 2.0],
+                &[1.0, 0.0, 1.0, 0.0, 2.0, 0.0],
+                3,
+                2,
+            ),
+            (&[1.0, 0.0, 0.0, 0.0], &[1.0, 3.0], 2, 1),
+            (&[1.0, 0.5, 0.5, 2.0], &[1.0, 3.0, -2.0, 0.5], 2, 2),
+            (
+                &[
+                    4.0, 1.0, 0.0, 0.0, 1.0, 3.0, 0.5, 0.0, 0.0, 0.5, 2.0, 0.1, 0.0, 0.0, 0.1, 1.0,
+                ],
+                &[0.2, -1.0, 0.7, 1.5],
+                4,
+                1,
+            ),
+        ];
+        use num_dual::Dual64;
+        for (w, j, n, k) in cases {
+            let (a, b) = both_ways(w, j, n, k, 1.3);
+            for (x, y) in a.iter().zip(&b) {
+                assert!((x - y).abs() <= 1e-13 * x.abs().max(1.0), "{x} against {y}");
+            }
+            let (a, b) = both_ways(w, j, n, k, Dual64::new(1.3, 1.0));
+            for (x, y) in a.iter().zip(&b) {
+                assert!(
+                    (x.eps - y.eps).abs() <= 1e-12 * x.eps.abs().max(1.0),
+                    "{} against {}",
+                    x.eps,
+                    y.eps
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn nearly_dependent_rows_are_told_by_their_angle_not_their_size() {
+        let mut scratch = NullSpace::default();
+        let mut dependent =
+            |rows: [f64; 6]| nearly_dependent(&mut scratch, 3, 2, |a, i| rows[a * 3 + i]);
+        assert!(!dependent([1.0, 0.0, 0.0, 0.0, 1e-9, 0.0]));
+        assert!(!dependent([1.0, 2.0, 0.0, 1.0, 2.0, 0.05]));
+        assert!(dependent([1.0, 2.0, 0.0, 1e9, 2e9, 1e6]));
+        assert!(dependent([1.0, 2.0, 0.0, 1.0, 2.0, 0.0]));
+    }
+
+    #[test]
+    fn the_null_space_method_reports_dependent_constraints_and_a_singular_block() {
+        let mut ws = SaddleWorkspace::default();
+        let w = |i: usize, m: usize| if i == m { 1.0 } else { 0.0 };
+        let dependent = [1.0, 2.0, 2.0, 4.0];
+        let err = solve_null_space(
+            &mut ws,
+            2,
+            2,
+            w,
+            |a, i| dependent[a * 2 + i],
+            |_| 1.0,
+            |_| 0.0,
+        )
+        .expect_err("dependent rows");
+        assert!(matches!(err, SaddleFailure::Singular { .. }), "{err:?}");
+        let err =
+            solve_null_space(&mut ws, 2, 1, w, |_, _| 0.0, |_| 1.0, |_| 0.0).expect_err("zero row");
+        assert_eq!(err, SaddleFailure::ZeroConstraintRow { row: 0 });
+        // W vanishes on ker J = span (1, 0).
+        let w = |i: usize, m: usize| if i == 1 && m == 1 { 1.0 } else { 0.0 };
+        let err = solve_null_space(&mut ws, 2, 1, w, |_, i| i as f64, |_| 1.0, |_| 0.0)
+            .expect_err("singular on ker J");
+        assert!(matches!(err, SaddleFailure::Singular { .. }), "{err:?}");
     }
 
     #[test]
