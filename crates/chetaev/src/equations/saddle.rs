@@ -108,7 +108,8 @@ pub struct SaddleWorkspace<T> {
     col: Vec<usize>,
     scale: Vec<f64>,
     det_sign: f64,
-    null: NullSpace<T>,
+    /// Made on first use only: most systems never need it, and a workspace is moved by value.
+    null: Option<Box<NullSpace<T>>>,
 }
 
 impl<T> Default for SaddleWorkspace<T> {
@@ -120,7 +121,7 @@ impl<T> Default for SaddleWorkspace<T> {
             col: Vec::new(),
             scale: Vec::new(),
             det_sign: 1.0,
-            null: NullSpace::default(),
+            null: None,
         }
     }
 }
@@ -308,7 +309,10 @@ pub fn solve_blocks<T: Real>(
     // A small pivot ratio may come from W alone (masses of very different sizes), which the
     // elimination handles better than an orthogonal transformation would: the null-space method
     // only where the constraint gradients themselves are nearly dependent.
-    if k > 1 && pivot_ratio < NULL_SPACE_PIVOT_RATIO && nearly_dependent(&mut ws.null, n, k, &j) {
+    if k > 1
+        && pivot_ratio < NULL_SPACE_PIVOT_RATIO
+        && nearly_dependent(ws.null.get_or_insert_with(Default::default), n, k, &j)
+    {
         solve_null_space(ws, n, k, w, j, r, s)?;
         return Ok(pivot_ratio);
     }
@@ -322,6 +326,8 @@ pub fn solve_blocks<T: Real>(
 /// Whether the rows of `J`, each scaled to largest entry 1, are nearly dependent: the Cholesky
 /// factor of their Gram matrix has a pivot ratio (the smallest `sin²` of the angle between a row
 /// and the span of those before it) below [`NULL_SPACE_PIVOT_RATIO`].
+#[cold]
+#[inline(never)]
 fn nearly_dependent<T: Real>(
     scratch: &mut NullSpace<T>,
     n: usize,
@@ -353,7 +359,10 @@ fn nearly_dependent<T: Real>(
 /// Solves `[W −Jᵀ; J 0] [q̈; μ] = [r; s]` by the null-space method (see the module docs), with the
 /// blocks given as for [`solve_blocks`]; the solution goes to [`SaddleWorkspace::solution`]. Its
 /// error in `q̈` grows as the condition of `J`, not as its square. It leaves the determinant's sign
-/// as it was: the callers know it from their own factorisation.
+/// as it was: the callers know it from their own factorisation. Out of line: it serves the rare
+/// state, and the common path stays as compact as without it.
+#[cold]
+#[inline(never)]
 pub(crate) fn solve_null_space<T: Real>(
     ws: &mut SaddleWorkspace<T>,
     n: usize,
@@ -380,7 +389,7 @@ pub(crate) fn solve_null_space<T: Real>(
         z,
         col,
         ..
-    } = &mut ws.null;
+    } = &mut **ws.null.get_or_insert_with(Default::default);
 
     // The scaled rows of J, each of largest entry 1.
     h.clear();
