@@ -179,11 +179,13 @@ fn a_failed_integration_exits_with_1_and_still_writes() {
         .split(',')
         .next()
         .expect("t");
+    // The scene declares t in seconds: `FAILED at t = 0.4 s: ...`.
     let printed = stdout
         .split("FAILED at t = ")
         .nth(1)
         .and_then(|r| r.split(':').next())
-        .expect("t");
+        .and_then(|t| t.strip_suffix(" s"))
+        .expect("t in s");
     let (last, printed): (f64, f64) = (
         last.parse().expect("number"),
         printed.parse().expect("number"),

@@ -1,5 +1,6 @@
-//! The pictures a scene asks for: units in the axis labels, one panel per unit, the trajectory's
-//! pairs of coordinates, and the located errors of the keys that choose them.
+//! The pictures a scene asks for: units in the axis labels (and after the summary's values), one
+//! panel per unit, the trajectory's pairs of coordinates, and the located errors of the keys that
+//! choose them.
 
 use std::path::PathBuf;
 
@@ -141,6 +142,48 @@ fn declared_units_appear_in_the_axis_labels() {
         texts(picture(&all, "velocity.svg"), "y-label"),
         ["x\u{307}, y\u{307}, z\u{307}"]
     );
+}
+
+#[test]
+fn declared_units_follow_the_values_in_the_summary() {
+    let printed = |units: &str| {
+        let s = scene(units, r#"tables = ["state", "energy"]"#).expect("parses");
+        let outcome = s.solve().expect("solves");
+        output::summary(&s, &outcome)
+    };
+    let plain = printed("");
+    let line = |text: &str, label: &str| {
+        text.lines()
+            .find(|l| l.trim_start().starts_with(label))
+            .unwrap_or_else(|| panic!("no {label} line in\n{text}"))
+            .to_string()
+    };
+    // Time in seconds, x and y in metres, z in kilometres (its own name wins), the energy in J.
+    let with = printed(r#"units = { t = "s", coordinates = "m", z = "km", energy = "J" }"#);
+    let status = line(&with, "status");
+    assert!(status.ends_with(" s"), "{status}");
+    let events = line(&with, "events");
+    for unit in [" s,", " m,", " km,", " m/s,", " km/s"] {
+        assert!(events.contains(unit), "{unit} in {events}");
+    }
+    assert!(line(&with, "energy").ends_with(" J"), "{with}");
+    assert!(line(&with, "method").ends_with("to 1 s"), "{with}");
+    // Without units, the same values alone: each line is the one with units, units taken out.
+    let events_plain = line(&plain, "events");
+    assert_eq!(
+        events
+            .replace(" km/s", "")
+            .replace(" m/s", "")
+            .replace(" km", "")
+            .replace(" m", "")
+            .replace(" s,", ","),
+        events_plain
+    );
+    assert!(!events_plain.contains(" m"), "{events_plain}");
+    // A unit declared empty shows nothing.
+    let empty = printed(r#"units = { t = "", coordinates = "" }"#);
+    assert_eq!(line(&empty, "events"), events_plain);
+    assert!(!line(&plain, "energy").ends_with(" J"), "{plain}");
 }
 
 #[test]

@@ -68,7 +68,7 @@ fn denominator(u: &str) -> String {
 
 /// The unit of the first (`order = 1`) or second time derivative of a quantity in `unit`:
 /// `m`, `s` → `m/s`, `m/s²`. `None` unless both units are declared.
-fn per_time(unit: Option<&str>, time: Option<&str>, order: u32) -> Option<String> {
+pub(crate) fn per_time(unit: Option<&str>, time: Option<&str>, order: u32) -> Option<String> {
     let (u, t) = (unit?, time?);
     if t.is_empty() {
         return Some(u.to_string());

@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 use chetaev::prelude::{Atol, Status};
 use chetaev::Singularity;
 
+use super::picture::per_time;
 use super::{balance_text, quantity_values, summary_number as num, writes_quantities};
 use crate::run::Outcome;
 use chetaev::integrate::Method;
@@ -29,18 +30,34 @@ pub struct Failure {
 }
 
 /// `x = 1, y = 2, x_dot = 3, y_dot = 4`, or as much of it as the vectors hold.
+/// Each value carries the unit the scene declares for it (`x = 1 m, x_dot = 3 m/s`).
 pub(crate) fn state_text(scene: &Scene, q: &[f64], qd: &[f64]) -> String {
     let c = &scene.coordinates;
+    let units = &scene.units;
+    let unit = |i: usize| units.coordinates.get(i).cloned().flatten();
     c.iter()
         .zip(q)
-        .map(|(c, v)| format!("{c} = {}", num(*v)))
-        .chain(
-            c.iter()
-                .zip(qd)
-                .map(|(c, v)| format!("{c}_dot = {}", num(*v))),
-        )
+        .enumerate()
+        .map(|(i, (c, v))| format!("{c} = {}", with_unit(*v, unit(i).as_deref())))
+        .chain(c.iter().zip(qd).enumerate().map(|(i, (c, v))| {
+            let rate = per_time(unit(i).as_deref(), units.time.as_deref(), 1);
+            format!("{c}_dot = {}", with_unit(*v, rate.as_deref()))
+        }))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// A value as the summary writes it, followed by its unit where one is declared and not empty.
+fn with_unit(v: f64, unit: Option<&str>) -> String {
+    match unit {
+        Some(u) if !u.is_empty() => format!("{} {u}", num(v)),
+        _ => num(v),
+    }
+}
+
+/// A time as the summary writes it, with the scene's unit of time.
+fn time(scene: &Scene, t: f64) -> String {
+    with_unit(t, scene.units.time.as_deref())
 }
 
 /// The method key for the advice: `method = "dop853"`.
@@ -231,19 +248,19 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
 pub fn status_text(scene: &Scene, out: &Outcome) -> String {
     let end = out.t.last().copied().unwrap_or(scene.t0);
     match &out.status {
-        Status::Success => format!("reached t_end = {}", num(end)),
+        Status::Success => format!("reached t_end = {}", time(scene, end)),
         Status::Terminated { event } => format!(
             "stopped by the terminal event '{}' at t = {}",
             scene.events.get(*event).map_or("?", |e| e.name.as_str()),
-            num(end)
+            time(scene, end)
         ),
         Status::Failed(e) => {
             let f = failure(scene, e);
             match f.t {
-                Some(t) => format!("FAILED at t = {}: {}", num(t), f.what),
+                Some(t) => format!("FAILED at t = {}: {}", time(scene, t), f.what),
                 None => format!(
                     "FAILED after the last output time t = {}: {}",
-                    num(end),
+                    time(scene, end),
                     f.what
                 ),
             }
@@ -389,7 +406,7 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         s,
         "  method   {method}; t from {} to {}",
         num(scene.t0),
-        num(scene.solve.t_end)
+        time(scene, scene.solve.t_end)
     );
     if scene.project_velocity && k > 0 {
         let _ = writeln!(s, "  initial  {}", projection_text(scene, out));
@@ -413,7 +430,7 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
                 s,
                 "  {label:<8} {:<width$}  t = {}, {}",
                 out.event_name(e.index),
-                num(e.t),
+                time(scene, e.t),
                 state_text(scene, &e.q, &e.qd)
             );
         }
@@ -492,7 +509,12 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         }
     }
     if let Some(b) = max_abs(&out.balance) {
-        let _ = writeln!(s, "  energy   max |{}| = {}", balance_text(scene), num(b));
+        let _ = writeln!(
+            s,
+            "  energy   max |{}| = {}",
+            balance_text(scene),
+            with_unit(b, scene.units.energy.as_deref())
+        );
     }
     for bad in non_finite(scene, out) {
         let _ = writeln!(

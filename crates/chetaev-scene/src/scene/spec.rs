@@ -58,7 +58,8 @@ pub struct Scene {
 }
 
 /// Units as declared by `[model] units` and `[output.units]`: text shown in the pictures' axis
-/// labels (`"x [m]"`), and from which the units of derivatives are written (`"ẋ [m/s]"`). `None`
+/// labels (`"x [m]"`) and after the summary's values (`x = 9.19 m`), and from which the units of
+/// derivatives are written (`"ẋ [m/s]"`). `None`
 /// where nothing is declared; `Some("")` for a quantity declared without unit.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Units {
