@@ -1,7 +1,8 @@
 //! `ensemble`: the ratio of the uniform to the classical range over a log-spaced grid of
 //! `(v0, h0)`, every point solved by `chetaev` to the impact and compared with the closed forms,
-//! in parallel with rayon. Runs the sweep on 1 thread and on the requested number (default 2) and
-//! reports the speed-up. A progress bar is drawn when stdout is a terminal.
+//! in parallel with rayon. Runs the sweep on 1 thread and on the requested number (default 2),
+//! interleaved, three rounds of each, and reports the median times, their ratio and the speed-up
+//! of each round. A progress bar is drawn when stdout is a terminal.
 //!
 //! Writes `ensemble.md`, `ensemble.csv`, two SVG diagrams and `ensemble.json` (every point, from
 //! which `merge` writes the rest again) into `--out` (default `./chetaev-bench-out/ensemble`).
@@ -25,7 +26,7 @@ use std::process::ExitCode;
 use chetaev_bench::cli::{exit, output_dir, print_summary};
 use chetaev_bench::ensemble::{grid, sweep, SweepPoint};
 use chetaev_bench::parts::{
-    number, sweep_point_from_json, sweep_point_to_json, Fields, Part, Shard,
+    number, read_number, sweep_point_from_json, sweep_point_to_json, Fields, Part, Shard,
 };
 use chetaev_bench::report::{csv_field, format_seconds};
 use chetaev_plot::{Figure, Style};
@@ -180,43 +181,74 @@ fn solve_sweep(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
     let mine: Vec<usize> = shard.items(all.len()).collect();
     let points: Vec<(f64, f64)> = mine.iter().map(|&i| all[i]).collect();
 
-    let mut runs = Vec::new();
-    for threads in [1, args.threads] {
-        let pb = bar(
-            points.len(),
-            &format!("{threads} thread{}", if threads == 1 { "" } else { "s" }),
-        );
-        let tick = || pb.inc(1);
-        let (solved, seconds) = sweep(&points, args.g, args.tol, threads, &tick)?;
-        pb.finish_and_clear();
-        runs.push((solved, seconds));
+    // Timed interleaved, one thread then `threads`, ROUNDS times: the machine's load changes
+    // between runs, and one pair alone gave speed-ups from 1.8 to 2.4 on 2 threads for sweeps of
+    // a fraction of a second.
+    let (mut serial, mut parallel) = (Vec::new(), Vec::new());
+    let mut solved: Option<Vec<SweepPoint>> = None;
+    for round in 1..=ROUNDS {
+        for threads in [1, args.threads] {
+            let pb = bar(
+                points.len(),
+                &format!(
+                    "{threads} thread{}, round {round} of {ROUNDS}",
+                    if threads == 1 { "" } else { "s" }
+                ),
+            );
+            let tick = || pb.inc(1);
+            let (run, seconds) = sweep(&points, args.g, args.tol, threads, &tick)?;
+            pb.finish_and_clear();
+            if let Some(first) = &solved {
+                let same = first.len() == run.len()
+                    && first.iter().zip(&run).all(|(a, b)| {
+                        a.ratio.to_bits() == b.ratio.to_bits()
+                            && a.failure == b.failure
+                            && a.steps == b.steps
+                    });
+                if !same {
+                    return Err(format!(
+                        "the run on {threads} thread(s) in round {round} differs from the first"
+                    )
+                    .into());
+                }
+            } else {
+                solved = Some(run);
+            }
+            if threads == 1 {
+                &mut serial
+            } else {
+                &mut parallel
+            }
+            .push(seconds);
+        }
     }
-    let (solved, t1) = &runs[0];
-    let (solved_n, tn) = &runs[runs.len() - 1];
-    let same = solved.len() == solved_n.len()
-        && solved.iter().zip(solved_n.iter()).all(|(a, b)| {
-            a.ratio.to_bits() == b.ratio.to_bits() && a.failure == b.failure && a.steps == b.steps
-        });
-    if !same {
-        return Err("the parallel run differs from the serial one".into());
-    }
+    let solved = solved.unwrap_or_default();
+    let (t1, tn) = (median(&serial), median(&parallel));
+    let speedups = round_speedups(&serial, &parallel);
+    let seconds = |v: &[f64]| Value::Array(v.iter().map(|&x| number(x)).collect());
     let part = Part::new(
         "ensemble",
         settings.to_json(),
         all.len(),
         shard,
-        json!({ "serial_seconds": number(*t1), "parallel_seconds": number(*tn) }),
+        json!({
+            "serial_seconds": number(t1),
+            "parallel_seconds": number(tn),
+            "serial_rounds_seconds": seconds(&serial),
+            "parallel_rounds_seconds": seconds(&parallel),
+        }),
         mine.iter()
-            .zip(solved)
+            .zip(&solved)
             .map(|(&i, p)| (i, sweep_point_to_json(p)))
             .collect(),
     );
     part.write_into(out)?;
     if shard == Shard::WHOLE {
-        return report(&settings, solved, *t1, *tn, 1, out);
+        return report(&settings, &solved, t1, tn, &speedups, 1, out);
     }
     Ok(format!(
-        "shard {shard}: {} of {} points, {t1:.2} s on 1 thread, {tn:.2} s on {} threads, in {}\n",
+        "shard {shard}: {} of {} points, {t1:.2} s on 1 thread, {tn:.2} s on {} threads (medians \
+         of {ROUNDS} interleaved rounds), in {}\n",
         points.len(),
         all.len(),
         args.threads,
@@ -234,13 +266,44 @@ fn merge_parts(files: &[PathBuf], out: &Path) -> Result<String, Box<dyn Error>> 
         .map(|(_, v)| sweep_point_from_json(v))
         .collect::<Result<Vec<_>, _>>()?;
     let (mut t1, mut tn) = (0.0, 0.0);
+    let mut speedups = Vec::new();
     for r in &whole.runs {
         let about = Fields::of(&r.about, "shard's measurements")?;
         t1 += about.f64("serial_seconds")?;
         tn += about.f64("parallel_seconds")?;
+        let rounds = |key: &str| -> Result<Vec<f64>, Box<dyn Error>> {
+            about
+                .array(key)?
+                .iter()
+                .map(|v| read_number(v).ok_or_else(|| format!("{key}: not a number").into()))
+                .collect()
+        };
+        speedups.extend(round_speedups(
+            &rounds("serial_rounds_seconds")?,
+            &rounds("parallel_rounds_seconds")?,
+        ));
     }
     whole.write_into(out)?;
-    report(&settings, &points, t1, tn, whole.runs.len(), out)
+    report(&settings, &points, t1, tn, &speedups, whole.runs.len(), out)
+}
+
+/// Rounds of the timed sweep: each solves the points on one thread, then on `--threads`.
+const ROUNDS: usize = 3;
+
+/// The median of `v` (the mean of the middle two for an even count); 0 for none.
+fn median(v: &[f64]) -> f64 {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => 0.0,
+        n if n % 2 == 1 => v[n / 2],
+        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
+}
+
+/// The speed-up of each round: its serial time over its parallel time.
+fn round_speedups(serial: &[f64], parallel: &[f64]) -> Vec<f64> {
+    serial.iter().zip(parallel).map(|(s, p)| s / p).collect()
 }
 
 /// Writes `ensemble.csv`, the diagrams and `ensemble.md` from the solved points of the whole grid
@@ -251,11 +314,25 @@ fn report(
     solved: &[SweepPoint],
     t1: f64,
     tn: f64,
+    speedups: &[f64],
     shards: usize,
     out: &Path,
 ) -> Result<String, Box<dyn Error>> {
     let threads = args.threads;
     let speedup = t1 / tn;
+    let (lo, hi) = speedups
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
+            (lo.min(r), hi.max(r))
+        });
+    let rounds = if speedups.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " (rounds: {lo:.2}–{hi:.2} over {} interleaved pairs)",
+            speedups.len()
+        )
+    };
     let failures: Vec<&SweepPoint> = solved.iter().filter(|p| p.failure.is_some()).collect();
     let ok: Vec<&SweepPoint> = solved.iter().filter(|p| p.failure.is_none()).collect();
     let max_of = |f: &dyn Fn(&SweepPoint) -> f64| ok.iter().map(|p| f(p)).fold(0.0f64, f64::max);
@@ -338,7 +415,7 @@ fn report(
          | | |\n|---|---|\n\
          | wall time, 1 thread | {} |\n\
          | wall time, {threads} threads | {} |\n\
-         | speed-up | {speedup:.2} |\n\
+         | speed-up | {speedup:.2}{rounds} |\n\
          | points solved / failed | {} / {} |\n\
          | uniform motions that needed Rodas4 | {rodas} |\n\
          | steps, all uniform motions | {steps} |\n\
@@ -380,7 +457,8 @@ fn report(
     );
     let _ = writeln!(
         summary,
-        "speed-up {speedup:.2} on {threads} threads; {} solved, {} failed, {rodas} by Rodas4; \
+        "speed-up {speedup:.2}{rounds} on {threads} threads; {} solved, {} failed, {rodas} by \
+         Rodas4; \
          largest ratio error {ratio_err:.1e}",
         ok.len(),
         failures.len(),
