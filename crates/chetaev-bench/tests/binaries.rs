@@ -175,6 +175,24 @@ fn an_ensemble_in_three_shards_merges_into_the_whole_run() {
     }
     let csv = std::fs::read_to_string(merged.join("ensemble.csv")).expect("written");
     assert_eq!(csv.lines().count(), 1 + 16, "a header and 4 × 4 points");
+    // The speed-up with the range of its rounds: three interleaved pairs per run, so nine over
+    // three shards; each run records the seconds of every round.
+    let md = |dir: &Path| std::fs::read_to_string(dir.join("ensemble.md")).expect("written");
+    assert!(
+        md(&whole).contains("over 3 interleaved pairs"),
+        "{}",
+        md(&whole)
+    );
+    assert!(
+        md(&merged).contains("over 9 interleaved pairs"),
+        "{}",
+        md(&merged)
+    );
+    let part = read_json(&dir.join("parts/ensemble.part-2-of-3.json"));
+    let text = part.to_string();
+    for key in ["serial_rounds_seconds", "parallel_rounds_seconds"] {
+        assert!(text.contains(key), "{key} in {text}");
+    }
 }
 
 #[test]
