@@ -509,6 +509,19 @@ where
     // Through the Cholesky factors `W` and `S` are positive definite, and so is the sign of the
     // block matrix's determinant; otherwise the pivoted elimination finds it.
     let mut det_sign = 1.0;
+    // The blocks and the solution as the whole system's solves take them.
+    let (jf, rf, sf) = (
+        |a: usize, i: usize| j[(a, i)],
+        |i: usize| r[i],
+        |a: usize| -c[a],
+    );
+    let solution = |ws: &saddle::SaddleWorkspace<T>| {
+        let x = ws.solution();
+        (
+            SVector::<T, N>::from_column_slice(&x[..N]),
+            SVector::<T, K>::from_column_slice(&x[N..N + K]),
+        )
+    };
     let (qdd, mu, pivot_ratio) = match w_ratio {
         Some(w_ratio) if K == 0 => (a0, SVector::<T, K>::zeros(), w_ratio),
         Some(w_ratio) => {
@@ -545,43 +558,19 @@ where
                     (None, Some(cw)) => SMatrix::<T, N, N>::from_fn(|i, m| T::from(cw[i * N + m])),
                     (None, None) => unreachable!("a constant W comes with the plan"),
                 };
-                saddle::solve_null_space(
-                    &mut ws.saddle,
-                    N,
-                    K,
-                    |i, m| wm[(i, m)],
-                    |a, i| j[(a, i)],
-                    |i| r[i],
-                    |a| -c[a],
-                )?;
-                let x = ws.saddle.solution();
-                (
-                    SVector::<T, N>::from_column_slice(&x[..N]),
-                    SVector::<T, K>::from_column_slice(&x[N..N + K]),
-                    w_ratio.min(s_ratio),
-                )
+                saddle::solve_null_space(&mut ws.saddle, N, K, |i, m| wm[(i, m)], jf, rf, sf)?;
+                let (qdd, mu) = solution(&ws.saddle);
+                (qdd, mu, w_ratio.min(s_ratio))
             } else {
                 (a0 + y * mu, mu, w_ratio.min(s_ratio))
             }
         }
         None => {
             let wm = w.unwrap_or_else(SMatrix::<T, N, N>::zeros);
-            let ratio = saddle::solve_blocks(
-                &mut ws.saddle,
-                N,
-                K,
-                |i, m| wm[(i, m)],
-                |a, i| j[(a, i)],
-                |i| r[i],
-                |a| -c[a],
-            )?;
+            let ratio = saddle::solve_blocks(&mut ws.saddle, N, K, |i, m| wm[(i, m)], jf, rf, sf)?;
             det_sign = ws.saddle.det_sign();
-            let solution = ws.saddle.solution();
-            (
-                SVector::<T, N>::from_column_slice(&solution[..N]),
-                SVector::<T, K>::from_column_slice(&solution[N..N + K]),
-                ratio,
-            )
+            let (qdd, mu) = solution(&ws.saddle);
+            (qdd, mu, ratio)
         }
     };
     if qdd.iter().chain(mu.iter()).any(|v| !v.re().is_finite()) {
