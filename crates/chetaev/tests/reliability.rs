@@ -1625,13 +1625,13 @@ fn nearly_parallel_constraint_gradients_leave_the_motion_accurate_in_a_long_solv
         let methods = [
             AnyMethod::Rk4(Rk4::new(end / 20_000.0)),
             AnyMethod::Dopri5(Dopri5::default()),
-            AnyMethod::Rodas4(Rodas4::default()),
+            AnyMethod::Rodas4(Rodas4),
         ];
         for method in methods {
             let name = format!("{method:?}");
             let name = name.split('(').next().unwrap_or("?").to_string();
             let runs = [
-                ("static", solve(&fixed, method.clone(), &options)),
+                ("static", solve(&fixed, method, &options)),
                 ("run-time", solve(&dynamic, method, &options)),
             ];
             for (sizes, sol) in runs {
