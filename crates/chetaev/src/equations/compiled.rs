@@ -1059,7 +1059,14 @@ impl Compiled {
                 Metric::Varying => w[i * n + m],
                 _ => T::from(cw[i * n + m]),
             };
-            saddle::solve_null_space(saddle, n, k, w_at, |a, i| j[a * n + i], |i| r[i], |a| -c[a])?;
+            saddle::solve_null_space(
+                saddle,
+                (n, k),
+                w_at,
+                |a, i| j[a * n + i],
+                |i| r[i],
+                |a| -c[a],
+            )?;
             let x = ws.saddle.solution();
             ws.a.copy_from_slice(&x[..n]);
             ws.mu.copy_from_slice(&x[n..n + k]);

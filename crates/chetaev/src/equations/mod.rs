@@ -558,7 +558,7 @@ where
                     (None, Some(cw)) => SMatrix::<T, N, N>::from_fn(|i, m| T::from(cw[i * N + m])),
                     (None, None) => unreachable!("a constant W comes with the plan"),
                 };
-                saddle::solve_null_space(&mut ws.saddle, N, K, |i, m| wm[(i, m)], jf, rf, sf)?;
+                saddle::solve_null_space(&mut ws.saddle, (N, K), |i, m| wm[(i, m)], jf, rf, sf)?;
                 let (qdd, mu) = solution(&ws.saddle);
                 (qdd, mu, w_ratio.min(s_ratio))
             } else {

@@ -313,7 +313,7 @@ pub fn solve_blocks<T: Real>(
         && pivot_ratio < NULL_SPACE_PIVOT_RATIO
         && nearly_dependent(ws.null.get_or_insert_with(Default::default), n, k, &j)
     {
-        solve_null_space(ws, n, k, w, j, r, s)?;
+        solve_null_space(ws, (n, k), w, j, r, s)?;
         return Ok(pivot_ratio);
     }
     back_substitute(a, &ws.b, &ws.col, &mut ws.x, m);
@@ -365,8 +365,7 @@ fn nearly_dependent<T: Real>(
 #[inline(never)]
 pub(crate) fn solve_null_space<T: Real>(
     ws: &mut SaddleWorkspace<T>,
-    n: usize,
-    k: usize,
+    (n, k): (usize, usize),
     w: impl Fn(usize, usize) -> T,
     j: impl Fn(usize, usize) -> T,
     r: impl Fn(usize) -> T,
@@ -746,7 +745,7 @@ mod tests {
         let mut ws = SaddleWorkspace::default();
         solve_blocks(&mut ws, n, k, wf, jf, rf, sf).expect("regular");
         let eliminated = ws.solution().to_vec();
-        solve_null_space(&mut ws, n, k, wf, jf, rf, sf).expect("regular");
+        solve_null_space(&mut ws, (n, k), wf, jf, rf, sf).expect("regular");
         (eliminated, ws.solution().to_vec())
     }
 
@@ -814,8 +813,7 @@ mod tests {
         let dependent = [1.0, 2.0, 2.0, 4.0];
         let err = solve_null_space(
             &mut ws,
-            2,
-            2,
+            (2, 2),
             w,
             |a, i| dependent[a * 2 + i],
             |_| 1.0,
@@ -823,12 +821,12 @@ mod tests {
         )
         .expect_err("dependent rows");
         assert!(matches!(err, SaddleFailure::Singular { .. }), "{err:?}");
-        let err =
-            solve_null_space(&mut ws, 2, 1, w, |_, _| 0.0, |_| 1.0, |_| 0.0).expect_err("zero row");
+        let err = solve_null_space(&mut ws, (2, 1), w, |_, _| 0.0, |_| 1.0, |_| 0.0)
+            .expect_err("zero row");
         assert_eq!(err, SaddleFailure::ZeroConstraintRow { row: 0 });
         // W vanishes on ker J = span (1, 0).
         let w = |i: usize, m: usize| if i == 1 && m == 1 { 1.0 } else { 0.0 };
-        let err = solve_null_space(&mut ws, 2, 1, w, |_, i| i as f64, |_| 1.0, |_| 0.0)
+        let err = solve_null_space(&mut ws, (2, 1), w, |_, i| i as f64, |_| 1.0, |_| 0.0)
             .expect_err("singular on ker J");
         assert!(matches!(err, SaddleFailure::Singular { .. }), "{err:?}");
     }
