@@ -21,7 +21,7 @@
 //! the square of the constraints' condition: with two constraint gradients nearly parallel the
 //! multipliers grow as `1/sin θ`, and `q̈` is what is left when they nearly cancel. Below
 //! [`NULL_SPACE_PIVOT_RATIO`] the system is therefore solved again by the null-space method
-//! ([`solve_null_space`]), whose error grows as the condition itself:
+//! (`solve_null_space`), whose error grows as the condition itself:
 //!
 //! ```text
 //! Jᵀ = Q [R; 0]  (Householder),   q̈ = Q [y; z],   Rᵀ y = s,
