@@ -53,8 +53,9 @@ pub(crate) enum Metric {
     Diagonal(Vec<f64>),
     /// Constant and positive definite: its Cholesky factor (row-major lower triangle).
     Factor(Vec<f64>),
-    /// Constant but not positive definite: its entries, for the pivoted elimination.
-    Indefinite(Vec<f64>),
+    /// Constant but not positive definite: solved by the pivoted elimination, with the entries
+    /// kept in `Compiled::w_values`.
+    Indefinite,
     /// Varying: its entries on and above the diagonal come from the tape.
     Varying,
 }
@@ -102,7 +103,8 @@ pub struct Compiled {
     w_ratio: f64,
     /// `max |W_ij|` of a constant `W`.
     w_scale: f64,
-    /// The entries of a constant `W` (empty where it varies), for the null-space solve.
+    /// The entries of a constant `W` (empty where it varies): for the elimination where it is
+    /// indefinite, and for the null-space solve.
     w_values: Vec<f64>,
     /// `r` and `∂L/∂q`, where constant.
     r_const: Option<Vec<f64>>,
@@ -932,7 +934,7 @@ impl Compiled {
                 .find(|&a| ws.j[a * n..(a + 1) * n].iter().all(|v| v.re() == 0.0))
                 .map(|row| SaddleFailure::ZeroConstraintRow { row })
         };
-        if matches!(self.metric, Metric::Indefinite(_) | Metric::Varying) {
+        if matches!(self.metric, Metric::Indefinite | Metric::Varying) {
             if let Some(e) = zero_row(ws) {
                 return Err(e);
             }
@@ -974,7 +976,10 @@ impl Compiled {
                 self.metric_solves(ws, l);
                 self.w_ratio
             }
-            Metric::Indefinite(w) => return self.eliminate(ws, |i, m| T::from(w[i * n + m])),
+            Metric::Indefinite => {
+                let w = &self.w_values;
+                return self.eliminate(ws, |i, m| T::from(w[i * n + m]));
+            }
             Metric::Varying => {
                 ws.wf.copy_from_slice(&ws.w);
                 match cholesky(&mut ws.wf, n) {
@@ -1130,12 +1135,12 @@ fn constant_metric(w: &[f64], n: usize) -> (Metric, f64) {
         if d.iter().all(|&v| v > 0.0) {
             return (Metric::Diagonal(d.iter().map(|v| 1.0 / v).collect()), 1.0);
         }
-        return (Metric::Indefinite(w.to_vec()), 1.0);
+        return (Metric::Indefinite, 1.0);
     }
     let mut f = w.to_vec();
     match cholesky(&mut f, n) {
         Ok(ratio) => (Metric::Factor(f), ratio),
-        Err(_) => (Metric::Indefinite(w.to_vec()), 1.0),
+        Err(_) => (Metric::Indefinite, 1.0),
     }
 }
 

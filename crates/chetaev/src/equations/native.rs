@@ -372,7 +372,7 @@ struct Built {
 /// case), where the equations have parameters as inputs, or where a check on constants fails.
 fn build(compiled: &Compiled, rates: bool) -> Option<Built> {
     let parts = compiled.native_parts();
-    if !parts.parameter_free || matches!(parts.metric, Metric::Indefinite(_)) {
+    if !parts.parameter_free || matches!(parts.metric, Metric::Indefinite) {
         return None;
     }
     let (n, k) = (parts.n, parts.k);
@@ -450,7 +450,7 @@ fn build(compiled: &Compiled, rates: bool) -> Option<Built> {
                 b.cholesky_solve(&l, row);
             }
         }
-        Metric::Indefinite(_) => return None,
+        Metric::Indefinite => return None,
     }
     // S = J Y, S μ = −c − J a, q̈ = a + Y μ.
     let mut mu: Vec<u32> = (0..k)
