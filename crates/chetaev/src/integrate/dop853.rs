@@ -359,6 +359,7 @@ impl Stepper for Dop853Stepper {
 
     fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
         let (t, h, y, y_new, norm) = trial.parts();
+        self.stiffness.controls(norm.len());
         let n = self.dim;
         let (y, y_new) = (&y[..n], &mut y_new[..n]);
         split!(&mut self.work, n =>

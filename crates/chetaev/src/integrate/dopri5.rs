@@ -133,6 +133,7 @@ impl Stepper for Dopri5Stepper {
 
     fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error> {
         let (t, h, y, y_new, norm) = trial.parts();
+        self.stiffness.controls(norm.len());
         let [k1, k2, k3, k4, k5, k6, k7, yt, ysti, ..] = self.pool.all::<VECTORS>();
         // The argument of stage 6 stays in `ysti` for the stiffness test.
         STAGES.eval(sys, (t, h, y), [k1, k2, k3, k4, k5, k6], yt, ysti)?;
