@@ -222,7 +222,13 @@ impl Scene {
                 // The option by its key in the scene file.
                 let key = if name == "Rk4::h" { "step" } else { name };
                 let span = s.options.get(key).cloned().unwrap_or(s.solve.clone());
-                self.error_at(span, format!("invalid {key} = {value} under [solve]: {hint}"))
+                self.error_at(
+                    span,
+                    format!(
+                        "invalid {key} = {} under [solve]: {hint}",
+                        summary_number(value)
+                    ),
+                )
             }
             E::DegenerateConstraint { index, ref q, ref qd, t } => {
                 let span = self.constraint_span(index).unwrap_or(s.initial.clone());

@@ -736,3 +736,84 @@ fn the_residual_table_names_each_row_and_shows_the_holonomic_position_residual()
         assert_eq!(h, outcome.position_residual[i][0], "row {i}");
     }
 }
+
+#[test]
+fn option_values_in_messages_are_written_as_numbers_are() {
+    // A tiny or huge value is shown in scientific notation, not as hundreds of digits.
+    for (line, shown) in [
+        ("rtol = 1e-30", "rtol = 1e-30 under [solve]"),
+        ("max_step = 1e-300", "max_step = 1e-300 under [solve]"),
+    ] {
+        let text = BASE.replace("rtol = 1e-9", line);
+        let e = Scene::parse(&text, "base.toml")
+            .and_then(|s| s.solve().map(|_| ()))
+            .expect_err(line);
+        let m = e.to_string();
+        assert!(m.contains(shown) && m.len() < 400, "{m}");
+    }
+}
+
+#[test]
+fn a_terminal_event_at_the_start_says_why_and_what_to_give() {
+    // A projectile launched upward from y = 0: `y` leaves zero rising, which `either` counts.
+    let launch = |direction: &str| {
+        let text = BASE
+            .replace("lagrangian = \"0.5*(x_dot^2 + y_dot^2) - g*y\"\nconstraints = [\"x_dot^2 + y_dot^2 - v0^2\"]",
+                "lagrangian = \"0.5*(x_dot^2 + y_dot^2) - g*y\"")
+            .replace("q = [0.0, 5.0]\nq_dot = [\"v0\", 0.0]", "q = [0.0, 0.0]\nq_dot = [3.0, 4.0]")
+            .replace("t_end = 0.5", "t_end = 2.0")
+            + &format!(
+                "[[events]]\nname = \"land\"\nexpression = \"y\"\nterminal = true\n{direction}\n"
+            );
+        let scene = Scene::parse(&text, "launch.toml").unwrap_or_else(|e| panic!("{e}"));
+        let outcome = scene.solve().expect("solves");
+        (output::summary(&scene, &outcome), outcome)
+    };
+    let (summary, outcome) = launch("");
+    assert_eq!(outcome.t.last(), Some(&0.0), "{summary}");
+    assert!(
+        summary.contains("at t = 0") && summary.contains("direction = \"falling\""),
+        "{summary}"
+    );
+    // With the landing's direction it lands at 2 v_y / g = 0.8.
+    let (summary, outcome) = launch("direction = \"falling\"");
+    let t = *outcome.t.last().expect("recorded");
+    assert!((t - 0.8).abs() < 1e-9, "{summary}");
+    assert!(!summary.contains("advice"), "{summary}");
+}
+
+#[test]
+fn output_times_out_of_order_repeated_or_reversed_are_refused_at_their_place() {
+    for (times, says) in [
+        ("[0.3, 0.1]", "0.1 follows 0.3"),
+        ("[0.1, 0.2, 0.2]", "0.2 follows 0.2"),
+        (
+            "{ from = 0.4, to = 0.1, count = 5 }",
+            "against the direction",
+        ),
+        ("{ from = 0.2, to = 0.2, count = 3 }", "no interval"),
+    ] {
+        let text = format!("{BASE}\n[output]\ntimes = {times}\n");
+        let e = Scene::parse(&text, "base.toml").expect_err(times);
+        let at = text
+            .lines()
+            .position(|l| l.starts_with("times"))
+            .expect("line")
+            + 1;
+        assert_eq!(e.position().map(|p| p.0), Some(at), "{times}: {e}");
+        assert!(e.to_string().contains(says), "{times}: {e}");
+    }
+    // Backward, the list decreases.
+    let backward = BASE.replace("t_end = 0.5", "t_end = -0.5");
+    Scene::parse(
+        &format!("{backward}\n[output]\ntimes = [-0.1, -0.3]\n"),
+        "base.toml",
+    )
+    .expect("decreasing times going backward");
+    let e = Scene::parse(
+        &format!("{backward}\n[output]\ntimes = [-0.3, -0.1]\n"),
+        "base.toml",
+    )
+    .expect_err("increasing times going backward");
+    assert!(e.to_string().contains("decreasing"), "{e}");
+}

@@ -121,7 +121,7 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
         E::StepSizeTooSmall { t, h, .. } => Failure {
             t: Some(*t),
             what: format!(
-                "the step size fell to {h:e}, below what floating point resolves: the motion changes \
+                "the step size fell to {h:.2e}, below what floating point resolves: the motion changes \
                  faster than rtol and atol allow"
             ),
             advice: format!(
@@ -412,11 +412,25 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         let _ = writeln!(s, "  initial  {}", projection_text(scene, out));
     }
     let _ = writeln!(s, "  status   {}", status_text(scene, out));
-    if let Status::Failed(e) = &out.status {
-        let f = failure(scene, e);
-        if !f.advice.is_empty() {
-            let _ = writeln!(s, "  advice   {}", f.advice);
+    match &out.status {
+        Status::Failed(e) => {
+            let f = failure(scene, e);
+            if !f.advice.is_empty() {
+                let _ = writeln!(s, "  advice   {}", f.advice);
+            }
         }
+        // A terminal event at the start: its expression was zero there and left zero in a
+        // direction it counts, which is a crossing (a launch from the ground stops at once).
+        Status::Terminated { .. } if out.t.last().is_some_and(|&t| t == scene.t0) => {
+            let _ = writeln!(
+                s,
+                "  advice   the event's expression is zero at the start and leaving zero counts \
+                 as a crossing; to stop at its next crossing instead, give the event the \
+                 direction of that one (a launch upward from the level y = 0: direction = \
+                 \"falling\")"
+            );
+        }
+        _ => {}
     }
     if out.events.is_empty() {
         if !scene.events.is_empty() {

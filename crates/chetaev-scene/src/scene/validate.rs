@@ -18,6 +18,7 @@ use super::spec::{
 use super::MAX_OUTPUT_TIMES;
 use crate::error::{Error, SourceFile};
 use crate::expr::{is_function, Expr, Symbols, RESERVED};
+use crate::output::summary_number;
 use crate::source::string_offset;
 
 /// toml's messages, with a hint for the commonest mistakes.
@@ -1056,7 +1057,10 @@ impl Builder {
             self.err(
                 t.span(),
                 format!(
-                    "output time {s} lies outside the integration from t = {t0} to t_end = {t_end}"
+                    "output time {} lies outside the integration from t = {} to t_end = {}",
+                    summary_number(s),
+                    summary_number(t0),
+                    summary_number(t_end)
                 ),
             )
         };
@@ -1071,6 +1075,29 @@ impl Builder {
                         return Err(outside(s));
                     }
                     times.push(s);
+                }
+                // In the direction of integration, each once: rows come out in that order, so a
+                // list written otherwise was most likely meant otherwise.
+                let forward = t_end >= t0;
+                if let Some(w) =
+                    times
+                        .windows(2)
+                        .find(|w| if forward { w[1] <= w[0] } else { w[1] >= w[0] })
+                {
+                    return Err(self.err(
+                        t.span(),
+                        format!(
+                            "the output times must be listed in the direction of integration \
+                             ({}), each once: {} follows {}; sort the list and drop repeats",
+                            if forward {
+                                "increasing"
+                            } else {
+                                "decreasing, as t_end < t"
+                            },
+                            summary_number(w[1]),
+                            summary_number(w[0])
+                        ),
+                    ));
                 }
                 Times::List(times)
             }
@@ -1125,6 +1152,25 @@ impl Builder {
                 if let GridEnd::Time(x) = to {
                     if !inside(x) {
                         return Err(outside(x));
+                    }
+                    let forward = t_end >= t0;
+                    if (forward && x <= from) || (!forward && x >= from) {
+                        return Err(self.err(
+                            t.span(),
+                            format!(
+                                "the output grid runs from {} to {}, which is {} the direction of \
+                                 integration (t = {} to t_end = {}): give a `to` beyond `from`",
+                                summary_number(from),
+                                summary_number(x),
+                                if x == from {
+                                    "no interval in"
+                                } else {
+                                    "against"
+                                },
+                                summary_number(t0),
+                                summary_number(t_end)
+                            ),
+                        ));
                     }
                 }
                 Times::Grid {

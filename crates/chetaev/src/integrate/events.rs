@@ -43,6 +43,12 @@ pub enum Direction {
 
 /// An event: a function `g(t, q, q̇)` whose zeros are located, a direction, and whether it stops
 /// the integration.
+///
+/// A function exactly zero at the start time crosses there when it leaves zero in a direction
+/// the event counts: a projectile launched from the ground (`g = y`, `y = 0` at `t0`) hits it at
+/// once, upward as well as downward, unless the event counts only the crossing it wants
+/// ([`Event::falling`] for the landing). Leaving zero in a direction not counted is not a
+/// crossing, and later crossings are counted from the sign taken then.
 #[derive(Clone)]
 pub struct Event {
     /// A name for reports.
