@@ -144,8 +144,8 @@ impl Default for StudyConfig {
     }
 }
 
-/// The step limit of the ode_solvers runs: ode_solvers' own default (`n_max = 100 000` of its
-/// `Dopri5::new` and `Dop853::new`), whatever the study's `max_steps`.
+/// The largest step limit of the ode_solvers runs: ode_solvers' own default (`n_max = 100 000` of
+/// its `Dopri5::new` and `Dop853::new`). A study's smaller `max_steps` applies to them too.
 pub const ODE_SOLVERS_MAX_STEPS: usize = 100_000;
 
 /// One untimed run of `method` on `scene`: the point with its error and counters, not yet timed
@@ -239,19 +239,20 @@ where
 
 /// The options of the ode_solvers runs on `scene` at `tol`: `rtol = tol` and the scene's one
 /// scalar `atol`, everything recorded (`Record::Energy`) at every accepted step, ode_solvers' own
-/// step-size control and step limit ([`ODE_SOLVERS_MAX_STEPS`]).
-pub fn ode_solvers_options<M>(scene: &StudyScene<M>, tol: f64) -> Options {
+/// step-size control, and its own step limit ([`ODE_SOLVERS_MAX_STEPS`]) or the study's
+/// `max_steps`, whichever is smaller.
+pub fn ode_solvers_options<M>(scene: &StudyScene<M>, tol: f64, max_steps: usize) -> Options {
     Options::until(scene.t_end)
         .tolerances(tol, (scene.ode_solvers_atol)(tol))
         .record(Record::Energy)
-        .max_steps(ODE_SOLVERS_MAX_STEPS)
+        .max_steps(max_steps.min(ODE_SOLVERS_MAX_STEPS))
 }
 
 fn ode_solvers_point<M>(
     scene: &StudyScene<M>,
     method: OdeSolversMethod,
     tolerance: f64,
-    budget: &Budget,
+    config: &StudyConfig,
 ) -> Point
 where
     M: Model,
@@ -266,7 +267,7 @@ where
             PointOutcome::Skipped(reason.clone()),
         );
     }
-    let options = ode_solvers_options(scene, tolerance);
+    let options = ode_solvers_options(scene, tolerance, config.max_steps);
     let run = || solve_with_ode_solvers(&scene.problem, method, &options);
     let p = match run() {
         Err(e) => {
@@ -280,7 +281,7 @@ where
         }
         Ok(sol) => end_point(scene, name, tolerance, f64::NAN, &sol),
     };
-    timed(p, budget, run)
+    timed(p, &config.budget, run)
 }
 
 /// The options of the adaptive methods on `scene` at `tol`: no diagnostics, output at the end.
@@ -422,7 +423,7 @@ where
     for m in OdeSolversMethod::ALL {
         progress(m.name());
         for &tol in &config.tolerances {
-            points.push(ode_solvers_point(scene, m, tol, b));
+            points.push(ode_solvers_point(scene, m, tol, config));
         }
     }
     points

@@ -23,6 +23,7 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use chetaev::prelude::Options;
 use chetaev_bench::cli::{exit, output_dir, print_summary};
 use chetaev_bench::ensemble::{grid, sweep, SweepPoint};
 use chetaev_bench::parts::{
@@ -168,6 +169,22 @@ fn solve_sweep(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
     if !(args.lo > 0.0 && args.hi > args.lo && args.n >= 2 && args.threads >= 1) {
         return Err("need 0 < lo < hi, n ≥ 2 and threads ≥ 1".into());
     }
+    if !(args.g.is_finite() && args.g > 0.0) {
+        return Err(format!("--g {}: need a finite gravity g > 0, such as 9.81", args.g).into());
+    }
+    // Every point's tolerances are `tol` and atol scaled from it: a `tol` the library refuses
+    // would give a sweep of failures, so it is refused here, with the library's reason.
+    if args.tol.is_nan() || args.tol <= 0.0 {
+        return Err(format!(
+            "--tol {}: need a relative tolerance > 0, such as 1e-10",
+            args.tol
+        )
+        .into());
+    }
+    Options::until(1.0)
+        .tolerances(args.tol, args.tol)
+        .validate(0.0, 2)
+        .map_err(|e| format!("--tol {}: {e}", args.tol))?;
     let settings = Settings {
         n: args.n,
         lo: args.lo,

@@ -82,7 +82,8 @@ struct RunArgs {
     /// Step counts of Rk4, comma-separated (replacing 8, 16, …, 32768, or the four of --quick).
     #[arg(long, value_delimiter = ',', value_name = "N,...")]
     rk4_steps: Option<Vec<usize>>,
-    /// Step limit of every run, accepted plus rejected [default: 200000].
+    /// Step limit of every run, accepted plus rejected [default: 200000]; the ode_solvers runs
+    /// never take more than that crate's own limit, 100000.
     #[arg(long)]
     max_steps: Option<usize>,
 }
