@@ -42,12 +42,12 @@ struct Cli {
     /// Mass m [kg].
     #[arg(long, default_value_t = 1.0, value_parser = positive)]
     m: f64,
-    /// Relative and absolute tolerance of the table and error runs (1e-13 or more).
+    /// Relative and absolute tolerance of the table and error runs (1e-13 to 1e-4).
     #[arg(long, default_value = "1e-12", value_parser = tolerance)]
     tol: f64,
-    /// Largest error accepted by the verdict, for the closed forms and the derivatives
-    /// [default: 100 × tol].
-    #[arg(long, value_parser = positive)]
+    /// Largest relative error accepted by the verdict, for the closed forms and the derivatives,
+    /// below 1 [default: 100 × tol].
+    #[arg(long, value_parser = limit)]
     limit: Option<f64>,
     /// Also print the largest errors along both motions, and the impact's derivatives in v0, g,
     /// h0 against the closed form's.
@@ -78,13 +78,33 @@ fn positive(s: &str) -> Result<f64, String> {
     }
 }
 
-/// A tolerance the library accepts (as `rtol` and `atol` both).
+/// A tolerance the library accepts (as `rtol` and `atol` both), tight enough for a verdict to
+/// mean something (its default limit is 100 × tol).
 fn tolerance(s: &str) -> Result<f64, String> {
     let v = positive(s)?;
+    if v > 1e-4 {
+        return Err(format!(
+            "{v} is too loose to verify anything (the verdict's limit would be {}): give 1e-4 or less, \
+             such as the default 1e-12",
+            LIMIT_PER_TOLERANCE * v
+        ));
+    }
     Options::until(1.0)
         .tolerances(v, v)
         .validate(0.0, 2)
         .map_err(|e| e.to_string())?;
+    Ok(v)
+}
+
+/// A relative error limit: positive and below 1 (a limit of 1 accepts any answer of the right
+/// sign).
+fn limit(s: &str) -> Result<f64, String> {
+    let v = positive(s)?;
+    if v >= 1.0 {
+        return Err(format!(
+            "a relative error of {v} accepts any answer: give a limit below 1, such as 1e-10"
+        ));
+    }
     Ok(v)
 }
 
@@ -108,6 +128,15 @@ fn main() -> ExitCode {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: the verification could not run: {e}");
+            if cli.json {
+                // Still one JSON object on stdout, saying that nothing was verified and why.
+                let object = serde_json::json!({
+                    "verdict": { "verified": false, "error": e.to_string() },
+                    "params": { "v0": params.v0, "g": params.g, "h0": params.h0, "m": params.m },
+                    "tolerance": cli.tol,
+                });
+                println!("{object:#}");
+            }
             if matches!(e, chetaev::Error::Stiff { .. }) {
                 eprintln!(
                     "note: this verification integrates with the explicit Dop853, which meets \

@@ -111,6 +111,9 @@ fn bad_arguments_exit_with_2() {
             ["--tol", "1e-14"],
             "invalid option rtol = 1e-14: below 100 ulps",
         ),
+        // A verdict whose limit accepts anything is no verdict.
+        (["--tol", "1"], "too loose to verify anything"),
+        (["--limit", "100"], "give a limit below 1"),
     ] {
         let o = run(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {o:?}");
@@ -237,4 +240,20 @@ fn a_closed_pipe_ends_the_output_quietly() {
     let (status, err) = with_closed_pipe(&["--limit", "1e-16"]);
     assert_eq!(status.code(), Some(1), "{err}");
     assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn json_that_cannot_run_still_writes_one_object_saying_why() {
+    // z = g h0/v0² = 1e7: Dop853 meets its stability limit before the impact.
+    let o = run(&["--json", "--v0", "1e-3", "--h0", "1"]);
+    assert_eq!(o.status.code(), Some(1), "{o:?}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
+    assert_eq!(v["verdict"]["verified"], serde_json::Value::Bool(false));
+    assert!(
+        v["verdict"]["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("stiff")),
+        "{v}"
+    );
+    assert_eq!(v["params"]["v0"], serde_json::json!(1e-3));
 }
