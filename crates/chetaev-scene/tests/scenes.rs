@@ -82,6 +82,15 @@ rtol = 1e-9
 atol = 1e-9
 "#;
 
+/// The line number (from 1) of the first line of `text` that starts with `prefix`, where an
+/// error about that key should point.
+fn line_of(text: &str, prefix: &str) -> usize {
+    text.lines()
+        .position(|l| l.starts_with(prefix))
+        .unwrap_or_else(|| panic!("no line starts with {prefix}"))
+        + 1
+}
+
 fn with_output(output: &str) -> Scene {
     Scene::parse(&format!("{BASE}\n[output]\n{output}\n"), "base.toml")
         .unwrap_or_else(|e| panic!("{e}"))
@@ -211,11 +220,7 @@ fn an_inconsistent_initial_velocity_points_at_q_dot_and_says_what_to_try() {
     let text = BASE.replace("q_dot = [\"v0\", 0.0]", "q_dot = [\"v0\", 1.0]");
     let scene = Scene::parse(&text, "bad.toml").expect("parses");
     let e = scene.check().expect_err("inconsistent");
-    let line = text
-        .lines()
-        .position(|l| l.starts_with("q_dot"))
-        .expect("line")
-        + 1;
+    let line = line_of(&text, "q_dot");
     assert_eq!(e.position().map(|p| p.0), Some(line), "{e}");
     assert!(e.to_string().contains("project_velocity = true"), "{e}");
     // Opting in projects the velocity and runs.
@@ -457,7 +462,7 @@ fn a_fixed_step_method_refuses_the_options_it_would_ignore() {
     ] {
         let text = rk4.replace("step = 0.01", &format!("step = 0.01\n{line}"));
         let e = Scene::parse(&text, "rk4.toml").expect_err(key);
-        let at = text.lines().position(|l| l == line).expect("line") + 1;
+        let at = line_of(&text, line);
         assert_eq!(e.position().map(|p| p.0), Some(at), "{key}: {e}");
         let m = e.to_string();
         assert!(m.contains(&format!("`{key}`")), "{m}");
@@ -533,11 +538,7 @@ fn a_model_not_finite_at_the_start_names_the_expression() {
         let text = BASE.replace(from, to);
         let scene = Scene::parse(&text, "domain.toml").unwrap_or_else(|e| panic!("{e}"));
         let e = scene.check().expect_err("not finite at x = 0");
-        let at = text
-            .lines()
-            .position(|l| l.starts_with(line))
-            .expect("line")
-            + 1;
+        let at = line_of(&text, line);
         assert_eq!(e.position().map(|p| p.0), Some(at), "{e}");
         let m = e.to_string();
         assert!(m.contains(names), "{m}");
@@ -795,11 +796,7 @@ fn output_times_out_of_order_repeated_or_reversed_are_refused_at_their_place() {
     ] {
         let text = format!("{BASE}\n[output]\ntimes = {times}\n");
         let e = Scene::parse(&text, "base.toml").expect_err(times);
-        let at = text
-            .lines()
-            .position(|l| l.starts_with("times"))
-            .expect("line")
-            + 1;
+        let at = line_of(&text, "times");
         assert_eq!(e.position().map(|p| p.0), Some(at), "{times}: {e}");
         assert!(e.to_string().contains(says), "{times}: {e}");
     }
