@@ -1045,12 +1045,10 @@ impl Builder {
         t0: f64,
         t_end: f64,
     ) -> Result<Times, Error> {
+        // Output times follow the direction of integration.
+        let forward = t_end >= t0;
         let inside = |s: f64| {
-            let (lo, hi) = if t0 <= t_end {
-                (t0, t_end)
-            } else {
-                (t_end, t0)
-            };
+            let (lo, hi) = if forward { (t0, t_end) } else { (t_end, t0) };
             s.is_finite() && s >= lo && s <= hi
         };
         let outside = |s: f64| {
@@ -1078,7 +1076,6 @@ impl Builder {
                 }
                 // In the direction of integration, each once: rows come out in that order, so a
                 // list written otherwise was most likely meant otherwise.
-                let forward = t_end >= t0;
                 if let Some(w) =
                     times
                         .windows(2)
@@ -1153,7 +1150,6 @@ impl Builder {
                     if !inside(x) {
                         return Err(outside(x));
                     }
-                    let forward = t_end >= t0;
                     if (forward && x <= from) || (!forward && x >= from) {
                         return Err(self.err(
                             t.span(),
