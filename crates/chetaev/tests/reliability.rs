@@ -1156,6 +1156,13 @@ fn recording_the_energy_balance_does_not_change_where_stiffness_is_found() {
         }
         let state = solve(&problem, method, &options(Record::State)).expect("valid");
         let energy = solve(&problem, method, &options(Record::Energy)).expect("valid");
+        // The figures of where-it-breaks.md (`-- where_stiffness --nocapture`).
+        eprintln!(
+            "{}: {:?} after {} accepted steps, with or without the balance",
+            method.name(),
+            energy.status,
+            energy.stats.accepted_steps
+        );
         // The same outcome: the same error at the same time, or none.
         assert_eq!(
             format!("{:?}", state.status),
