@@ -169,6 +169,24 @@ pub enum Error {
         qd: Vec<f64>,
     },
 
+    /// The Jacobian of the reduced equations, which the implicit methods take at the start of each
+    /// step, is not finite where the equations themselves are: a smaller step cannot help.
+    #[error(
+        "the Jacobian of the reduced equations is not finite at t = {t} with q = {q:?}, q̇ = {qd:?}, \
+         though the equations are (their derivatives overflow, or the model is not differentiable \
+         there); an explicit method (Dop853) needs no Jacobian, or state the model in units in which \
+         its rates are nearer 1; the motion up to t is kept",
+        t = Num(*.t)
+    )]
+    NonFiniteJacobian {
+        /// Time.
+        t: f64,
+        /// Position.
+        q: Vec<f64>,
+        /// Velocity.
+        qd: Vec<f64>,
+    },
+
     /// The equations became singular along the motion: a constraint's gradient `∂f_a/∂q̇` passed
     /// through zero between two accepted steps, the constraints' gradients became linearly
     /// dependent there, or the kinetic metric `W = ∂²L/∂q̇²` changed size by many orders of

@@ -1321,6 +1321,39 @@ fn a_time_too_large_to_resolve_the_steps_says_so() {
     assert!(dopri5_on_oscillator(&o).expect("valid").is_success());
 }
 
+#[test]
+fn a_late_start_keeps_the_state_at_its_time() {
+    // From t0 = 1e9 one ulp of t is 2⁻²³, and a step of 1e-3 advances t by 8389 ulps, 2.4e-5
+    // more than 1e-3: a state advanced by the unrounded step lags its time by that much at every
+    // step (an error of 4.8e-5 in x = sin(t − t0) at t0 + 2, against 2e-14 from t0 = 0). Every
+    // method, at every recorded point, must match the motion counted from its own start as well
+    // from t0 = 1e9 as from 0.
+    let worst = |t0: f64, method: AnyMethod| {
+        let problem =
+            Problem::unconstrained(Oscillator, t0, SVector::from([0.0]), SVector::from([1.0]))
+                .expect("valid");
+        let o = Options::until(t0 + 2.0)
+            .tolerances(1e-12, 1e-12)
+            .record(Record::State);
+        let sol = solve(&problem, method, &o).expect("valid");
+        assert!(sol.is_success(), "{method:?} from {t0}: {:?}", sol.status);
+        (0..sol.len())
+            .map(|i| {
+                let tau = sol.t[i] - t0;
+                (sol.q[i][0] - tau.sin()).abs() + (sol.qd[i][0] - tau.cos()).abs()
+            })
+            .fold(0.0f64, f64::max)
+    };
+    for method in AnyMethod::all(1e-3) {
+        let (early, late) = (worst(0.0, method), worst(1e9, method));
+        println!("{}: from 0 {early:.1e}, from 1e9 {late:.1e}", method.name());
+        assert!(
+            late < 1e-11 && late < 10.0 * early.max(1e-13),
+            "{method:?}: {early:e} {late:e}"
+        );
+    }
+}
+
 /// A particle at constant speed `v0` in a gravity that oscillates in time, `g(t) = g0 (1 + ε sin ωt)`:
 /// the rate of the work `W_Φ`, `−m g(t) v0 tanh(G(t)/v0)`, keeps the oscillation's high
 /// derivatives while those of the motion die out with `sech²(G/v0)`.
@@ -1751,4 +1784,121 @@ fn the_relative_residual_is_not_diluted_by_coordinates_the_constraint_does_not_i
         (fast - still).abs() <= 1e-6 * still,
         "{fast:e} against {still:e}"
     );
+}
+
+/// A particle on the unit circle (holonomic, `|q|² = 1`) held at the speed `v0` (`|q̇|² = v0²`):
+/// the uniform rotation `θ = v0 t`, with nothing left free. `v0` only sets the unit of time.
+struct HeldRing {
+    v0: f64,
+}
+
+impl Lagrangian<2> for HeldRing {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5
+    }
+}
+
+impl Constraints<2, 1> for HeldRing {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        SVector::from([qd.dot(qd) - self.v0 * self.v0])
+    }
+    fn holonomic_count(&self) -> usize {
+        1
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &SVector<R, 2>, h: &mut [R]) {
+        h[0] = q.dot(q) - 1.0;
+    }
+}
+
+#[test]
+fn the_implicit_methods_do_not_depend_on_the_unit_of_time() {
+    // The same 100 turns in units of time a million times shorter, with the absolute tolerances
+    // in the same units: the same steps, and the same error. The iteration matrix mixes `∂q̈/∂q`
+    // (a rate squared) with `∂q̇/∂q̇` (one); solved unrefined, its rounding grew with `v0`, and
+    // Rodas5P ended 2.2e-6 off at `v0 = 1e6` against 3.8e-9 at `v0 = 1`.
+    let error = |method: AnyMethod, v0: f64| {
+        let problem = Problem::new(
+            HeldRing { v0 },
+            0.0,
+            SVector::from([1.0, 0.0]),
+            SVector::from([0.0, v0]),
+        )
+        .expect("consistent");
+        let rtol = 1e-10;
+        let o = Options::until(200.0 * std::f64::consts::PI / v0)
+            .tolerances(rtol, rtol)
+            .atol_per_component(&[rtol; 2], &[rtol * v0; 2])
+            .output_final()
+            .record(Record::State);
+        let sol = solve(&problem, method, &o).expect("valid");
+        assert!(sol.is_success(), "{method:?}, v0 = {v0}: {:?}", sol.status);
+        let (t, q, _) = sol.last().expect("recorded");
+        let theta = v0 * t;
+        (
+            (q[0] - theta.cos()).hypot(q[1] - theta.sin()),
+            sol.stats.accepted_steps,
+        )
+    };
+    for method in [AnyMethod::Rodas4(Rodas4), AnyMethod::Rodas5P(Rodas5P)] {
+        let ((slow, slow_steps), (fast, fast_steps)) = (error(method, 1.0), error(method, 1e6));
+        println!(
+            "{}: v0 = 1 {slow:.2e} ({slow_steps} steps), v0 = 1e6 {fast:.2e} ({fast_steps} steps)",
+            method.name()
+        );
+        assert!(slow_steps.abs_diff(fast_steps) <= 2, "{method:?}");
+        assert!(slow < 3e-8 && fast < 3e-8, "{method:?}: {slow:e} {fast:e}");
+    }
+}
+
+#[test]
+fn a_jacobian_that_overflows_where_the_equations_do_not_is_said_at_once() {
+    // The paper's particle in units of length 1e150 (v0 = g = 1e150): its equations are finite,
+    // but their Jacobian's products of rates overflow. It is taken where a step starts, whatever
+    // the step's size: retried shorter 530 times, the run ended in the model's "non-finite
+    // evaluation".
+    let model = OscillatingGravity {
+        m: 1.0,
+        g0: 1e150,
+        eps: 0.0,
+        omega: 0.0,
+        v0: 1e150,
+    };
+    let problem = Problem::new(
+        model,
+        0.0,
+        SVector::from([0.0, 5e149]),
+        SVector::from([1e150, 0.0]),
+    )
+    .expect("consistent");
+    let o = Options::until(1.0);
+    for method in [AnyMethod::Rodas4(Rodas4), AnyMethod::Rodas5P(Rodas5P)] {
+        let sol = solve(&problem, method, &o).expect("valid");
+        let err = sol.error().expect("no Jacobian");
+        assert!(
+            matches!(err, Error::NonFiniteJacobian { t, .. } if *t == 0.0),
+            "{method:?}: {err}"
+        );
+        assert_eq!(sol.stats.rejected_steps, 0, "{method:?}");
+        assert!(err.to_string().contains("Dop853"), "{err}");
+        assert_eq!(sol.len(), 1, "the initial point is kept");
+    }
+    let sol = solve(&problem, Dop853::default(), &o).expect("valid");
+    assert!(sol.is_success(), "{:?}", sol.status);
+}
+
+#[test]
+fn dop853_takes_a_tiny_absolute_tolerance() {
+    // x = sin t from x = 0 under atol = 1e-300: the first step is about 1e-291, and Dop853's
+    // error estimate, weighted by 1/sc before h, squared the stages' rounding (1e-15/1e-300) to
+    // infinity; it ended at t0 with NonFiniteState. Every adaptive method must run to the end.
+    let o = Options::until(1.0)
+        .tolerances(1e-10, 1e-300)
+        .output_final()
+        .record(Record::State);
+    for method in AnyMethod::all(1e-3) {
+        let sol = solve(&oscillator(), method, &o).expect("valid");
+        assert!(sol.is_success(), "{method:?}: {:?}", sol.status);
+        let (t, q, _) = sol.last().expect("recorded");
+        assert!((q[0] - t.sin()).abs() < 1e-9, "{method:?}: {}", q[0]);
+    }
 }
