@@ -1325,7 +1325,7 @@ fn a_time_too_large_to_resolve_the_steps_says_so() {
 fn a_late_start_keeps_the_state_at_its_time() {
     // From t0 = 1e9 one ulp of t is 2⁻²³, and a step of 1e-3 advances t by 8389 ulps, 2.4e-5
     // more than 1e-3: a state advanced by the unrounded step lags its time by that much at every
-    // step (an error of 4.8e-5 in x = sin(t − t0) at t0 + 2, against 2e-14 from t0 = 0). Every
+    // step (Dopri5 ended 3.5e-7 off from t0 = 1e9, against 7.7e-13 from t0 = 0). Every
     // method, at every recorded point, must match the motion counted from its own start as well
     // from t0 = 1e9 as from 0.
     let worst = |t0: f64, method: AnyMethod| {
@@ -1854,8 +1854,8 @@ fn the_implicit_methods_do_not_depend_on_the_unit_of_time() {
 fn a_jacobian_that_overflows_where_the_equations_do_not_is_said_at_once() {
     // The paper's particle in units of length 1e150 (v0 = g = 1e150): its equations are finite,
     // but their Jacobian's products of rates overflow. It is taken where a step starts, whatever
-    // the step's size: retried shorter 530 times, the run ended in the model's "non-finite
-    // evaluation".
+    // the step's size: retried shorter until the step underflowed, the run ended in the model's
+    // "non-finite evaluation".
     let model = OscillatingGravity {
         m: 1.0,
         g0: 1e150,
