@@ -29,7 +29,7 @@
 //! [`Rodas5P`]: super::Rodas5P
 
 use super::system::{Jacobian, OdeSystem};
-use super::{Step, Stepper, Trial};
+use super::{ErrorNorm, Step, Stepper, Trial};
 use crate::error::Error;
 
 /// The coefficients of an `S`-stage method of the family (`S ≥ 1`), with `D` rows of dense output;
@@ -114,17 +114,9 @@ impl<const S: usize, const D: usize> RosenbrockStepper<S, D> {
 
     /// Factors `I/(hγ) − J` into `self.lu`. Returns whether the matrix is invertible.
     fn decompose<Sys: OdeSystem>(&mut self, sys: &mut Sys, h: f64) -> bool {
-        let n = self.jacobian.dt.len();
-        let fac = 1.0 / (h * self.tableau.gamma);
-        let m = &mut self.lu.a;
-        for (m, j) in m.iter_mut().zip(&self.jacobian.dy) {
-            *m = -j;
-        }
-        for d in m.iter_mut().step_by(n + 1) {
-            *d += fac;
-        }
         sys.count_lu();
-        self.lu.factor()
+        self.lu
+            .factor(1.0 / (h * self.tableau.gamma), &self.jacobian.dy)
     }
 }
 
@@ -154,6 +146,7 @@ impl<const S: usize, const D: usize> Stepper for RosenbrockStepper<S, D> {
             self.jac_t = t;
             self.jac_y.copy_from_slice(y);
             self.jac_valid = true;
+            self.lu.weigh(norm, y);
         }
         if !(1.0 / (h * tab.gamma)).is_finite() {
             // A step so short (subnormal) that 1/(hγ) overflows: the change of y is h·F(t, y) to
@@ -251,23 +244,45 @@ impl<const S: usize, const D: usize> Stepper for RosenbrockStepper<S, D> {
     }
 }
 
-/// LU factors with partial pivoting of a small dense `n × n` matrix, in place and without
-/// allocating after [`Lu::new`]: the iteration matrix of a stiff problem of a few coordinates is
-/// factored at every step and solved with at every stage.
+/// The widest spread of the row weights of [`Lu::weigh`], as a power of two: `2^100 ≈ 1.3e30`,
+/// room for any change of units between the components, and far from the end of the
+/// floating-point range, so that a weighted magnitude overflows only where the matrix's entries
+/// are themselves beyond `1e278`.
+const SCALE_SPREAD: i32 = 100;
+
+/// LU factors with partial pivoting of a small dense `n × n` iteration matrix, in place and
+/// without allocating after [`Lu::new`]: the iteration matrix of a stiff problem of a few
+/// coordinates is factored at every step and solved with at every stage.
+///
+/// The pivots are chosen in the units of the error norm: as partial pivoting would choose them for
+/// `S⁻¹ A S`, with `S` the diagonal of the error norm's weights at the step's start rounded to
+/// powers of two ([`Lu::weigh`]). Partial pivoting depends on the scales of the rows; with them in
+/// the norm's units, the pivots, and so the rounding of the solves measured in the norm the
+/// step-size control reads, are the same in any units in which the tolerances are given. Chosen
+/// on the matrix as it is, in mixed units (for `y = [q, q̇]`, `∂q̈/∂q` is a rate squared where
+/// `∂q̇/∂q̇` is one), the pivots changed with the rates, and the rounding with them: on a ring held
+/// at the speed `v0` by a holonomic and a speed constraint, 100 turns at `rtol = 1e-10` on the same
+/// steps, Rodas5P ended `2.2e-6` off at `v0 = 1e6` against `3.8e-9` at `v0 = 1`
+/// (`the_implicit_methods_do_not_depend_on_the_unit_of_time` in `tests/reliability.rs`).
+///
+/// Elimination commutes with a diagonal similarity by powers of two (every product by such a scale
+/// is exact), so factoring `A` with the pivots of `S⁻¹ A S` gives the factors of `S⁻¹ A S` scaled
+/// back, to the last digit short of underflow: the scaling is needed only to compare candidate pivots, one product
+/// each, and the matrix and the solves are left as they are.
 #[derive(Clone, Debug)]
 struct Lu {
     n: usize,
-    /// The matrix (row-major) before [`Lu::factor`]; after it, `L` below the diagonal (unit
-    /// diagonal implied) and `U` on and above it, of the rows as permuted.
+    /// The matrix before [`Lu::factor`]; after it, `L` below the diagonal (unit diagonal implied)
+    /// and `U` on and above it, of the rows as permuted. Row-major.
     a: Vec<f64>,
     /// Row `k` was swapped with row `swap[k] ≥ k` at elimination step `k`.
     swap: Vec<usize>,
     /// One past the last row of the diagonal block of row `k` (see [`Lu::factor`]).
     block_end: Vec<usize>,
-    /// The matrix as it was before [`Lu::factor`], for the refinement of [`Lu::solve`], and the
-    /// residual there.
-    matrix: Vec<f64>,
-    residual: Vec<f64>,
+    /// The weight `1/s_i ≥ 1` of each row's magnitude in the choice of pivots ([`Lu::weigh`]),
+    /// and the same for the rows as permuted during a factorisation.
+    row_weight: Vec<f64>,
+    permuted_weight: Vec<f64>,
 }
 
 impl Lu {
@@ -277,14 +292,42 @@ impl Lu {
             a: vec![0.0; n * n],
             swap: vec![0; n],
             block_end: vec![0; n],
-            matrix: vec![0.0; n * n],
-            residual: vec![0.0; n],
+            row_weight: vec![1.0; n],
+            permuted_weight: vec![1.0; n],
         }
     }
 
-    /// Factors `a` in place, choosing at each step the first row of largest magnitude in the
-    /// column among the rows of its diagonal block. Returns `false` when a pivot is zero (the
-    /// matrix is singular).
+    /// Sets the scales `s_i` of the next factorisations to the error norm's weights at `y`,
+    /// rounded down to powers of two, relative to the largest, and at least `2^−SCALE_SPREAD` of
+    /// it (a weight at the floor of [`ErrorNorm::new`], of a component at zero under a purely
+    /// relative tolerance, is as far below the others as `f64` reaches). The components outside
+    /// the norm (the quadratures and sensitivities carried along) get the scale of the largest.
+    fn weigh(&mut self, norm: &ErrorNorm, y: &[f64]) {
+        // The binary exponent of a positive weight (one past the largest where it overflowed).
+        let exponent = |i: usize| {
+            let w = norm.scale(i, y[i], y[i]);
+            if w.is_finite() {
+                ((w.to_bits() >> 52) & 0x7ff) as i32 - 1023
+            } else {
+                1024
+            }
+        };
+        let controlled = norm.len().min(self.n);
+        let top = (0..controlled).map(exponent).max().unwrap_or(0);
+        for (i, w) in self.row_weight.iter_mut().enumerate() {
+            let below = if i < controlled {
+                (top - exponent(i)).min(SCALE_SPREAD)
+            } else {
+                0
+            };
+            // 2^below, 0 ≤ below ≤ SCALE_SPREAD.
+            *w = f64::from_bits(((1023 + below) as u64) << 52);
+        }
+    }
+
+    /// Factors `fac·I − J` (`J` row-major) in place, choosing at each step the row of largest
+    /// weighted magnitude in the column (the first of them) among the rows of its diagonal block.
+    /// Returns `false` when a pivot is zero (the matrix is singular).
     ///
     /// The blocks are those of the matrix's block lower triangular form: a block ends after row
     /// `r` when no row up to `r` has an entry beyond column `r`. The quantities carried along
@@ -292,9 +335,14 @@ impl Lu {
     /// state's, since the state does not depend on them. Pivoting within blocks keeps them out of
     /// the state's elimination, so that carrying them does not change the state's steps however
     /// large their entries, and it is the same partial pivoting where the matrix is one block.
-    fn factor(&mut self) -> bool {
-        self.matrix.copy_from_slice(&self.a);
+    fn factor(&mut self, fac: f64, jac: &[f64]) -> bool {
         let (n, a) = (self.n, &mut self.a);
+        for (m, j) in a.iter_mut().zip(jac) {
+            *m = -j;
+        }
+        for d in a.iter_mut().step_by(n + 1) {
+            *d += fac;
+        }
         // The furthest column reached by the rows so far, then each row's block end.
         let mut reach = 0;
         for r in 0..n {
@@ -309,11 +357,15 @@ impl Lu {
             }
             self.block_end[r] = end;
         }
+        let weight = &mut self.permuted_weight;
+        weight.copy_from_slice(&self.row_weight);
         for k in 0..n {
             let mut p = k;
+            let mut largest = a[k * n + k].abs() * weight[k];
             for r in k + 1..self.block_end[k] {
-                if a[r * n + k].abs() > a[p * n + k].abs() {
-                    p = r;
+                let m = a[r * n + k].abs() * weight[r];
+                if m > largest {
+                    (p, largest) = (r, m);
                 }
             }
             self.swap[k] = p;
@@ -321,6 +373,7 @@ impl Lu {
                 for c in 0..n {
                     a.swap(k * n + c, p * n + c);
                 }
+                weight.swap(k, p);
             }
             let pivot = a[k * n + k];
             if pivot == 0.0 {
@@ -340,36 +393,9 @@ impl Lu {
         true
     }
 
-    /// Solves `A x = b` in place with the factors of [`Lu::factor`], refined once: `x += A⁻¹(b −
-    /// A x)`, with the residual in working precision.
-    ///
-    /// The refinement makes the solve backward stable entry by entry (R. D. Skeel, Math. Comp. 35,
-    /// 1980, for a matrix not too ill-conditioned): the computed `x` solves `(A + δA) x = b` with
-    /// `|δA| ≲ ε|A|`, whatever the scales of the rows and columns.
-    /// The iteration matrix mixes units (for `y = [q, q̇]`, `∂q̈/∂q` is a rate squared where
-    /// `∂q̇/∂q̇` is one), and without it the rounding of the solve grew with the rate: on a ring
-    /// held at the speed `v0` by a holonomic and a speed constraint, 100 turns at `rtol = 1e-10`
-    /// on the same steps, Rodas5P ended `2.2e-6` off at `v0 = 1e6` against `3.8e-9` at `v0 = 1`;
-    /// refined, `3.3e-9` and `3.1e-9` (`the_implicit_methods_do_not_depend_on_the_unit_of_time`
-    /// in `tests/reliability.rs`). It costs a product with `A` and one more pair of triangular
-    /// solves per stage, against a factorisation and a Jacobian per step.
-    fn solve(&mut self, b: &mut [f64]) {
-        let n = self.n;
-        let mut r = std::mem::take(&mut self.residual);
-        r.copy_from_slice(b);
-        self.substitute(b);
-        for (ri, row) in r.iter_mut().zip(self.matrix.chunks_exact(n)) {
-            *ri -= row.iter().zip(&*b).map(|(m, x)| m * x).sum::<f64>();
-        }
-        self.substitute(&mut r);
-        for (x, d) in b.iter_mut().zip(&r) {
-            *x += d;
-        }
-        self.residual = r;
-    }
-
-    /// `b ← A⁻¹ b` by the permutation and the two triangular solves of the factors.
-    fn substitute(&self, b: &mut [f64]) {
+    /// Solves `(fac·I − J) x = b` in place with the factors of [`Lu::factor`]: the permutation
+    /// and the two triangular solves.
+    fn solve(&self, b: &mut [f64]) {
         let (n, a) = (self.n, &self.a);
         for (k, &p) in self.swap.iter().enumerate() {
             b.swap(k, p);
@@ -425,5 +451,55 @@ pub(crate) mod tests {
         }
         // d_0 = γ: the first stage's F_t term.
         assert_eq!(tab.d[0], tab.gamma);
+    }
+
+    #[test]
+    fn weighted_pivots_factor_as_the_scaled_matrix_would() {
+        // y = [q, q̇] of two coordinates in fast units: J = [[0, I], [K, C]] with K a rate squared
+        // (1e12) and C a rate (1e6), fac = 1/(hγ) a rate. The error norm's weights of q̇ are 2^20
+        // those of q, so S = diag(2^-20, 2^-20, 1, 1) and the row weights 1/s = (2^20, 2^20, 1, 1).
+        let fac = 3e6;
+        #[rustfmt::skip]
+        let jac = [
+            0.0, 0.0, 1.0, 0.0,
+            0.0, 0.0, 0.0, 1.0,
+            -1.0e12, 0.3e12, 2.0e6, -0.5e6,
+            0.2e12, -0.7e12, 0.1e6, 1.5e6,
+        ];
+        let s = [2f64.powi(-20), 2f64.powi(-20), 1.0, 1.0];
+        let mut weighted = Lu::new(4);
+        for (w, s) in weighted.row_weight.iter_mut().zip(&s) {
+            *w = 1.0 / s;
+        }
+        assert!(weighted.factor(fac, &jac));
+        // S⁻¹ (fac·I − J) S = fac·I − S⁻¹ J S, factored with plain partial pivoting.
+        let scaled_jac: Vec<f64> = (0..16).map(|e| jac[e] * s[e % 4] / s[e / 4]).collect();
+        let mut scaled = Lu::new(4);
+        assert!(scaled.factor(fac, &scaled_jac));
+        assert_eq!(weighted.swap, scaled.swap);
+        // The pivots are not those of the matrix as it is: its rows of K outweigh fac.
+        let mut plain = Lu::new(4);
+        assert!(plain.factor(fac, &jac));
+        assert_ne!(plain.swap, weighted.swap);
+        // The same solution to the last bit: x = S (S⁻¹ A S)⁻¹ S⁻¹ b.
+        let b = [0.7, -1.3, 2.9e6, 0.4e6];
+        let mut x = b;
+        weighted.solve(&mut x);
+        let mut x_scaled: Vec<f64> = b.iter().zip(&s).map(|(b, s)| b / s).collect();
+        scaled.solve(&mut x_scaled);
+        for ((x, xs), s) in x.iter().zip(&x_scaled).zip(&s) {
+            assert_eq!(*x, xs * s);
+        }
+        // And a solution: the residual of the weighted factors is at rounding.
+        for (i, row) in jac.chunks_exact(4).enumerate() {
+            let ax: f64 = (0..4)
+                .map(|j| (if i == j { fac } else { 0.0 } - row[j]) * x[j])
+                .sum();
+            assert!(
+                (ax - b[i]).abs() <= 1e-9 * b[i].abs().max(1.0),
+                "row {i}: {ax} ≠ {}",
+                b[i]
+            );
+        }
     }
 }
