@@ -1871,7 +1871,8 @@ fn the_implicit_methods_across_units_of_time() {
             });
             let worst_near_one = near_one.iter().fold(0.0f64, |m, &e| m.max(e));
             println!(
-                "{}, rtol {rtol:.0e}: {lo:.1e} … {hi:.1e} over v0 = 1e-3 … 1e12; near v0 = 1 at most {worst_near_one:.1e}",
+                "{}, rtol {rtol:.0e}: {lo:.1e} … {hi:.1e} over v0 = 1e-3 … 1e12; \
+                 near v0 = 1 at most {worst_near_one:.1e}",
                 method.name()
             );
             assert!(

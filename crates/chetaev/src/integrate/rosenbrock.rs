@@ -267,8 +267,8 @@ const SCALE_SPREAD: i32 = 100;
 ///
 /// Elimination commutes with a diagonal similarity by powers of two (every product by such a scale
 /// is exact), so factoring `A` with the pivots of `S⁻¹ A S` gives the factors of `S⁻¹ A S` scaled
-/// back, to the last digit short of underflow: the scaling is needed only to compare candidate pivots, one product
-/// each, and the matrix and the solves are left as they are.
+/// back, to the last digit short of underflow: the scaling is needed only to compare candidate
+/// pivots, one product each, and the matrix and the solves are left as they are.
 #[derive(Clone, Debug)]
 struct Lu {
     n: usize,
