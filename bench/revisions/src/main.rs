@@ -119,6 +119,7 @@ mod base {
         let sol = match method {
             "dop853" => solve(&problem, Dop853::default(), &o),
             "rodas4" => solve(&problem, Rodas4, &o),
+            "rodas5p" => solve(&problem, Rodas5P, &o),
             _ => solve(&problem, Dopri5::default(), &o),
         }
         .expect("solved");
@@ -216,6 +217,7 @@ mod head {
         let sol = match method {
             "dop853" => solve(problem, Dop853::default(), &o),
             "rodas4" => solve(problem, Rodas4, &o),
+            "rodas5p" => solve(problem, Rodas5P, &o),
             _ => solve(problem, Dopri5::default(), &o),
         }
         .expect("solved");
@@ -324,7 +326,7 @@ fn main() {
         );
         return;
     }
-    // `--methods a,b`: which of dopri5, dop853, rodas4 (default dopri5,dop853).
+    // `--methods a,b`: which of dopri5, dop853, rodas4, rodas5p (default dopri5,dop853).
     let methods: Vec<String> = args
         .iter()
         .position(|a| a == "--methods")
