@@ -437,8 +437,9 @@ pub trait Model {
 
     /// The reduced equations by a route of the flavour's own that uses the structure found in
     /// the plan's compiled equations (the model's), or `None` to evaluate the compiled tape. A
-    /// static model keeps its fixed-size dual passes and skips the blocks the plan proves zero
-    /// or constant, and what the plan's [`Need`] leaves out.
+    /// static model of a few coordinates keeps its fixed-size dual passes and skips the blocks
+    /// the plan proves zero or constant, and what the plan's [`Need`] leaves out; a larger one
+    /// takes the tape, which is then faster.
     #[inline]
     fn evaluate_planned<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
         let _ = (plan, ws, x);
@@ -538,11 +539,13 @@ where
     #[inline]
     fn evaluate_planned<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
         // The fixed-size passes skip what the recorded structure proves, but they do not re-check
-        // the recorded branches: a model with guards takes the compiled tape, which does.
+        // the recorded branches: a model with guards takes the compiled tape, which does. Neither
+        // does a model too large for the passes to be the faster route.
         // A constant metric leaves a short body, inlined into the caller; the longer one of a
         // metric that varies is called, which keeps the caller's loop lean.
         let c = plan.compiled;
-        (self.0.holonomic_count() == 0 && c.guards() == 0).then(|| {
+        let passes = fixed_passes_pay::<T>(N, c.constant_metric());
+        (passes && self.0.holonomic_count() == 0 && c.guards() == 0).then(|| {
             if c.constant_factor().is_some() {
                 crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, x)
             } else {
@@ -567,6 +570,31 @@ where
         f[..K].copy_from_slice(self.0.constraints(at.t, &at.q, &at.qd).as_slice());
         derivatives::holonomic_velocities(self, K, x, f);
     }
+}
+
+/// The most coordinates for which a static model's fixed-size dual passes evaluate its reduced
+/// equations faster than the compiled tape, `[[value, dual]; 2]`: the right-hand side in `f64`,
+/// and in dual numbers for the Jacobian of the implicit methods; for a metric `W` that is
+/// constant (first row) and for one that varies. The passes carry `W` in every dual number (or,
+/// above [`DENSE_HESSIAN_MAX_N`](crate::equations::derivatives::DENSE_HESSIAN_MAX_N), its columns
+/// pass by pass): `O(n²)` work for each operation of `L`, where the tape does a fixed amount for
+/// each operation of the derived equations. A metric that varies adds its derivatives to the
+/// passes' work, and only a factorisation to the tape's.
+///
+/// The bounds are where the two crossed in whole solves (`bench/revisions -- --sizes`,
+/// docs/performance.md, "Large static models take the tape"). On a chain of springs (`W`
+/// constant), the tape took 0.9× the passes' time at `n = 12` and 0.6× at 24 for the right-hand
+/// side, and 1.0× at `n = 6`, 0.7× at 8 for the Jacobian. On a chain of pendulums (`W` varying),
+/// the tape took 1.1× at `n = 3`, 0.9× at 4 and 0.1× at 16 for the right-hand side, and 1.0× at
+/// `n = 2`, 0.8× at 3 and 0.04× at 16 for the Jacobian.
+const FIXED_PASSES_MAX_N: [[usize; 2]; 2] = [[10, 5], [3, 2]];
+
+/// Whether a static model of `n` coordinates evaluates its reduced equations in the scalar `T` by
+/// its fixed-size dual passes rather than by the compiled tape ([`FIXED_PASSES_MAX_N`]).
+#[inline(always)]
+fn fixed_passes_pay<T: 'static>(n: usize, constant_metric: bool) -> bool {
+    let dual = std::any::TypeId::of::<T>() != std::any::TypeId::of::<f64>();
+    n <= FIXED_PASSES_MAX_N[usize::from(!constant_metric)][usize::from(dual)]
 }
 
 impl<M, const N: usize, const K: usize> Fixed<M, N, K>

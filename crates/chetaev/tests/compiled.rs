@@ -737,3 +737,100 @@ fn the_machine_code_of_the_papers_particle_is_the_reduced_formula_with_its_check
         assert!(ops <= 30, "{ops} operations");
     }
 }
+
+/// `L` of a planar chain of pendulums (unit lengths and masses) in gravity, over slices so that
+/// the static and the run-time flavours below record the same operations: `W` varies with `q`.
+fn pendulums_lagrangian<R: Real>(q: &[R], qd: &[R]) -> R {
+    let (mut xd, mut yd, mut y, mut l) = (R::zero(), R::zero(), R::zero(), R::zero());
+    for (&a, &w) in q.iter().zip(qd) {
+        xd += a.cos() * w;
+        yd += a.sin() * w;
+        y -= a.cos();
+        l += (xd * xd + yd * yd) * 0.5 - y * 9.81;
+    }
+    l
+}
+
+/// The chain of [`pendulums_lagrangian`] with static sizes, the speed of its first two links held.
+#[derive(Clone)]
+struct Pendulums<const N: usize>;
+impl<const N: usize> Lagrangian<N> for Pendulums<N> {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> R {
+        pendulums_lagrangian(q.as_slice(), qd.as_slice())
+    }
+}
+impl<const N: usize> Constraints<N, 1> for Pendulums<N> {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, N>, qd: &SVector<R, N>) -> SVector<R, 1> {
+        SVector::from([qd[0] * qd[0] + qd[1] * qd[1] - 0.08])
+    }
+}
+
+/// The same chain with its size known at run time.
+#[derive(Clone)]
+struct DynPendulums(usize);
+impl DynModel for DynPendulums {
+    fn sizes(&self) -> (usize, usize) {
+        (self.0, 1)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        pendulums_lagrangian(q, qd)
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd[0] * qd[0] + qd[1] * qd[1] - 0.08;
+    }
+}
+
+/// The initial state of the chains of pendulums: `|(q̇1, q̇2)|² = 0.08`.
+fn pendulums_state(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let q = (0..n).map(|i| 0.3 + 0.1 * i as f64).collect();
+    let qd = (0..n)
+        .map(|i| if i < 2 { 0.2 } else { 0.2 * (i as f64).cos() })
+        .collect();
+    (q, qd)
+}
+
+#[test]
+fn a_large_static_model_is_evaluated_by_the_tape_as_the_same_model_with_run_time_sizes() {
+    // Six coordinates with a metric that varies: past the sizes at which the static fixed-size
+    // dual passes are the faster route, for values and for the Jacobian alike. The static model
+    // then takes the compiled tape, the run-time one's route, to the last bit.
+    const N: usize = 6;
+    let (q, qd) = pendulums_state(N);
+    let fixed = Problem::new(
+        Pendulums::<N>,
+        0.0,
+        SVector::from_column_slice(&q),
+        SVector::from_column_slice(&qd),
+    )
+    .expect("valid");
+    let dynamic = Problem::dynamic(DynPendulums(N), 0.0, q.clone(), qd.clone()).expect("valid");
+    for (t, q, qd) in states_around(&fixed) {
+        let (a, b) = (
+            fixed.equations_at(t, &q, &qd).expect("evaluates"),
+            dynamic.equations_at(t, &q, &qd).expect("evaluates"),
+        );
+        assert_eq!((&a.qdd, &a.mu), (&b.qdd, &b.mu), "at t = {t}");
+        let y = [q, qd].concat();
+        assert_eq!(
+            jacobian(&fixed, t, &y),
+            jacobian(&dynamic, t, &y),
+            "at t = {t}"
+        );
+    }
+    same_motions(&fixed, &dynamic, Dop853::default());
+    same_motions(&fixed, &dynamic, Rodas4);
+    // And the tape agrees with the dual-number reference.
+    compare_motion(&fixed, Dop853::default(), 2.0);
+    compare_motion(&fixed, Rodas4, 2.0);
+}
+
+/// Solves `a` and `b` with `method` and asserts that the motions are the same to the last bit.
+fn same_motions<A: Model, B: Model>(a: &Problem<A>, b: &Problem<B>, method: impl Method + Copy) {
+    let o = Options::until(2.0).tolerances(1e-10, 1e-10);
+    let (a, b) = (
+        solve(a, method, &o).expect("valid options"),
+        solve(b, method, &o).expect("valid options"),
+    );
+    assert!(a.is_success(), "{}: {:?}", a.method, a.status);
+    assert_eq!((&a.t, &a.q, &a.mu), (&b.t, &b.q, &b.mu), "{}", a.method);
+}
