@@ -834,3 +834,51 @@ fn same_motions<A: Model, B: Model>(a: &Problem<A>, b: &Problem<B>, method: impl
     assert!(a.is_success(), "{}: {:?}", a.method, a.status);
     assert_eq!((&a.t, &a.q, &a.mu), (&b.t, &b.q, &b.mu), "{}", a.method);
 }
+
+/// A chain of `PAIRED` masses `1 + q_i²/10` (a metric that varies) joined by springs, the speed of
+/// each pair `(2a, 2a + 1)` held: constraints that share no velocity.
+#[derive(Clone)]
+struct PairedChain;
+const PAIRED: usize = 8;
+impl DynModel for PairedChain {
+    fn sizes(&self) -> (usize, usize) {
+        (PAIRED, PAIRED / 2)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        let mut l = R::zero();
+        for (x, v) in q.iter().zip(qd) {
+            l += (*x * *x * 0.1 + 1.0) * *v * *v * 0.5;
+        }
+        for i in 1..PAIRED {
+            let d = q[i] - q[i - 1] - 1.0;
+            l -= d * d * 0.5;
+        }
+        l
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        for (a, f) in f.iter_mut().enumerate() {
+            *f = qd[2 * a] * qd[2 * a] + qd[2 * a + 1] * qd[2 * a + 1] - 1.0;
+        }
+    }
+}
+
+fn paired_chain() -> Problem<PairedChain> {
+    let q0 = (0..PAIRED).map(|i| i as f64 * 1.1).collect();
+    let qd0 = (0..PAIRED).map(|i| [0.6, 0.8][i % 2]).collect();
+    Problem::dynamic(PairedChain, 0.0, q0, qd0).expect("consistent")
+}
+
+#[test]
+fn constraints_that_share_no_velocity_leave_the_jacobian_sparse() {
+    // 2n + 1 = 17 columns. Row q̈_i reaches q_(i−1) … q_(i+1) through the springs and the metric,
+    // and through its pair's μ the pair's velocities and the positions next to the pair: at most
+    // four positions and two velocities. The factors of the Schur complement, whose entries
+    // between two pairs are zero, must not couple the pairs (they did: 16 passes).
+    let passes = paired_chain()
+        .compiled()
+        .and_then(|c| c.jacobian_passes())
+        .expect("no guards, a metric that is positive definite");
+    assert!(passes <= 8, "{passes} passes");
+    compare_routes(paired_chain);
+    compare_motion(&paired_chain(), Rodas4, 1.0);
+}

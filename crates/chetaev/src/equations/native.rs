@@ -142,6 +142,17 @@ impl Builder {
             _ => self.push(Op::Div(a, b)),
         }
     }
+    /// `a / p` for a pivot `p` that the program's checks keep positive and finite (or a positive
+    /// constant), so that a zero `a` gives zero: the entries of the factors and solves that the
+    /// structure makes zero stay constants, and the Jacobian's pattern ([`Colouring`]) sees that
+    /// independent constraints do not couple. (The interpreted route computes them as exact
+    /// zeros, with zero derivatives.)
+    fn div_by_pivot(&mut self, a: u32, p: u32) -> u32 {
+        match self.value(a) {
+            Some(0.0) => a,
+            _ => self.div(a, p),
+        }
+    }
 
     fn neg(&mut self, a: u32) -> u32 {
         match self.value(a) {
@@ -169,7 +180,7 @@ impl Builder {
                 let p = self.mul(l[i][m], b[m]);
                 s = self.sub(s, p);
             }
-            b[i] = self.div(s, l[i][i]);
+            b[i] = self.div_by_pivot(s, l[i][i]);
         }
         for i in (0..n).rev() {
             let mut s = b[i];
@@ -177,7 +188,7 @@ impl Builder {
                 let p = self.mul(l[m][i], b[m]);
                 s = self.sub(s, p);
             }
-            b[i] = self.div(s, l[i][i]);
+            b[i] = self.div_by_pivot(s, l[i][i]);
         }
     }
 
@@ -207,7 +218,7 @@ impl Builder {
                     let prod = self.mul(l[i][p], l[j][p]);
                     s = self.sub(s, prod);
                 }
-                l[i][j] = self.div(s, ljj);
+                l[i][j] = self.div_by_pivot(s, ljj);
             }
         }
         (l, pivots)
@@ -465,7 +476,7 @@ fn build(compiled: &Compiled, rates: bool) -> Option<Built> {
     let mut s_pivots = Vec::new();
     if k == 1 {
         let s0 = b.dot(&j[0], &y[0]);
-        mu[0] = b.div(mu[0], s0);
+        mu[0] = b.div_by_pivot(mu[0], s0);
         s_pivots.push((s0, s0));
     } else if k > 1 {
         let s: Vec<Vec<u32>> = (0..k)
