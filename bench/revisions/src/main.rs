@@ -59,8 +59,133 @@ macro_rules! counters {
     }};
 }
 
+/// The scenes of `--sizes`, written once for both revisions (each module brings its revision's
+/// prelude): static chains whose size is a type parameter.
+macro_rules! sized_scenes {
+    () => {
+        /// A planar chain of `N` pendulums (unit lengths and masses) in gravity, the speed of the
+        /// first two links held: `W` varies with `q`.
+        pub struct Pendulums<const N: usize> {
+            c: f64,
+        }
+        impl<const N: usize> Lagrangian<N> for Pendulums<N> {
+            fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> R {
+                let (mut xd, mut yd, mut y, mut l) = (R::zero(), R::zero(), R::zero(), R::zero());
+                for i in 0..N {
+                    xd += q[i].cos() * qd[i];
+                    yd += q[i].sin() * qd[i];
+                    y -= q[i].cos();
+                    l += (xd * xd + yd * yd) * 0.5 - y * 9.81;
+                }
+                l
+            }
+        }
+        impl<const N: usize> Constraints<N, 1> for Pendulums<N> {
+            fn constraints<R: Real>(
+                &self,
+                _t: R,
+                _q: &SVector<R, N>,
+                qd: &SVector<R, N>,
+            ) -> SVector<R, 1> {
+                SVector::from([qd[0] * qd[0] + qd[1] * qd[1] - self.c])
+            }
+        }
+
+        /// A chain of `N` unit masses joined by anharmonic springs, the speeds of `K` pairs held
+        /// (`W` constant): the catalogue's benchmark chain.
+        pub struct Springs<const N: usize, const K: usize> {
+            c: [f64; K],
+        }
+        impl<const N: usize, const K: usize> Lagrangian<N> for Springs<N, K> {
+            fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, N>, qd: &SVector<R, N>) -> R {
+                let mut l = qd.dot(qd) * 0.5;
+                for i in 0..N - 1 {
+                    let s = q[i + 1] - q[i] - 1.0;
+                    let s2 = s * s;
+                    l -= s2 * 0.5 + s2 * s2 * 0.125;
+                }
+                l
+            }
+        }
+        impl<const N: usize, const K: usize> Constraints<N, K> for Springs<N, K> {
+            fn constraints<R: Real>(
+                &self,
+                _t: R,
+                _q: &SVector<R, N>,
+                qd: &SVector<R, N>,
+            ) -> SVector<R, K> {
+                SVector::from_fn(|a, _| {
+                    qd[2 * a] * qd[2 * a] + qd[2 * a + 1] * qd[2 * a + 1] - self.c[a]
+                })
+            }
+        }
+
+        /// One solve of a problem to `t_end` with `method` at `tol`: the final `q` and the
+        /// counters.
+        fn sized_solve<M: Model>(
+            problem: &Problem<M>,
+            t_end: f64,
+            method: &str,
+            tol: f64,
+        ) -> (Vec<f64>, String) {
+            let o = Options::until(t_end).tolerances(tol, tol).output_final();
+            let sol = match method {
+                "dop853" => solve(problem, Dop853::default(), &o),
+                "rodas4" => solve(problem, Rodas4, &o),
+                "rodas5p" => solve(problem, Rodas5P, &o),
+                _ => solve(problem, Dopri5::default(), &o),
+            }
+            .expect("solved");
+            (
+                sol.q.last().expect("recorded").to_vec(),
+                counters!(sol.stats),
+            )
+        }
+
+        fn pendulums<const N: usize>(method: &str, tol: f64) -> (Vec<f64>, String) {
+            let q = SVector::<f64, N>::from_fn(|i, _| 0.3 + 0.1 * i as f64);
+            let qd = SVector::<f64, N>::from_fn(|i, _| 0.2 * (i as f64).cos());
+            let c = qd[0] * qd[0] + qd[1] * qd[1];
+            let problem = Problem::new(Pendulums::<N> { c }, 0.0, q, qd).expect("valid");
+            sized_solve(&problem, 5.0, method, tol)
+        }
+
+        fn springs<const N: usize, const K: usize>(method: &str, tol: f64) -> (Vec<f64>, String) {
+            let q = SVector::<f64, N>::from_fn(|i, _| i as f64 + 0.1 * (i as f64).sin());
+            let qd = SVector::<f64, N>::from_fn(|i, _| 0.3 + 0.2 * (i as f64).cos());
+            let c = std::array::from_fn(|a| qd[2 * a] * qd[2 * a] + qd[2 * a + 1] * qd[2 * a + 1]);
+            let problem = Problem::new(Springs::<N, K> { c }, 0.0, q, qd).expect("valid");
+            sized_solve(&problem, 10.0, method, tol)
+        }
+
+        /// One solve of `scene` (`pendulums` or `springs`) of `n` coordinates: the final `q` and
+        /// the counters.
+        pub fn sized(scene: &str, n: usize, method: &str, tol: f64) -> (Vec<f64>, String) {
+            match (scene, n) {
+                ("pendulums", 2) => pendulums::<2>(method, tol),
+                ("pendulums", 3) => pendulums::<3>(method, tol),
+                ("pendulums", 4) => pendulums::<4>(method, tol),
+                ("pendulums", 6) => pendulums::<6>(method, tol),
+                ("pendulums", 8) => pendulums::<8>(method, tol),
+                ("pendulums", 12) => pendulums::<12>(method, tol),
+                ("pendulums", 16) => pendulums::<16>(method, tol),
+                ("springs", 4) => springs::<4, 2>(method, tol),
+                ("springs", 6) => springs::<6, 3>(method, tol),
+                ("springs", 8) => springs::<8, 4>(method, tol),
+                ("springs", 10) => springs::<10, 5>(method, tol),
+                ("springs", 12) => springs::<12, 6>(method, tol),
+                ("springs", 16) => springs::<16, 8>(method, tol),
+                ("springs", 24) => springs::<24, 12>(method, tol),
+                _ => panic!("no {scene} of {n} coordinates"),
+            }
+        }
+    };
+}
+
 mod base {
     use chetaev_base::prelude::*;
+
+    sized_scenes!();
 
     pub struct Uniform {
         pub m: f64,
@@ -139,6 +264,8 @@ mod base {
 
 mod head {
     use chetaev::prelude::*;
+
+    sized_scenes!();
 
     pub struct Uniform {
         pub m: f64,
@@ -300,6 +427,64 @@ fn time_at_error(points: &[(f64, f64)], e: f64) -> Option<f64> {
     })
 }
 
+/// `--sizes`: the chains of `sized_scenes!` at several sizes, one tolerance, interleaved; the
+/// counters of both revisions and how far their final `q` differ, so that the ratio compares the
+/// same steps.
+fn sizes(rounds: usize, methods: &[String]) {
+    let tol = 1e-8;
+    println!(
+        "static chains to their end time at tol = {tol:.0e}, median of {rounds} interleaved rounds"
+    );
+    println!(
+        "{:10} {:>3} {:8} {:>12} {:>12} {:>9} {:>10} {:>8}",
+        "scene", "n", "method", "base [µs]", "head [µs]", "head/base", "|Δq|max", "same work"
+    );
+    let cases = [
+        ("pendulums", [2, 3, 4, 6, 8, 12, 16].as_slice()),
+        ("springs", [4, 6, 8, 10, 12, 16, 24].as_slice()),
+    ];
+    // `--scene NAME`: that scene alone.
+    let args: Vec<String> = std::env::args().collect();
+    let only = args
+        .iter()
+        .position(|a| a == "--scene")
+        .and_then(|i| args.get(i + 1));
+    for (scene, ns) in cases {
+        if only.is_some_and(|o| o != scene) {
+            continue;
+        }
+        for &n in ns {
+            for method in methods.iter().map(String::as_str) {
+                let (qa, ca) = base::sized(scene, n, method, tol);
+                let (qb, cb) = head::sized(scene, n, method, tol);
+                let dq = qa
+                    .iter()
+                    .zip(&qb)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                let single = time(3, &|| head::sized(scene, n, method, tol).0[0]);
+                let reps = ((2e-2 / single) as usize).max(1);
+                let (mut a, mut b) = (Vec::new(), Vec::new());
+                for _ in 0..rounds {
+                    a.push(time(reps, &|| base::sized(scene, n, method, tol).0[0]));
+                    b.push(time(reps, &|| head::sized(scene, n, method, tol).0[0]));
+                }
+                let (a, b) = (median(&mut a), median(&mut b));
+                println!(
+                    "{scene:10} {n:>3} {method:8} {:>12.1} {:>12.1} {:>9.3} {dq:>10.1e} {:>8}",
+                    a * 1e6,
+                    b * 1e6,
+                    b / a,
+                    if ca == cb { "yes" } else { "no" }
+                );
+                if ca != cb {
+                    println!("  base: {ca}\n  head: {cb}");
+                }
+            }
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let rounds: usize = args
@@ -335,6 +520,10 @@ fn main() {
         .split(',')
         .map(str::to_string)
         .collect();
+    if args.iter().any(|a| a == "--sizes") {
+        sizes(rounds, &methods);
+        return;
+    }
     if args.iter().any(|a| a == "--allocations") {
         println!(
             "heap allocations of one run (problem built, its equations compiled, solved): base, head"
