@@ -129,13 +129,8 @@ macro_rules! sized_scenes {
             tol: f64,
         ) -> (Vec<f64>, String) {
             let o = Options::until(t_end).tolerances(tol, tol).output_final();
-            let sol = match method {
-                "dop853" => solve(problem, Dop853::default(), &o),
-                "rodas4" => solve(problem, Rodas4, &o),
-                "rodas5p" => solve(problem, Rodas5P, &o),
-                _ => solve(problem, Dopri5::default(), &o),
-            }
-            .expect("solved");
+            let method = AnyMethod::from_name(method, None).expect("a method with error control");
+            let sol = solve(problem, method, &o).expect("solved");
             (
                 sol.q.last().expect("recorded").to_vec(),
                 counters!(sol.stats),

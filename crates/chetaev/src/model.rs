@@ -583,10 +583,10 @@ where
 ///
 /// The bounds are where the two crossed in whole solves (`bench/revisions -- --sizes`,
 /// docs/performance.md, "Large static models take the tape"). On a chain of springs (`W`
-/// constant), the tape took 0.9× the passes' time at `n = 12` and 0.6× at 24 for the right-hand
-/// side, and 1.0× at `n = 6`, 0.7× at 8 for the Jacobian. On a chain of pendulums (`W` varying),
-/// the tape took 1.1× at `n = 3`, 0.9× at 4 and 0.1× at 16 for the right-hand side, and 1.0× at
-/// `n = 2`, 0.8× at 3 and 0.04× at 16 for the Jacobian.
+/// constant), solves took 1.4× the passes' time with the tape at `n = 8`, 0.9× at 12 and 0.5–0.6×
+/// at 24 for the right-hand side, and 1.0× at `n = 6`, 0.7× at 8 for the Jacobian. On a chain of
+/// pendulums (`W` varying), 1.1× at `n = 3`, 0.9× at 4 and 0.07–0.1× at 16 for the right-hand
+/// side, and 1.0× at `n = 2`, 0.6–0.8× at 3 and 0.04× at 16 for the Jacobian.
 const FIXED_PASSES_MAX_N: [[usize; 2]; 2] = [[10, 5], [3, 2]];
 
 /// Whether a static model of `n` coordinates evaluates its reduced equations in the scalar `T` by
