@@ -10,10 +10,13 @@
 use std::io::{self, Write};
 use std::process::ExitCode;
 
-use chetaev::prelude::Options;
+use chetaev::integrate::Method;
+use chetaev::prelude::{AnyMethod, Options};
 use clap::Parser;
 use uniform_projectile::closed_form::Params;
-use uniform_projectile::report::{build, MotionErrors, Report, Row, TableRow, LIMIT_PER_TOLERANCE};
+use uniform_projectile::report::{
+    build, MotionErrors, Report, Row, Studies, TableRow, LIMIT_PER_TOLERANCE,
+};
 
 /// Command-line options.
 #[derive(Parser, Debug)]
@@ -45,6 +48,10 @@ struct Cli {
     /// Relative and absolute tolerance of the table and error runs (1e-13 to 1e-4).
     #[arg(long, default_value = "1e-12", value_parser = tolerance)]
     tol: f64,
+    /// The method of the table, error and derivative runs: dopri5, dop853, tsit5, rodas4 or
+    /// rodas5p (the orders and timings run every method).
+    #[arg(long, default_value = "dop853", value_parser = method)]
+    method: AnyMethod,
     /// Largest relative error accepted by the verdict, for the closed forms and the derivatives,
     /// below 1 [default: 100 × tol].
     #[arg(long, value_parser = limit)]
@@ -53,10 +60,13 @@ struct Cli {
     /// h0 against the closed form's.
     #[arg(long)]
     errors: bool,
-    /// Also print the observed orders of convergence.
+    /// Also print the observed orders of convergence of every method: in fixed steps halving,
+    /// and against the tolerance. The fixed steps run to the impact T, or to 4 v0/g if that is
+    /// earlier: at large z = g h0/v0² the velocity turns within a few v0/g and the motion then
+    /// falls straight down, stiff, where steps of T/2^k would cross the turn in one step.
     #[arg(long)]
     orders: bool,
-    /// Also print error against run time (machine-dependent).
+    /// Also print error against run time of every method to the impact (machine-dependent).
     #[arg(long)]
     timing: bool,
     /// Print every section (--errors --orders --timing).
@@ -96,6 +106,32 @@ fn tolerance(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
+/// A method with error control, by its name in the literature (case-insensitive).
+fn method(s: &str) -> Result<AnyMethod, String> {
+    match AnyMethod::from_name(s, Some(1.0)) {
+        Ok(m) if m.info().fixed_step.is_none() => Ok(m),
+        Ok(_) => Err(format!(
+            "{s} has no error control, and the table is integrated to a tolerance: choose one of \
+             {}",
+            adaptive_names()
+        )),
+        Err(_) => Err(format!(
+            "unknown method \"{s}\": choose one of {}",
+            adaptive_names()
+        )),
+    }
+}
+
+/// The lower-case names of the methods with error control, "dopri5, dop853, …".
+fn adaptive_names() -> String {
+    AnyMethod::all(1.0)
+        .iter()
+        .filter(|m| m.info().fixed_step.is_none())
+        .map(|m| m.info().name.to_lowercase())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// A relative error limit: positive and below 1 (a limit of 1 accepts any answer of the right
 /// sign).
 fn limit(s: &str) -> Result<f64, String> {
@@ -124,7 +160,21 @@ fn main() -> ExitCode {
         h0: cli.h0,
         m: cli.m,
     };
-    let mut report = match build(&params, cli.tol) {
+    let sections = Sections {
+        errors: cli.errors || cli.full,
+        orders: cli.orders || cli.full,
+        timing: cli.timing || cli.full,
+    };
+    // The JSON object is complete; the text computes only the studies it prints.
+    let studies = if cli.json {
+        Studies::ALL
+    } else {
+        Studies {
+            orders: sections.orders,
+            timing: sections.timing,
+        }
+    };
+    let mut report = match build(&params, cli.tol, cli.method, studies) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: the verification could not run: {e}");
@@ -134,18 +184,17 @@ fn main() -> ExitCode {
                     "verdict": { "verified": false, "error": e.to_string() },
                     "params": { "v0": params.v0, "g": params.g, "h0": params.h0, "m": params.m },
                     "tolerance": cli.tol,
+                    "method": cli.method.name(),
                 });
                 println!("{object:#}");
             }
             if matches!(e, chetaev::Error::Stiff { .. }) {
                 eprintln!(
-                    "note: this verification integrates with the explicit Dop853, which meets \
-                     its stability limit at large z = g h0/v0² (it succeeds up to about 1e2 and \
-                     stops from about 1e4; here z = {:.3e}). \
-                     The same motion with Rodas4: set v0, g, h0 and method = \"rodas4\" in \
-                     scenes/uniform-projectile.toml and run `cargo run --release -p \
-                     chetaev-scene -- run scenes/uniform-projectile.toml`; \
+                    "note: {} is explicit and meets its stability limit at large z = g h0/v0² \
+                     (Dop853 succeeds up to about 1e2 and stops from about 1e4; here z = \
+                     {:.3e}). Verify with an implicit method: add `--method rodas4`. \
                      docs/where-it-breaks.md (Extreme parameters) shows both methods over z.",
+                    cli.method.name(),
                     params.z()
                 );
             }
@@ -167,11 +216,6 @@ fn main() -> ExitCode {
         }
         write_json(&report)
     } else {
-        let sections = Sections {
-            errors: cli.errors || cli.full,
-            orders: cli.orders || cli.full,
-            timing: cli.timing || cli.full,
-        };
         write_text(&mut io::stdout().lock(), &report, sections)
     };
     match written {
@@ -208,6 +252,20 @@ fn short(v: f64) -> String {
 
 fn opt(v: Option<f64>) -> String {
     v.map_or_else(|| "-".into(), sci)
+}
+
+/// `rtol = atol = 1e-12`, or the absolute tolerances one by one where some were tightened to the
+/// motion's scales.
+fn tolerances(r: &Report) -> String {
+    if r.atol.iter().all(|&a| a == r.tolerance) {
+        format!("rtol = atol = {}", short(r.tolerance))
+    } else {
+        let [x, y, xd, yd] = r.atol.map(short);
+        format!(
+            "rtol = {}, atol = {x} m, {y} m, {xd} m/s, {yd} m/s for x, y, ẋ, ẏ",
+            short(r.tolerance)
+        )
+    }
 }
 
 /// The one-line verdict.
@@ -256,8 +314,9 @@ fn write_text(out: &mut impl Write, r: &Report, s: Sections) -> io::Result<()> {
     )?;
     writeln!(
         out,
-        "integrated by chetaev (Dop853, rtol = atol = {}), impact located as the event y = 0",
-        short(r.tolerance)
+        "integrated by chetaev ({}, {}), impact located as the event y = 0",
+        r.method,
+        tolerances(r)
     )?;
     writeln!(
         out,
@@ -276,6 +335,9 @@ fn write_text(out: &mut impl Write, r: &Report, s: Sections) -> io::Result<()> {
     if s.timing {
         timing_section(out, r)?;
     }
+    if (s.orders || s.timing) && !r.stopped.is_empty() {
+        stopped_section(out, r)?;
+    }
     if !(s.errors && s.orders && s.timing) {
         writeln!(
             out,
@@ -284,6 +346,23 @@ fn write_text(out: &mut impl Write, r: &Report, s: Sections) -> io::Result<()> {
         )?;
     }
     out.flush()
+}
+
+/// The studies that stopped before `T`, and why.
+fn stopped_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
+    writeln!(
+        out,
+        "\nStopped before the end (the rest of that method's study is left out)"
+    )?;
+    for s in &r.stopped {
+        let at = if s.study == "h" {
+            format!("h = {:.3e}", s.at)
+        } else {
+            format!("tol = {}", short(s.at))
+        };
+        writeln!(out, "  {:<7} at {at}: {}", s.method, s.error)?;
+    }
+    Ok(())
 }
 
 /// The impact's derivatives in `v0`, `g`, `h0` against the closed form's.
@@ -398,9 +477,18 @@ fn errors_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
 }
 
 fn orders_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
+    let until = if r.orders_until < r.table.uniform.closed_form.t {
+        format!(
+            "fixed steps to t = 4 v0/g = {:.3e} s, when the velocity has turned (steps of T/2^k \
+             would cross the turn in one); tolerances to t = T",
+            r.orders_until
+        )
+    } else {
+        "end state at t = T".into()
+    };
     writeln!(
         out,
-        "\nObserved order of convergence (uniform motion, end state at t = T)"
+        "\nObserved order of convergence (uniform motion, {until})"
     )?;
     for c in &r.convergence {
         let what = if c.against == "h" {

@@ -6,12 +6,14 @@
 
 use std::time::Instant;
 
-use chetaev::integrate::Method;
+use chetaev::integrate::{Method, MethodInfo};
 use chetaev::prelude::*;
 use serde::Serialize;
 
 use crate::closed_form::{classical, table, uniform, Kinematics, Params};
-use crate::model::{classical_problem, impact, seeds, uniform_problem, UniformProblem};
+use crate::model::{
+    classical_problem, impact, scaled_atol, seeds, uniform_problem, UniformProblem,
+};
 use chetaev::num_dual::Dual64;
 
 /// One quantity: numerical beside closed form.
@@ -144,6 +146,45 @@ pub struct WorkPoint {
     pub steps: usize,
 }
 
+/// A study of [`Report::convergence`] or [`Report::work_precision`] that stopped: a solve of it
+/// ended before `T` (a stiff problem for an explicit method, the step limit); the rest of that
+/// method's study is not run, and its points are left out.
+#[derive(Clone, Debug, Serialize)]
+pub struct Stopped {
+    /// The method.
+    pub method: String,
+    /// `"h"` (fixed steps) or `"tolerance"`, as in [`Convergence::against`].
+    pub study: String,
+    /// The step or tolerance of the run that stopped.
+    pub at: f64,
+    /// Why, as the library says it.
+    pub error: String,
+}
+
+/// Which of the optional studies [`build`] computes. The verdict's quantities (Table 42.1, the
+/// errors along both motions, the impact's derivatives) are always computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Studies {
+    /// Observed orders of convergence: every method in fixed steps, and the adaptive ones against
+    /// the tolerance.
+    pub orders: bool,
+    /// Error against run time: every method, timed over repeated runs.
+    pub timing: bool,
+}
+
+impl Studies {
+    /// Both studies.
+    pub const ALL: Self = Self {
+        orders: true,
+        timing: true,
+    };
+    /// Neither: the verdict alone.
+    pub const NONE: Self = Self {
+        orders: false,
+        timing: false,
+    };
+}
+
 /// The relative error accepted by default, as a multiple of the tolerance asked for.
 ///
 /// Dop853 at `rtol = atol = tol` keeps every compared quantity of the paper's data within about
@@ -197,8 +238,13 @@ pub struct Report {
     pub verdict: Verdict,
     /// The parameters.
     pub params: ParamsOut,
+    /// The method of the table, error and derivative runs, as in the literature (`"Dop853"`).
+    pub method: String,
     /// The tolerance of the table and error runs (relative and absolute).
     pub tolerance: f64,
+    /// The absolute tolerances of `x`, `y`, `ẋ`, `ẏ` in those runs: `tolerance`, or less where the
+    /// motion's scale is below one (see [`absolute_tolerances`]).
+    pub atol: [f64; 4],
     /// Table 42.1 rebuilt.
     pub table: Table,
     /// Largest errors along the classical motion.
@@ -207,8 +253,13 @@ pub struct Report {
     pub uniform_errors: MotionErrors,
     /// Observed orders.
     pub convergence: Vec<Convergence>,
+    /// The end of the fixed-step runs of [`Report::convergence`]: the impact `T`, or `4 v0/g` if
+    /// that is earlier (see [`orders_until`]).
+    pub orders_until: f64,
     /// Error against run time.
     pub work_precision: Vec<WorkPoint>,
+    /// The studies that stopped before `T`, with why (empty when every run reached it).
+    pub stopped: Vec<Stopped>,
     /// Derivatives of the impact's time `T` and place `R` with respect to `v0`, `g`, `h0`, from
     /// the library's sensitivities, against the closed forms' own derivatives.
     pub sensitivities: Vec<Derivative>,
@@ -341,14 +392,15 @@ const GL8: [(f64, f64); 8] = [
 ];
 
 /// Solves to the impact, then measures the length `s = ∫|q̇| dt` on the dense output by composite
-/// Gauss–Legendre quadrature (64 panels of 8 nodes).
+/// Gauss–Legendre quadrature (8 nodes on each of [`length_panels`]).
 fn numerical_row<M: Model, Me: Method + Copy>(
+    p: &Params,
     problem: &Problem<M>,
     method: Me,
     tol: f64,
     t_max: f64,
 ) -> Result<(Row, Solution), Error> {
-    let opts = Options::until(t_max).tolerances(tol, tol).event(impact());
+    let opts = within(Options::until(t_max), p, tol).event(impact());
     let sol = solve(problem, method, &opts)?;
     if let Some(e) = sol.error() {
         return Err(e.clone());
@@ -359,22 +411,18 @@ fn numerical_row<M: Model, Me: Method + Copy>(
         hint: "no impact before t_max",
     })?;
     let (t_imp, q, qd) = (hit.t, &hit.q, &hit.qd);
-    let panels = 64;
-    let mut times = Vec::with_capacity(panels * 8);
-    let mut weights = Vec::with_capacity(panels * 8);
-    let w = t_imp / panels as f64;
-    for k in 0..panels {
-        let mid = (k as f64 + 0.5) * w;
+    let mut times = Vec::new();
+    let mut weights = Vec::new();
+    for (mid, half) in length_panels(t_imp, p.v0 / p.g) {
         for (x, wt) in GL8 {
-            times.push(mid + 0.5 * w * x);
-            weights.push(0.5 * w * wt);
+            times.push(mid + half * x);
+            weights.push(half * wt);
         }
     }
     let dense = solve(
         problem,
         method,
-        &Options::until(t_imp)
-            .tolerances(tol, tol)
+        &within(Options::until(t_imp), p, tol)
             .output_times(times.clone())
             .record(Record::State),
     )?;
@@ -394,6 +442,49 @@ fn numerical_row<M: Model, Me: Method + Copy>(
         },
         sol,
     ))
+}
+
+/// The panels, as `(midpoint, half-width)`, of the length's quadrature over `[0, t_imp]`: 64 of
+/// equal width, each halved until it is at most 0.4 of its distance from `±i c`, where `c = v0/g`
+/// is the time in which gravity turns the velocity. Both speeds, `√(v0² + g²t²)` and the uniform
+/// motion's, are analytic but for points at that distance from the real axis, and 8 nodes give
+/// about 16 digits on a panel that short. At the paper's data (`c = T`) no panel is halved. At
+/// `z = g h0/v0² = 1e7` the first is halved 8 times for the classical motion (`c = 2.2e-4 T`) and
+/// 19 times for the uniform one (`c = 1e-7 T`); with 64 equal panels the classical length was off
+/// by `1.4e-8`.
+fn length_panels(t_imp: f64, c: f64) -> Vec<(f64, f64)> {
+    let panels = 64;
+    let w = t_imp / panels as f64;
+    let mut out = Vec::with_capacity(panels);
+    for k in 0..panels {
+        let mut todo = vec![((k as f64 + 0.5) * w, 0.5 * w)];
+        while let Some((mid, half)) = todo.pop() {
+            let start = mid - half;
+            if 2.0 * half <= 0.4 * start.hypot(c) {
+                out.push((mid, half));
+            } else {
+                todo.push((mid + 0.5 * half, 0.5 * half));
+                todo.push((mid - 0.5 * half, 0.5 * half));
+            }
+        }
+    }
+    out
+}
+
+/// `opts` at `rtol = tol` and `atol = tol`, tightened per component to `tol` times the motion's
+/// scale where that is below one ([`scaled_atol`]: `R`, `h0`, `v0` for small data). The errors are
+/// judged relative to those scales, and an absolute tolerance of `tol` on a speed of `1e-3 m/s`
+/// would allow `1e3 tol` of it. At the paper's data every scale is above one and `atol = tol`.
+fn within(opts: Options, p: &Params, tol: f64) -> Options {
+    let [x, y, xd, yd] = absolute_tolerances(p, tol);
+    opts.tolerances(tol, tol)
+        .atol_per_component(&[x, y], &[xd, yd])
+}
+
+/// The absolute tolerances of `x`, `y`, `ẋ`, `ẏ` at the tolerance `tol` (see [`within`]).
+pub fn absolute_tolerances(p: &Params, tol: f64) -> [f64; 4] {
+    let ([x, y], [xd, yd]) = scaled_atol(p, tol);
+    [x, y, xd, yd].map(|a| a.min(tol))
 }
 
 /// The Euclidean norm.
@@ -471,6 +562,27 @@ pub fn log_slope(points: &[(f64, f64)]) -> f64 {
     num / den
 }
 
+/// Where the fixed-step runs of the orders end: the impact `t_impact`, or `4 v0/g` if that is
+/// earlier. In `v0/g` gravity turns the velocity; after a few of it the uniform motion falls
+/// straight down, where its equations are stiff with `|λ| ≈ g/v0` (large `z = g h0/v0²`). Steps
+/// `h = T/2^k` would then be many times `v0/g` and cross the turn in one step, outside every
+/// method's asymptotic range (and the explicit methods' stability region). At the paper's data
+/// `4 v0/g = 4 s` is after `T = 1.09 s`.
+pub fn orders_until(p: &Params, t_impact: f64) -> f64 {
+    t_impact.min(4.0 * p.v0 / p.g)
+}
+
+/// The halvings `k` of the step `h = T/2^k` over which a method of order `order` shows its order
+/// on the uniform motion: from where the error is below about 1e-3 to where it nears rounding
+/// (about 1e-13), fewer and coarser steps the higher the order.
+fn halvings(order: u32) -> std::ops::Range<u32> {
+    match order {
+        0..=4 => 3..9,
+        5 | 6 => 2..7,
+        _ => 1..5,
+    }
+}
+
 /// Largest error of the end state of the uniform motion at `t_end`, scaled as in [`WorkPoint`].
 fn end_error(p: &Params, sol: &Solution, t_end: f64, range: f64) -> f64 {
     let Some((_, q, qd)) = sol.last() else {
@@ -484,16 +596,23 @@ fn end_error(p: &Params, sol: &Solution, t_end: f64, range: f64) -> f64 {
 }
 
 /// Times one configuration: the median of repeated runs (at least 5, and until 20 ms have passed,
-/// at most 200).
+/// at most 200); one run when not `repeat`, or when the first did not succeed.
 fn time_runs<Me: Method + Copy>(
     problem: &UniformProblem,
     method: Me,
     opts: &Options,
+    repeat: bool,
 ) -> Result<(Solution, f64, usize), Error> {
     let mut times = Vec::new();
     let start = Instant::now();
-    let mut last = None;
-    while times.len() < 5 || (start.elapsed().as_secs_f64() < 0.02 && times.len() < 200) {
+    let mut last: Option<Solution> = None;
+    let more = |n: usize, last: &Option<Solution>| {
+        n == 0
+            || repeat
+                && last.as_ref().is_some_and(|s| s.error().is_none())
+                && (n < 5 || (start.elapsed().as_secs_f64() < 0.02 && n < 200))
+    };
+    while more(times.len(), &last) {
         let t0 = Instant::now();
         let sol = solve(problem, method, opts)?;
         times.push(t0.elapsed().as_secs_f64());
@@ -509,46 +628,176 @@ fn time_runs<Me: Method + Copy>(
     })
 }
 
-fn work_precision_adaptive<Me: Method + Copy>(
-    p: &Params,
-    problem: &UniformProblem,
-    method: Me,
-    tolerances: &[f64],
+/// The uniform motion, the ground of the optional studies: the tolerances and the timing run to
+/// its impact `t_end`, the fixed steps to `t_orders` (see [`Report::orders_until`]).
+struct Study<'a> {
+    p: &'a Params,
+    problem: &'a UniformProblem,
     t_end: f64,
+    t_orders: f64,
     range: f64,
-    out: &mut Vec<WorkPoint>,
-) -> Result<(), Error> {
-    for &tol in tolerances {
-        let opts = Options::until(t_end)
-            .tolerances(tol, tol)
-            .output_final()
-            .record(Record::State);
-        let (sol, seconds, repeats) = time_runs(problem, method, &opts)?;
-        out.push(WorkPoint {
-            method: method.name().to_string(),
-            tolerance: tol,
-            fixed_step: false,
-            error: end_error(p, &sol, t_end, range),
+}
+
+impl Study<'_> {
+    /// Solves with `method` and `opts` (whose tolerance, or step, is `at`) to `until`, timed when
+    /// `repeat`; `Err` with the reason when the solve stopped before.
+    fn run(
+        &self,
+        method: AnyMethod,
+        opts: &Options,
+        (at, until): (f64, f64),
+        repeat: bool,
+    ) -> Result<Result<WorkPoint, String>, Error> {
+        let (sol, seconds, repeats) = time_runs(self.problem, method, opts, repeat)?;
+        if let Some(e) = sol.error() {
+            return Ok(Err(e.to_string()));
+        }
+        Ok(Ok(WorkPoint {
+            method: method.name().into(),
+            tolerance: at,
+            fixed_step: method.info().fixed_step.is_some(),
+            error: end_error(self.p, &sol, until, self.range),
             seconds,
             repeats,
             rhs_evaluations: sol.stats.rhs_evaluations,
             steps: sol.stats.accepted_steps,
-        });
+        }))
     }
-    Ok(())
+
+    /// The observed order of a method in fixed steps `h = T/2^k` (see [`halvings`]). An adaptive
+    /// method is held to the step `h` by a first and largest step `h` and a tolerance that never
+    /// rejects. `None` when a run stopped (said in `stopped`).
+    fn order_in_h(
+        &self,
+        info: MethodInfo,
+        stopped: &mut Vec<Stopped>,
+    ) -> Result<Option<Convergence>, Error> {
+        let mut points = Vec::new();
+        for k in halvings(info.order) {
+            let h = self.t_orders / f64::from(1u32 << k);
+            let opts = Options::until(self.t_orders)
+                .tolerances(1e3, 1e3)
+                .initial_step(h)
+                .max_step(h)
+                .output_final()
+                .record(Record::State);
+            match self.run(
+                AnyMethod::from_name(info.name, Some(h))?,
+                &opts,
+                (h, self.t_orders),
+                false,
+            )? {
+                Ok(w) => points.push((h, w.error)),
+                Err(error) => {
+                    stopped.push(Stopped {
+                        method: info.name.into(),
+                        study: "h".into(),
+                        at: h,
+                        error,
+                    });
+                    return Ok(None);
+                }
+            }
+        }
+        Ok(Some(Convergence {
+            method: info.name.into(),
+            against: "h".into(),
+            order: log_slope(&points),
+            points,
+            expected: f64::from(info.order),
+        }))
+    }
+
+    /// An adaptive method at `rtol = atol` from 1e-3 to 1e-13, up to the first run that stops.
+    fn over_tolerances(
+        &self,
+        method: AnyMethod,
+        repeat: bool,
+        stopped: &mut Vec<Stopped>,
+    ) -> Result<Vec<WorkPoint>, Error> {
+        let mut out = Vec::new();
+        for tol in (3..=13).map(|e| 10f64.powi(-e)) {
+            let opts = within(Options::until(self.t_end), self.p, tol)
+                .output_final()
+                .record(Record::State);
+            match self.run(method, &opts, (tol, self.t_end), repeat)? {
+                Ok(w) => out.push(w),
+                Err(error) => {
+                    stopped.push(Stopped {
+                        method: method.name().into(),
+                        study: "tolerance".into(),
+                        at: tol,
+                        error,
+                    });
+                    break;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// A fixed-step method at `h = T/4 … T/512`, timed, up to the first run that stops.
+    fn over_steps(
+        &self,
+        info: MethodInfo,
+        stopped: &mut Vec<Stopped>,
+    ) -> Result<Vec<WorkPoint>, Error> {
+        let mut out = Vec::new();
+        for k in 2..10 {
+            let h = self.t_end / f64::from(1u32 << k);
+            let opts = Options::until(self.t_end)
+                .output_final()
+                .record(Record::State);
+            match self.run(
+                AnyMethod::from_name(info.name, Some(h))?,
+                &opts,
+                (h, self.t_end),
+                true,
+            )? {
+                Ok(w) => out.push(w),
+                Err(error) => {
+                    stopped.push(Stopped {
+                        method: info.name.into(),
+                        study: "h".into(),
+                        at: h,
+                        error,
+                    });
+                    break;
+                }
+            }
+        }
+        Ok(out)
+    }
 }
 
-/// `∂T/∂θ` and `∂R/∂θ` for `θ = v0, g, h0`: the sensitivities of the impact event (Dop853, the
-/// sensitivities under error control at `tol`) against the closed form (42.38) differentiated by
+/// Tolerance proportionality: error ∝ tol^α with α ≈ 1 for a well-behaved controller, fitted from
+/// 1e-6 down to where rounding sets in.
+fn proportionality(method: &str, runs: &[WorkPoint]) -> Convergence {
+    let points: Vec<(f64, f64)> = runs
+        .iter()
+        .filter(|w| w.tolerance <= 1e-6 && w.error > 1e-14)
+        .map(|w| (w.tolerance, w.error))
+        .collect();
+    Convergence {
+        method: method.into(),
+        against: "tolerance".into(),
+        order: log_slope(&points),
+        points,
+        expected: 1.0,
+    }
+}
+
+/// `∂T/∂θ` and `∂R/∂θ` for `θ = v0, g, h0`: the sensitivities of the impact event (by `method`,
+/// the sensitivities under error control at `tol`) against the closed form (42.38) differentiated by
 /// dual numbers.
 fn impact_derivatives(
     p: &Params,
     up: &UniformProblem,
+    method: AnyMethod,
     tol: f64,
     t_max: f64,
 ) -> Result<Vec<Derivative>, Error> {
-    let mut opts = Options::until(t_max)
-        .tolerances(tol, tol)
+    let mut opts = within(Options::until(t_max), p, tol)
         .output_final()
         .record(Record::State)
         .event(impact())
@@ -556,7 +805,7 @@ fn impact_derivatives(
     for seed in seeds() {
         opts = opts.sensitivity(seed);
     }
-    let sol = solve(up, Dop853::default(), &opts)?;
+    let sol = solve(up, method, &opts)?;
     if let Some(e) = sol.error() {
         return Err(e.clone());
     }
@@ -599,15 +848,24 @@ fn impact_derivatives(
     Ok(out)
 }
 
-/// Builds the whole report for `p`; `tol` is the tolerance of the table and error runs.
-pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
+/// Builds the report for `p`: Table 42.1, the errors along both motions and the impact's
+/// derivatives by `method` at `rtol = atol = tol`, and the `studies` asked for, by every method of
+/// the library. `method` must have error control (not `Rk4`).
+pub fn build(p: &Params, tol: f64, method: AnyMethod, studies: Studies) -> Result<Report, Error> {
+    if method.info().fixed_step.is_some() {
+        return Err(Error::InvalidOption {
+            name: "method",
+            value: f64::NAN,
+            hint: "the table is integrated to a tolerance: choose a method with error control",
+        });
+    }
     let closed = table(p);
     let t_max = 10.0 * closed.uniform.t_impact.max(closed.classical.t_impact);
 
     let cp = classical_problem(p)?;
     let up = uniform_problem(p)?;
-    let (c_row, c_sol) = numerical_row(&cp, Dop853::default(), tol, t_max)?;
-    let (u_row, u_sol) = numerical_row(&up, Dop853::default(), tol, t_max)?;
+    let (c_row, c_sol) = numerical_row(p, &cp, method, tol, t_max)?;
+    let (u_row, u_sol) = numerical_row(p, &up, method, tol, t_max)?;
     let table_out = Table {
         classical: TableRow {
             numerical: c_row,
@@ -623,101 +881,52 @@ pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
     let classical_errors = motion_errors(p, &c_sol, &closed.classical, false);
     let uniform_errors = motion_errors(p, &u_sol, &closed.uniform, true);
 
-    // Convergence in h: every method with fixed steps halving over [0, T]. The adaptive methods are
-    // held to the step h by a first and largest step h and a tolerance that never rejects.
-    let t_end = closed.uniform.t_impact;
-    let range = closed.uniform.range;
+    let study = Study {
+        p,
+        problem: &up,
+        t_end: closed.uniform.t_impact,
+        t_orders: orders_until(p, closed.uniform.t_impact),
+        range: closed.uniform.range,
+    };
+    let mut stopped = Vec::new();
     let mut convergence = Vec::new();
-    let fixed = |h: f64| {
-        Options::until(t_end)
-            .tolerances(1e3, 1e3)
-            .initial_step(h)
-            .max_step(h)
-            .output_final()
-            .record(Record::State)
-    };
-    let mut orders = |name: &str,
-                      expected: f64,
-                      ks: std::ops::Range<u32>,
-                      run: &dyn Fn(f64) -> Result<Solution, Error>|
-     -> Result<(), Error> {
-        let mut pts = Vec::new();
-        for k in ks {
-            let h = t_end / f64::from(1u32 << k);
-            pts.push((h, end_error(p, &run(h)?, t_end, range)));
-        }
-        convergence.push(Convergence {
-            method: name.into(),
-            against: "h".into(),
-            order: log_slope(&pts),
-            points: pts,
-            expected,
-        });
-        Ok(())
-    };
-    orders("Rk4", 4.0, 3..9, &|h| solve(&up, Rk4::new(h), &fixed(h)))?;
-    orders("Dopri5", 5.0, 2..7, &|h| {
-        solve(&up, Dopri5::default(), &fixed(h))
-    })?;
-    orders("Dop853", 8.0, 1..5, &|h| {
-        solve(&up, Dop853::default(), &fixed(h))
-    })?;
-
-    let tolerances: Vec<f64> = (3..=13).map(|e| 10f64.powi(-e)).collect();
     let mut work_precision = Vec::new();
-    work_precision_adaptive(
-        p,
-        &up,
-        Dopri5::default(),
-        &tolerances,
-        t_end,
-        range,
-        &mut work_precision,
-    )?;
-    work_precision_adaptive(
-        p,
-        &up,
-        Dop853::default(),
-        &tolerances,
-        t_end,
-        range,
-        &mut work_precision,
-    )?;
-    for k in 2..10 {
-        let h = t_end / f64::from(1u32 << k);
-        let opts = Options::until(t_end).output_final().record(Record::State);
-        let (sol, seconds, repeats) = time_runs(&up, Rk4::new(h), &opts)?;
-        work_precision.push(WorkPoint {
-            method: "Rk4".into(),
-            tolerance: h,
-            fixed_step: true,
-            error: end_error(p, &sol, t_end, range),
-            seconds,
-            repeats,
-            rhs_evaluations: sol.stats.rhs_evaluations,
-            steps: sol.stats.accepted_steps,
-        });
+    let every_method = AnyMethod::all(1.0);
+    if studies.orders {
+        for m in &every_method {
+            convergence.extend(study.order_in_h(m.info(), &mut stopped)?);
+        }
     }
-    for name in ["Dopri5", "Dop853"] {
-        // Tolerance proportionality: error ∝ tol^α with α ≈ 1 for a well-behaved controller, fitted
-        // from 1e-6 down to where rounding sets in.
-        let pts: Vec<(f64, f64)> = work_precision
-            .iter()
-            .filter(|w| w.method == name && w.tolerance <= 1e-6 && w.error > 1e-14)
-            .map(|w| (w.tolerance, w.error))
-            .collect();
-        convergence.push(Convergence {
-            method: name.into(),
-            against: "tolerance".into(),
-            order: log_slope(&pts),
-            points: pts,
-            expected: 1.0,
-        });
+    if studies.orders || studies.timing {
+        // The adaptive methods over the tolerances, then the fixed-step ones over halving steps;
+        // timed over repeated runs only when the timing is asked for.
+        let repeat = studies.timing;
+        let (adaptive, fixed_step): (Vec<AnyMethod>, Vec<AnyMethod>) = every_method
+            .into_iter()
+            .partition(|m| m.info().fixed_step.is_none());
+        for &m in &adaptive {
+            let points = study.over_tolerances(m, repeat, &mut stopped)?;
+            let complete = !stopped
+                .iter()
+                .any(|s| s.method == m.name() && s.study == "tolerance");
+            if studies.orders && complete {
+                convergence.push(proportionality(m.name(), &points));
+            }
+            work_precision.extend(points);
+        }
+        if studies.timing {
+            for m in &fixed_step {
+                work_precision.extend(study.over_steps(m.info(), &mut stopped)?);
+            }
+        } else {
+            work_precision.clear();
+        }
     }
 
-    let sensitivities = impact_derivatives(p, &up, tol, t_max)?;
+    let sensitivities = impact_derivatives(p, &up, method, tol, t_max)?;
     let mut report = Report {
         verdict: Verdict::judge(&[], 0.0),
+        method: method.name().to_string(),
         params: ParamsOut {
             v0: p.v0,
             g: p.g,
@@ -725,11 +934,14 @@ pub fn build(p: &Params, tol: f64) -> Result<Report, Error> {
             m: p.m,
         },
         tolerance: tol,
+        atol: absolute_tolerances(p, tol),
         table: table_out,
         classical_errors,
         uniform_errors,
         convergence,
+        orders_until: study.t_orders,
         work_precision,
+        stopped,
         sensitivity_verdict: Verdict::judge(&[], 0.0),
         sensitivities,
     };

@@ -6,6 +6,9 @@ use std::collections::BTreeSet;
 use std::io::Read;
 use std::process::{Command, Output, Stdio};
 
+use chetaev::integrate::Method;
+use chetaev::prelude::AnyMethod;
+
 const BIN: &str = env!("CARGO_BIN_EXE_uniform-projectile");
 
 fn run(args: &[&str]) -> Output {
@@ -113,6 +116,16 @@ fn bad_arguments_exit_with_2() {
         ),
         // A verdict whose limit accepts anything is no verdict.
         (["--tol", "1"], "too loose to verify anything"),
+        // The table is integrated to a tolerance; the choices are the methods that take one.
+        (
+            ["--method", "rk4"],
+            "rk4 has no error control, and the table is integrated to a tolerance: choose one of \
+             dopri5, dop853, tsit5, rodas4, rodas5p",
+        ),
+        (
+            ["--method", "radau5"],
+            "unknown method \"radau5\": choose one of dopri5, dop853, tsit5, rodas4, rodas5p",
+        ),
         (["--limit", "100"], "give a limit below 1"),
     ] {
         let o = run(&args);
@@ -176,6 +189,10 @@ fn json_keeps_every_key_and_adds_the_verdict() {
         "params.h0",
         "params.m",
         "tolerance",
+        "method",
+        "atol",
+        "orders_until",
+        "stopped",
     ]
     .map(String::from)
     .to_vec();
@@ -207,8 +224,22 @@ fn json_keeps_every_key_and_adds_the_verdict() {
     assert!(missing.is_empty(), "missing keys: {missing:?}");
 
     // Complete: every convergence study and every timed run, whatever the text shows.
-    assert_eq!(v["convergence"].as_array().map(Vec::len), Some(5));
-    assert_eq!(v["work_precision"].as_array().map(Vec::len), Some(30));
+    // Every method in fixed steps and each adaptive one against the tolerance; each adaptive one
+    // at the 11 tolerances 1e-3 … 1e-13, each fixed-step one at 8 steps.
+    let methods = AnyMethod::all(1.0);
+    let adaptive = methods
+        .iter()
+        .filter(|m| m.info().fixed_step.is_none())
+        .count();
+    let fixed = methods.len() - adaptive;
+    assert_eq!(
+        v["convergence"].as_array().map(Vec::len),
+        Some(methods.len() + adaptive)
+    );
+    assert_eq!(
+        v["work_precision"].as_array().map(Vec::len),
+        Some(11 * adaptive + 8 * fixed)
+    );
     assert_eq!(v["verdict"]["verified"], serde_json::Value::Bool(true));
 }
 
@@ -256,4 +287,76 @@ fn json_that_cannot_run_still_writes_one_object_saying_why() {
         "{v}"
     );
     assert_eq!(v["params"]["v0"], serde_json::json!(1e-3));
+    assert_eq!(v["method"], serde_json::json!("Dop853"));
+    // The note on stderr names the way out.
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(stderr.contains("add `--method rodas4`"), "{stderr}");
+}
+
+#[test]
+fn a_stiff_case_verifies_with_an_implicit_method() {
+    // z = g h0/v0² = 1e7, where Dop853 stops (above). Every quantity is judged relative to its
+    // scale (R = 1.6e-7 m, v0 = 1e-3 m/s), with the absolute tolerances tightened to match.
+    for (name, key) in [("Rodas4", "rodas4"), ("Rodas5P", "RODAS5P")] {
+        let o = run(&[
+            "--v0", "1e-3", "--h0", "1", "--method", key, "--tol", "1e-10",
+        ]);
+        assert!(o.status.success(), "{name}: {o:?}");
+        let text = stdout(&o);
+        assert!(text.starts_with("VERIFIED: "), "{name}: {text}");
+        // x to 1e-10 of v0²/g = 1e-7 m, ẋ and ẏ to 1e-10 of v0, y to 1e-10 m (h0 = 1 m).
+        assert!(
+            text.contains(&format!(
+                "integrated by chetaev ({name}, rtol = 1e-10, atol = 1e-17 m, 1e-10 m, 1e-13 m/s, \
+                 1e-13 m/s for x, y, ẋ, ẏ)"
+            )),
+            "{text}"
+        );
+    }
+
+    // The orders: in fixed steps to 4 v0/g = 4e-4 s, where every method shows its order; against
+    // the tolerance to T = 1000 s, where the explicit methods stop, each said once with why.
+    let o = run(&["--v0", "1e-3", "--h0", "1", "--method", "rodas4", "--json"]);
+    assert!(o.status.success(), "{o:?}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
+    assert_eq!(v["method"], serde_json::json!("Rodas4"));
+    assert_eq!(v["orders_until"], serde_json::json!(4e-4));
+    let studies = v["convergence"].as_array().cloned().unwrap_or_default();
+    let in_h: Vec<&str> = studies
+        .iter()
+        .filter(|c| c["against"] == "h")
+        .filter_map(|c| c["method"].as_str())
+        .collect();
+    assert_eq!(in_h.len(), AnyMethod::NAMES.len(), "{in_h:?}");
+    for c in studies.iter().filter(|c| c["against"] == "h") {
+        let (order, expected) = (c["order"].as_f64(), c["expected"].as_f64());
+        let (order, expected) = (order.unwrap_or(0.0), expected.unwrap_or(9.0));
+        // On coarse steps the error is still above its asymptotic line here: up to 1.2 above.
+        assert!(
+            order > expected - 0.3 && order < expected + 1.3,
+            "{}: {order}",
+            c["method"]
+        );
+    }
+    let stopped = v["stopped"].as_array().cloned().unwrap_or_default();
+    let mut names: Vec<&str> = stopped
+        .iter()
+        .filter_map(|s| s["method"].as_str())
+        .collect();
+    names.sort_unstable();
+    assert_eq!(names, ["Dop853", "Dopri5", "Tsit5"], "{stopped:?}");
+    for s in &stopped {
+        assert_eq!(s["study"], "tolerance");
+        assert!(
+            s["error"].as_str().is_some_and(|e| e.contains("stiff")),
+            "{s}"
+        );
+    }
+    // The implicit methods reach T at every tolerance.
+    for name in ["Rodas4", "Rodas5P"] {
+        let runs = v["work_precision"]
+            .as_array()
+            .map_or(0, |w| w.iter().filter(|w| w["method"] == name).count());
+        assert_eq!(runs, 11, "{name}");
+    }
 }

@@ -1,13 +1,21 @@
 //! The verification report: Table 42.1 rebuilt, observed orders, and the JSON shape the binary
 //! promises.
 
+use chetaev::integrate::Method;
+use chetaev::prelude::{AnyMethod, Dop853};
 use uniform_projectile::closed_form::Params;
-use uniform_projectile::report::build;
+use uniform_projectile::report::{build, Studies};
+
+fn dop853() -> AnyMethod {
+    AnyMethod::Dop853(Dop853::default())
+}
 
 #[test]
 fn report_rebuilds_table_42_1_and_observes_the_orders() {
     let tol = 1e-12;
-    let r = build(&Params::PAPER, tol).expect("report");
+    let r = build(&Params::PAPER, tol, dop853(), Studies::ALL).expect("report");
+    assert!(r.stopped.is_empty(), "{:?}", r.stopped);
+    assert_eq!(r.orders_until, r.table.uniform.closed_form.t);
     for row in [&r.table.classical, &r.table.uniform] {
         let e = &row.rel_error;
         // The table quantities are measured at the impact, located to rounding; the length by
@@ -20,10 +28,19 @@ fn report_rebuilds_table_42_1_and_observes_the_orders() {
     let (c, u) = (&r.table.classical.closed_form, &r.table.uniform.closed_form);
     assert!(u.r < c.r && u.t > c.t && u.s < c.s);
 
+    // Every method of the library, in fixed steps and against the tolerance.
+    let methods = AnyMethod::all(1.0);
+    let adaptive = methods.iter().filter(|m| m.info().fixed_step.is_none());
+    assert_eq!(r.convergence.len(), methods.len() + adaptive.count());
     for c in &r.convergence {
-        // SciML's convention: observed order within ±0.3 of the theoretical one.
+        // SciML's convention: observed order within ±0.3 of the theoretical one; in fixed steps
+        // up to 0.7 above it. Tsit5's fifth-order error constant is small by design, so on this
+        // motion its sixth-order terms lead until rounding sets in: its local slopes fall from 5.9
+        // to 5.1 over h = T/4 … T/64 and the fit gives 5.6. A method of one order more than it
+        // declares would show about one above.
+        let above = if c.against == "h" { 0.7 } else { 0.3 };
         assert!(
-            (c.order - c.expected).abs() <= 0.3,
+            c.order >= c.expected - 0.3 && c.order <= c.expected + above,
             "{} vs {}: {:.2} (expected {})",
             c.method,
             c.against,
@@ -54,7 +71,7 @@ fn report_rebuilds_table_42_1_and_observes_the_orders() {
 
 #[test]
 fn json_has_the_promised_fields() {
-    let r = build(&Params::PAPER, 1e-10).expect("report");
+    let r = build(&Params::PAPER, 1e-10, dop853(), Studies::NONE).expect("report");
     let v = serde_json::to_value(&r).expect("serialisable");
     for motion in ["classical", "uniform"] {
         for side in ["numerical", "closed_form"] {
@@ -74,4 +91,42 @@ fn json_has_the_promised_fields() {
             .abs()
             < 1e-11
     );
+}
+
+#[test]
+fn only_the_studies_asked_for_are_computed() {
+    let tol = 1e-10;
+    let none = build(&Params::PAPER, tol, dop853(), Studies::NONE).expect("report");
+    assert!(none.convergence.is_empty() && none.work_precision.is_empty());
+    let orders = Studies {
+        orders: true,
+        timing: false,
+    };
+    let r = build(&Params::PAPER, tol, dop853(), orders).expect("report");
+    assert!(!r.convergence.is_empty() && r.work_precision.is_empty());
+    // The verdict's quantities are the same whatever the studies.
+    assert_eq!(r.verdict.largest, none.verdict.largest);
+    assert_eq!(r.table.uniform.numerical.t, none.table.uniform.numerical.t);
+}
+
+#[test]
+fn every_method_with_error_control_verifies_the_paper() {
+    let tol = 1e-10;
+    for method in AnyMethod::all(1.0) {
+        let r = build(&Params::PAPER, tol, method, Studies::NONE);
+        if method.info().fixed_step.is_some() {
+            // A table at a tolerance needs error control: refused, not run with some step.
+            assert!(r.is_err(), "{}", method.name());
+            continue;
+        }
+        let r = r.expect("report");
+        assert_eq!(r.method, method.name());
+        assert!(
+            r.verdict.verified && r.sensitivity_verdict.verified,
+            "{}: {:?} {:?}",
+            r.method,
+            r.verdict,
+            r.sensitivity_verdict
+        );
+    }
 }
