@@ -60,6 +60,63 @@ pub(crate) enum Metric {
     Varying,
 }
 
+/// The pattern of the Schur solve `S = J W⁻¹ Jᵀ` for a diagonal `W` and a `J` with zero entries:
+/// `Y = J W⁻¹` has the pattern of `J`, and `S_ab` sums over the columns where rows `a` and `b` of
+/// `J` both can be nonzero. Each sum runs over its columns in increasing order, as the dense
+/// products do, and leaves out only terms whose factor from `J` is an exact zero, so the result
+/// is the dense one (but for the sign of a zero).
+#[derive(Clone, Debug)]
+struct SparseSchur {
+    /// Row `a`'s entries are `columns[rows[a]..rows[a + 1]]`.
+    rows: Vec<usize>,
+    /// The columns of `J`'s entries, by rows, each row's in increasing order.
+    columns: Vec<usize>,
+    /// `(a, b, start, end)` for each `b ≤ a` whose rows share a column: the shared columns are
+    /// `shared[start..end]`. `S_ab` of the other pairs is zero.
+    pairs: Vec<(usize, usize, usize, usize)>,
+    shared: Vec<usize>,
+}
+
+impl SparseSchur {
+    /// The pattern for `J`'s entries `(row, column)` in row-major order, `k` rows of `n`; `None`
+    /// where `J` is dense (nothing to leave out).
+    fn new(entries: &[(usize, usize)], n: usize, k: usize) -> Option<Self> {
+        if entries.len() == n * k {
+            return None;
+        }
+        let mut rows = vec![0; k + 1];
+        for &(a, _) in entries {
+            rows[a + 1] += 1;
+        }
+        for a in 0..k {
+            rows[a + 1] += rows[a];
+        }
+        let columns: Vec<usize> = entries.iter().map(|&(_, i)| i).collect();
+        let row = |a: usize| &columns[rows[a]..rows[a + 1]];
+        let (mut pairs, mut shared) = (Vec::new(), Vec::new());
+        for a in 0..k {
+            for b in 0..=a {
+                let start = shared.len();
+                shared.extend(row(a).iter().filter(|i| row(b).contains(i)));
+                if shared.len() > start {
+                    pairs.push((a, b, start, shared.len()));
+                }
+            }
+        }
+        Some(Self {
+            rows,
+            columns,
+            pairs,
+            shared,
+        })
+    }
+
+    /// Row `a`'s columns.
+    fn row(&self, a: usize) -> &[usize] {
+        &self.columns[self.rows[a]..self.rows[a + 1]]
+    }
+}
+
 /// The node ids of every block, for showing the equations.
 #[derive(Clone, Debug)]
 struct Blocks {
@@ -99,6 +156,9 @@ pub struct Compiled {
     j_entries: Vec<(usize, usize)>,
     w_entries: Vec<(usize, usize)>,
     metric: Metric,
+    /// Where `W` is diagonal and `J` has zeros, the Schur solve's products over `J`'s nonzero
+    /// entries only (`None` otherwise).
+    sparse_schur: Option<SparseSchur>,
     /// Pivot ratio of a constant `W`'s factorisation (1 when varying: taken per evaluation).
     w_ratio: f64,
     /// `max |W_ij|` of a constant `W`.
@@ -426,6 +486,10 @@ impl Compiled {
         } else {
             (Metric::Varying, 1.0)
         };
+        let sparse_schur = match metric {
+            Metric::Diagonal(_) if k > 1 => SparseSchur::new(&j_entries, n, k),
+            _ => None,
+        };
         let w_entries: Vec<(usize, usize)> = if matches!(metric, Metric::Varying) {
             (0..n)
                 .flat_map(|i| (i..n).map(move |m| (i, m)))
@@ -478,6 +542,7 @@ impl Compiled {
             j_entries,
             w_entries,
             metric,
+            sparse_schur,
             w_ratio,
             w_scale,
             w_values: if w_constant { w_values } else { Vec::new() },
@@ -957,6 +1022,9 @@ impl Compiled {
                 ws.mu[0] = -ws.c[0] - j_a;
                 return self.finish(ws, self.w_ratio, zero_row);
             }
+            Metric::Diagonal(inv) if self.sparse_schur.is_some() => {
+                return self.sparse_diagonal(ws, inv, zero_row);
+            }
             Metric::Diagonal(inv) => {
                 let mul = |x: &mut [T]| {
                     for (xi, &di) in x.iter_mut().zip(inv) {
@@ -1077,13 +1145,64 @@ impl Compiled {
             ws.mu.copy_from_slice(&x[n..n + k]);
             return Ok(w_ratio.min(s_ratio));
         }
-        for a in 0..k {
-            let mu = ws.mu[a];
-            for (ai, &yi) in ws.a.iter_mut().zip(&ws.y[a * n..(a + 1) * n]) {
-                *ai += yi * mu;
+        match (&self.sparse_schur, &self.metric) {
+            (Some(pattern), Metric::Diagonal(_)) => {
+                for a in 0..k {
+                    let mu = ws.mu[a];
+                    for &i in pattern.row(a) {
+                        ws.a[i] += ws.y[a * n + i] * mu;
+                    }
+                }
+            }
+            _ => {
+                for a in 0..k {
+                    let mu = ws.mu[a];
+                    for (ai, &yi) in ws.a.iter_mut().zip(&ws.y[a * n..(a + 1) * n]) {
+                        *ai += yi * mu;
+                    }
+                }
             }
         }
         Ok(w_ratio.min(s_ratio))
+    }
+
+    /// [`Compiled::solve`] for a diagonal `W` (`inv` its inverse) and `J` with zeros (see
+    /// [`SparseSchur`]): `a = W⁻¹ r`, `Y = J W⁻¹`, `S = J Yᵀ` and `−c − J a` over `J`'s entries.
+    fn sparse_diagonal<T: Real>(
+        &self,
+        ws: &mut CompiledWorkspace<T>,
+        inv: &[f64],
+        zero_row: impl Fn(&CompiledWorkspace<T>) -> Option<SaddleFailure>,
+    ) -> Result<f64, SaddleFailure> {
+        let (n, k) = (self.n, self.k);
+        let Some(pattern) = &self.sparse_schur else {
+            unreachable!("called only with a pattern")
+        };
+        let CompiledWorkspace {
+            r, j, c, a, y, s, mu, ..
+        } = &mut *ws;
+        for ((ai, &ri), &di) in a.iter_mut().zip(&*r).zip(inv) {
+            *ai = ri * di;
+        }
+        for row in 0..k {
+            let mut j_a = T::zero();
+            for &i in pattern.row(row) {
+                let e = row * n + i;
+                y[e] = j[e] * inv[i];
+                j_a += j[e] * a[i];
+            }
+            mu[row] = -c[row] - j_a;
+        }
+        s.fill(T::zero());
+        for &(ra, rb, start, end) in &pattern.pairs {
+            let mut sum = T::zero();
+            for &i in &pattern.shared[start..end] {
+                sum += j[ra * n + i] * y[rb * n + i];
+            }
+            s[ra * k + rb] = sum;
+            s[rb * k + ra] = sum;
+        }
+        self.finish(ws, self.w_ratio, zero_row)
     }
 
     /// `a = W⁻¹ r` and the rows of `Y = (W⁻¹ Jᵀ)ᵀ` with `W = L Lᵀ`, `l(i, m) = L_im`.
@@ -1203,7 +1322,79 @@ pub(crate) fn cholesky_solve<T: Real>(l: impl Fn(usize, usize) -> T, n: usize, b
 
 #[cfg(test)]
 mod tests {
-    use super::cholesky;
+    use super::{cholesky, Compiled, CompiledWorkspace, Metric};
+    use crate::equations::{Need, Workspace};
+    use crate::model::{DynModel, Real};
+    use num_dual::Dual64;
+
+    /// Eight masses `1 + i/10` (a constant diagonal `W`) joined by springs, with
+    /// `q̇_a² + q̇_(a+1)² = 1` for `a = 0 … 3`: neighbouring constraints share a velocity, so `S` is
+    /// tridiagonal, and the last three velocities are free.
+    struct Band;
+    impl DynModel for Band {
+        fn sizes(&self) -> (usize, usize) {
+            (8, 4)
+        }
+        fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+            let mut l = R::zero();
+            for (i, v) in qd.iter().enumerate() {
+                l += *v * *v * (0.5 + i as f64 / 20.0);
+            }
+            for i in 1..8 {
+                let d = q[i] - q[i - 1] - 1.0;
+                l -= d * d * (q[i].sin() * 0.1 + 0.5);
+            }
+            l
+        }
+        fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+            for (a, f) in f.iter_mut().enumerate() {
+                *f = qd[a] * qd[a] + qd[a + 1] * qd[a + 1] - 1.0;
+            }
+        }
+    }
+
+    /// `q̈` and `μ` of `compiled` at a state off the constraints, by `T`: `lift(x, true)` makes
+    /// `q̇_2`, which carries the derivative of a dual number, `lift(x, false)` the others.
+    fn solve_at<T: Real>(
+        compiled: &Compiled,
+        seed: f64,
+        lift: impl Fn(f64, bool) -> T,
+    ) -> (Vec<T>, Vec<T>) {
+        let mut ws = CompiledWorkspace::<T>::new(compiled);
+        let mut d = Workspace::<T>::new(8, 4).dynamics().clone();
+        let x = |i: usize, s: f64| (i as f64 * s + seed).sin();
+        let q: Vec<T> = (0..8).map(|i| lift(x(i, 1.3) + i as f64, false)).collect();
+        let qd: Vec<T> = (0..8).map(|i| lift(x(i, 0.7), i == 2)).collect();
+        compiled
+            .evaluate(&mut ws, &mut d, lift(0.0, false), &q, &qd, Need::All)
+            .expect("regular");
+        (d.qdd, d.mu)
+    }
+
+    #[test]
+    fn the_sparse_schur_solve_gives_the_dense_one_to_the_last_bit() {
+        let q: Vec<f64> = (0..8).map(|i| i as f64 * 1.1).collect();
+        let qd: Vec<f64> = (0..8).map(|i| [0.6, 0.8][i % 2]).collect();
+        let sparse = Compiled::new(&Band, 0.0, &q, &qd).expect("recordable");
+        assert!(matches!(sparse.metric, Metric::Diagonal(_)));
+        let pattern = sparse.sparse_schur.as_ref().expect("J has zeros");
+        // S's lower triangle: the four diagonal entries and the three below them.
+        assert_eq!(pattern.pairs.len(), 7);
+        let mut dense = sparse.clone();
+        dense.sparse_schur = None;
+        for seed in [0.1, 0.7, 2.3] {
+            let real = |x: f64, _| x;
+            assert_eq!(
+                solve_at(&sparse, seed, real),
+                solve_at(&dense, seed, real)
+            );
+            let dual = |x: f64, seeded: bool| Dual64::new(x, if seeded { 1.0 } else { 0.0 });
+            let (a, b) = (solve_at(&sparse, seed, dual), solve_at(&dense, seed, dual));
+            let parts = |v: &[Dual64]| v.iter().map(|x| (x.re, x.eps)).collect::<Vec<_>>();
+            assert_eq!((parts(&a.0), parts(&a.1)), (parts(&b.0), parts(&b.1)));
+            assert!(a.0.iter().any(|x| x.eps != 0.0), "a derivative carried");
+        }
+    }
 
     /// A failed factorisation says how near to dependent the columns are, as a success does: the
     /// ratio the error reports (`pivot ratio` of [`Error::Singular`](crate::Error::Singular)).
