@@ -348,7 +348,7 @@ fn write_text(out: &mut impl Write, r: &Report, s: Sections) -> io::Result<()> {
     out.flush()
 }
 
-/// The studies that stopped before `T`, and why.
+/// The studies that stopped before their end, and why.
 fn stopped_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
     writeln!(
         out,

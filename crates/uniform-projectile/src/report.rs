@@ -664,42 +664,58 @@ impl Study<'_> {
         }))
     }
 
-    /// The observed order of a method in fixed steps `h = T/2^k` (see [`halvings`]). An adaptive
-    /// method is held to the step `h` by a first and largest step `h` and a tolerance that never
-    /// rejects. `None` when a run stopped (said in `stopped`).
+    /// One study of the method named `name`: each run of `runs`, `(step or tolerance, method,
+    /// options)`, to `until`, up to the first that stops, which is said in `stopped`. The points
+    /// before it, and whether every run reached `until`.
+    fn sweep(
+        &self,
+        (name, study): (&str, &str),
+        until: f64,
+        repeat: bool,
+        runs: impl Iterator<Item = Result<(f64, AnyMethod, Options), Error>>,
+        stopped: &mut Vec<Stopped>,
+    ) -> Result<(Vec<WorkPoint>, bool), Error> {
+        let mut out = Vec::new();
+        for run in runs {
+            let (at, method, opts) = run?;
+            match self.run(method, &opts, (at, until), repeat)? {
+                Ok(w) => out.push(w),
+                Err(error) => {
+                    stopped.push(Stopped {
+                        method: name.into(),
+                        study: study.into(),
+                        at,
+                        error,
+                    });
+                    return Ok((out, false));
+                }
+            }
+        }
+        Ok((out, true))
+    }
+
+    /// The observed order of a method in fixed steps `h = T/2^k` (see [`halvings`]) to
+    /// `t_orders`. An adaptive method is held to the step `h` by a first and largest step `h` and
+    /// a tolerance that never rejects. `None` when a run stopped (said in `stopped`).
     fn order_in_h(
         &self,
         info: MethodInfo,
         stopped: &mut Vec<Stopped>,
     ) -> Result<Option<Convergence>, Error> {
-        let mut points = Vec::new();
-        for k in halvings(info.order) {
-            let h = self.t_orders / f64::from(1u32 << k);
-            let opts = Options::until(self.t_orders)
+        let until = self.t_orders;
+        let runs = halvings(info.order).map(|k| {
+            let h = until / f64::from(1u32 << k);
+            let opts = Options::until(until)
                 .tolerances(1e3, 1e3)
                 .initial_step(h)
                 .max_step(h)
                 .output_final()
                 .record(Record::State);
-            match self.run(
-                AnyMethod::from_name(info.name, Some(h))?,
-                &opts,
-                (h, self.t_orders),
-                false,
-            )? {
-                Ok(w) => points.push((h, w.error)),
-                Err(error) => {
-                    stopped.push(Stopped {
-                        method: info.name.into(),
-                        study: "h".into(),
-                        at: h,
-                        error,
-                    });
-                    return Ok(None);
-                }
-            }
-        }
-        Ok(Some(Convergence {
+            Ok((h, AnyMethod::from_name(info.name, Some(h))?, opts))
+        });
+        let (runs, complete) = self.sweep((info.name, "h"), until, false, runs, stopped)?;
+        let points: Vec<(f64, f64)> = runs.iter().map(|w| (w.tolerance, w.error)).collect();
+        Ok(complete.then(|| Convergence {
             method: info.name.into(),
             against: "h".into(),
             order: log_slope(&points),
@@ -708,65 +724,39 @@ impl Study<'_> {
         }))
     }
 
-    /// An adaptive method at `rtol = atol` from 1e-3 to 1e-13, up to the first run that stops.
+    /// An adaptive method at `rtol = atol` from 1e-3 to 1e-13 to `t_end`, timed when `repeat`.
     fn over_tolerances(
         &self,
         method: AnyMethod,
         repeat: bool,
         stopped: &mut Vec<Stopped>,
-    ) -> Result<Vec<WorkPoint>, Error> {
-        let mut out = Vec::new();
-        for tol in (3..=13).map(|e| 10f64.powi(-e)) {
+    ) -> Result<(Vec<WorkPoint>, bool), Error> {
+        let runs = (3..=13).map(|e| {
+            let tol = 10f64.powi(-e);
             let opts = within(Options::until(self.t_end), self.p, tol)
                 .output_final()
                 .record(Record::State);
-            match self.run(method, &opts, (tol, self.t_end), repeat)? {
-                Ok(w) => out.push(w),
-                Err(error) => {
-                    stopped.push(Stopped {
-                        method: method.name().into(),
-                        study: "tolerance".into(),
-                        at: tol,
-                        error,
-                    });
-                    break;
-                }
-            }
-        }
-        Ok(out)
+            Ok((tol, method, opts))
+        });
+        let name = (method.name(), "tolerance");
+        self.sweep(name, self.t_end, repeat, runs, stopped)
     }
 
-    /// A fixed-step method at `h = T/4 … T/512`, timed, up to the first run that stops.
+    /// A fixed-step method at `h = T/4 … T/512` to `t_end`, timed.
     fn over_steps(
         &self,
         info: MethodInfo,
         stopped: &mut Vec<Stopped>,
     ) -> Result<Vec<WorkPoint>, Error> {
-        let mut out = Vec::new();
-        for k in 2..10 {
+        let runs = (2..10).map(|k| {
             let h = self.t_end / f64::from(1u32 << k);
             let opts = Options::until(self.t_end)
                 .output_final()
                 .record(Record::State);
-            match self.run(
-                AnyMethod::from_name(info.name, Some(h))?,
-                &opts,
-                (h, self.t_end),
-                true,
-            )? {
-                Ok(w) => out.push(w),
-                Err(error) => {
-                    stopped.push(Stopped {
-                        method: info.name.into(),
-                        study: "h".into(),
-                        at: h,
-                        error,
-                    });
-                    break;
-                }
-            }
-        }
-        Ok(out)
+            Ok((h, AnyMethod::from_name(info.name, Some(h))?, opts))
+        });
+        let (runs, _) = self.sweep((info.name, "h"), self.t_end, true, runs, stopped)?;
+        Ok(runs)
     }
 }
 
@@ -905,10 +895,7 @@ pub fn build(p: &Params, tol: f64, method: AnyMethod, studies: Studies) -> Resul
             .into_iter()
             .partition(|m| m.info().fixed_step.is_none());
         for &m in &adaptive {
-            let points = study.over_tolerances(m, repeat, &mut stopped)?;
-            let complete = !stopped
-                .iter()
-                .any(|s| s.method == m.name() && s.study == "tolerance");
+            let (points, complete) = study.over_tolerances(m, repeat, &mut stopped)?;
             if studies.orders && complete {
                 convergence.push(proportionality(m.name(), &points));
             }

@@ -1179,7 +1179,14 @@ impl Compiled {
             unreachable!("called only with a pattern")
         };
         let CompiledWorkspace {
-            r, j, c, a, y, s, mu, ..
+            r,
+            j,
+            c,
+            a,
+            y,
+            s,
+            mu,
+            ..
         } = &mut *ws;
         for ((ai, &ri), &di) in a.iter_mut().zip(&*r).zip(inv) {
             *ai = ri * di;
@@ -1384,10 +1391,7 @@ mod tests {
         dense.sparse_schur = None;
         for seed in [0.1, 0.7, 2.3] {
             let real = |x: f64, _| x;
-            assert_eq!(
-                solve_at(&sparse, seed, real),
-                solve_at(&dense, seed, real)
-            );
+            assert_eq!(solve_at(&sparse, seed, real), solve_at(&dense, seed, real));
             let dual = |x: f64, seeded: bool| Dual64::new(x, if seeded { 1.0 } else { 0.0 });
             let (a, b) = (solve_at(&sparse, seed, dual), solve_at(&dense, seed, dual));
             let parts = |v: &[Dual64]| v.iter().map(|x| (x.re, x.eps)).collect::<Vec<_>>();
