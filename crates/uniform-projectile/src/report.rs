@@ -147,8 +147,9 @@ pub struct WorkPoint {
 }
 
 /// A study of [`Report::convergence`] or [`Report::work_precision`] that stopped: a solve of it
-/// ended before `T` (a stiff problem for an explicit method, the step limit); the rest of that
-/// method's study is not run, and its points are left out.
+/// ended before its end time (a stiff problem for an explicit method, the step limit, a step so
+/// long that the motion leaves the constraints' domain); the rest of that method's study is not
+/// run, and a convergence study is left out.
 #[derive(Clone, Debug, Serialize)]
 pub struct Stopped {
     /// The method.
@@ -258,7 +259,8 @@ pub struct Report {
     pub orders_until: f64,
     /// Error against run time.
     pub work_precision: Vec<WorkPoint>,
-    /// The studies that stopped before `T`, with why (empty when every run reached it).
+    /// The studies that stopped before their end time, with why (empty when every run reached
+    /// it).
     pub stopped: Vec<Stopped>,
     /// Derivatives of the impact's time `T` and place `R` with respect to `v0`, `g`, `h0`, from
     /// the library's sensitivities, against the closed forms' own derivatives.
@@ -472,16 +474,18 @@ fn length_panels(t_imp: f64, c: f64) -> Vec<(f64, f64)> {
 }
 
 /// `opts` at `rtol = tol` and `atol = tol`, tightened per component to `tol` times the motion's
-/// scale where that is below one ([`scaled_atol`]: `R`, `h0`, `v0` for small data). The errors are
-/// judged relative to those scales, and an absolute tolerance of `tol` on a speed of `1e-3 m/s`
-/// would allow `1e3 tol` of it. At the paper's data every scale is above one and `atol = tol`.
+/// scale where that is below one ([`scaled_atol`]: `min(v0 √(2 h0/g), v0²/g)` for `x`, `h0` for
+/// `y`, `min(v0, √(2 g h0))` for the velocities). The errors are judged relative to such scales,
+/// and an absolute tolerance of `tol` on a speed of `1e-3 m/s` would allow `1e3 tol` of it. At the
+/// paper's data every scale is above one and `atol = tol`.
 fn within(opts: Options, p: &Params, tol: f64) -> Options {
     let [x, y, xd, yd] = absolute_tolerances(p, tol);
     opts.tolerances(tol, tol)
         .atol_per_component(&[x, y], &[xd, yd])
 }
 
-/// The absolute tolerances of `x`, `y`, `ẋ`, `ẏ` at the tolerance `tol` (see [`within`]).
+/// The absolute tolerances of `x`, `y`, `ẋ`, `ẏ` in the table's runs at the tolerance `tol`:
+/// `tol`, tightened to `tol` times the motion's scale ([`scaled_atol`]) where that is below one.
 pub fn absolute_tolerances(p: &Params, tol: f64) -> [f64; 4] {
     let ([x, y], [xd, yd]) = scaled_atol(p, tol);
     [x, y, xd, yd].map(|a| a.min(tol))
