@@ -1022,10 +1022,10 @@ impl Compiled {
                 ws.mu[0] = -ws.c[0] - j_a;
                 return self.finish(ws, self.w_ratio, zero_row);
             }
-            Metric::Diagonal(inv) if self.sparse_schur.is_some() => {
-                return self.sparse_diagonal(ws, inv, zero_row);
-            }
             Metric::Diagonal(inv) => {
+                if let Some(pattern) = &self.sparse_schur {
+                    return self.sparse_diagonal(ws, inv, pattern, zero_row);
+                }
                 let mul = |x: &mut [T]| {
                     for (xi, &di) in x.iter_mut().zip(inv) {
                         *xi *= di;
@@ -1145,39 +1145,35 @@ impl Compiled {
             ws.mu.copy_from_slice(&x[n..n + k]);
             return Ok(w_ratio.min(s_ratio));
         }
-        match (&self.sparse_schur, &self.metric) {
-            (Some(pattern), Metric::Diagonal(_)) => {
-                for a in 0..k {
-                    let mu = ws.mu[a];
-                    for &i in pattern.row(a) {
-                        ws.a[i] += ws.y[a * n + i] * mu;
-                    }
+        // `Y` is written only at `J`'s entries where there is a pattern.
+        if let Some(pattern) = &self.sparse_schur {
+            for a in 0..k {
+                let mu = ws.mu[a];
+                for &i in pattern.row(a) {
+                    ws.a[i] += ws.y[a * n + i] * mu;
                 }
             }
-            _ => {
-                for a in 0..k {
-                    let mu = ws.mu[a];
-                    for (ai, &yi) in ws.a.iter_mut().zip(&ws.y[a * n..(a + 1) * n]) {
-                        *ai += yi * mu;
-                    }
+        } else {
+            for a in 0..k {
+                let mu = ws.mu[a];
+                for (ai, &yi) in ws.a.iter_mut().zip(&ws.y[a * n..(a + 1) * n]) {
+                    *ai += yi * mu;
                 }
             }
         }
         Ok(w_ratio.min(s_ratio))
     }
 
-    /// [`Compiled::solve`] for a diagonal `W` (`inv` its inverse) and `J` with zeros (see
-    /// [`SparseSchur`]): `a = W⁻¹ r`, `Y = J W⁻¹`, `S = J Yᵀ` and `−c − J a` over `J`'s entries.
+    /// [`Compiled::solve`] for a diagonal `W` (`inv` its inverse) and `J` with zeros at
+    /// `pattern`: `a = W⁻¹ r`, `Y = J W⁻¹`, `S = J Yᵀ` and `−c − J a` over `J`'s entries.
     fn sparse_diagonal<T: Real>(
         &self,
         ws: &mut CompiledWorkspace<T>,
         inv: &[f64],
+        pattern: &SparseSchur,
         zero_row: impl Fn(&CompiledWorkspace<T>) -> Option<SaddleFailure>,
     ) -> Result<f64, SaddleFailure> {
         let (n, k) = (self.n, self.k);
-        let Some(pattern) = &self.sparse_schur else {
-            unreachable!("called only with a pattern")
-        };
         let CompiledWorkspace {
             r,
             j,
