@@ -15,7 +15,7 @@ use chetaev::prelude::{AnyMethod, Options};
 use clap::Parser;
 use uniform_projectile::closed_form::Params;
 use uniform_projectile::report::{
-    build, MotionErrors, Report, Row, Studies, TableRow, LIMIT_PER_TOLERANCE,
+    build, MotionErrors, Report, Row, Studies, TableRow, LIMIT_PER_TOLERANCE, ORDER_SIGNAL,
 };
 
 /// Command-line options.
@@ -496,11 +496,22 @@ fn orders_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
         } else {
             "tolerance proportionality: error vs tol"
         };
-        writeln!(
-            out,
-            "  {:<7} {:<40} observed {:>5.2}   expected {}",
-            c.method, what, c.order, c.expected
-        )?;
+        match c.order {
+            Some(order) => writeln!(
+                out,
+                "  {:<7} {:<40} observed {order:>5.2}   expected {}",
+                c.method, what, c.expected
+            )?,
+            None => writeln!(
+                out,
+                "  {:<7} {:<40} observed     -   expected {} (no error above {} to fit: \
+                 rounding, not an order)",
+                c.method,
+                what,
+                c.expected,
+                short(ORDER_SIGNAL)
+            )?,
+        }
     }
     Ok(())
 }

@@ -119,8 +119,9 @@ pub struct Convergence {
     pub against: String,
     /// `(parameter, error)` pairs.
     pub points: Vec<(f64, f64)>,
-    /// Observed order (least-squares slope of `log error` against `log h` or `log tol`).
-    pub order: f64,
+    /// Observed order (least-squares slope of `log error` against `log h` or `log tol`); `None`
+    /// where the errors show none ([`observed_order`]).
+    pub order: Option<f64>,
     /// The theoretical order.
     pub expected: f64,
 }
@@ -566,6 +567,19 @@ pub fn log_slope(points: &[(f64, f64)]) -> f64 {
     num / den
 }
 
+/// The errors below which a study shows no order: where even its coarsest run is this close to
+/// rounding (about `1e-14` relative here), the differences between runs are rounding.
+pub const ORDER_SIGNAL: f64 = 1e-11;
+
+/// The least-squares slope of `log error` against `log h` (or `log tol`) over `points`, or `None`
+/// where it would mean nothing: fewer than two points, or every error below [`ORDER_SIGNAL`] (near
+/// the classical limit `z → 0` the motion is so nearly a parabola that every run is exact to
+/// rounding, and the slope of rounding errors came out negative or NaN).
+pub fn observed_order(points: &[(f64, f64)]) -> Option<f64> {
+    let signal = points.iter().any(|&(_, e)| e >= ORDER_SIGNAL);
+    (points.len() >= 2 && signal).then(|| log_slope(points))
+}
+
 /// Where the fixed-step runs of the orders end: the impact `t_impact`, or `4 v0/g` if that is
 /// earlier. In `v0/g` gravity turns the velocity; after a few of it the uniform motion falls
 /// straight down, where its equations are stiff with `|λ| ≈ g/v0` (large `z = g h0/v0²`). Steps
@@ -722,7 +736,7 @@ impl Study<'_> {
         Ok(complete.then(|| Convergence {
             method: info.name.into(),
             against: "h".into(),
-            order: log_slope(&points),
+            order: observed_order(&points),
             points,
             expected: f64::from(info.order),
         }))
@@ -775,7 +789,7 @@ fn proportionality(method: &str, runs: &[WorkPoint]) -> Convergence {
     Convergence {
         method: method.into(),
         against: "tolerance".into(),
-        order: log_slope(&points),
+        order: observed_order(&points),
         points,
         expected: 1.0,
     }
