@@ -528,10 +528,15 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     /// they are compiled in, go after the sensitivities.
     #[inline(always)]
     fn native_done(&mut self, rates: Option<[f64; 3]>, dy: &mut [f64]) {
-        if let Some(rates) = rates {
+        if let Some([power, dl_dt, power_forces]) = rates {
+            // Entry by entry: a copy of a run of two or three words compiles to a call of
+            // `memcpy`, which costs more than the copy.
             let e = self.quadratures();
-            let k = if self.forces { 3 } else { 2 };
-            dy[e..e + k].iter_mut().zip(rates).for_each(|(x, r)| *x = r);
+            dy[e] = power;
+            dy[e + 1] = dl_dt;
+            if self.forces {
+                dy[e + 2] = power_forces;
+            }
         }
         self.native_last = true;
     }
