@@ -303,7 +303,7 @@ impl<M: Model> Problem<M> {
                 None => crate::equations::structure::probe(&self.model, t, q, qd),
             },
             proved: compiled.is_some(),
-            guards: compiled.map_or(0, |c| c.guards()),
+            guards: compiled.map_or(0, |c| c.branches()),
             equations: compiled
                 .map(|c| c.equations_text(false))
                 .unwrap_or_default(),

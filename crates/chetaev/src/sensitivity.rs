@@ -322,7 +322,7 @@ impl Variational {
             }
         }
         // A model with branches may read a parameter only on a branch not taken at the start.
-        let branches = compiled.guards() > 0;
+        let branches = compiled.branches() > 0;
         for seed in seeds.iter().filter(|_| !branches) {
             if let Some((name, _)) = seed.parameters.iter().find(|(p, _)| !known.contains(p)) {
                 let list = if known.is_empty() {

@@ -71,6 +71,118 @@ fn a_model_whose_value_leaves_its_domain_fails_at_the_boundary_with_the_motion_k
     }
 }
 
+/// A particle moving at `ẋ = −1` from `x = 1` under a Lagrangian with the term `1e-9·ln x`: its
+/// value is NaN beyond `x = 0`, reached at `t ≈ 1`, while its derivatives (`1e-9/x`, `−1e-9/x²`)
+/// stay finite there, so only a check of the value finds the end of the domain.
+struct LogWall;
+
+impl Lagrangian<1> for LogWall {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        qd[0] * qd[0] * 0.5 + q[0].ln() * 1e-9
+    }
+}
+
+/// The same end of a domain in a velocity constraint, with run-time sizes: `ẏ + 1 + 1e-9·g(y) = 0`
+/// from `y = 1`, for each function `g` whose derivative stays finite beyond its domain.
+struct ConstraintWall {
+    g: fn(f64) -> f64,
+    name: &'static str,
+}
+
+impl DynModel for ConstraintWall {
+    fn sizes(&self) -> (usize, usize) {
+        (2, 1)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, _q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5
+    }
+    fn constraints<R: Real>(&self, _t: R, q: &[R], qd: &[R], f: &mut [R]) {
+        // Each `g` reaches the end of its domain where `y` does: at `y = 0`.
+        let y = q[1];
+        let g = match self.name {
+            "ln" => y.ln(),
+            "log2" => y.log2(),
+            "log10" => y.log10(),
+            "ln_1p" => (y - 1.0).ln_1p(),
+            "atanh" => (y - 1.0).atanh(),
+            _ => y.log(3.0),
+        };
+        f[0] = qd[1] + 1.0 + g * 1e-9;
+    }
+}
+
+#[test]
+fn a_value_that_leaves_its_domain_where_its_derivatives_do_not_ends_the_run_there() {
+    let o = |record| Options::until(2.0).tolerances(1e-10, 1e-10).record(record);
+    let check = |what: &str, sol: &Solution, coordinate: usize| {
+        let err = sol
+            .error()
+            .unwrap_or_else(|| panic!("{what}: must fail, not succeed"));
+        assert!(breaks_down(err), "{what}: {err}");
+        let (t, q, _) = sol.last().expect("the motion is kept");
+        // The `1e-9` terms move the end of the domain by some `1e-9` from `t = 1`.
+        assert!(t > 0.99 && t <= 1.0 + 1e-8, "{what}: ends at t = {t}");
+        assert!(
+            sol.q.component(coordinate).all(|x| x >= 0.0),
+            "{what}: a recorded point is past the end of the domain (last {q:?})"
+        );
+    };
+    for route in [Route::Graph, Route::Dual] {
+        for record in [Record::State, Record::Dynamics] {
+            for method in AnyMethod::all(1e-3)
+                .into_iter()
+                .filter(|m| m.info().fixed_step.is_none())
+            {
+                let what = format!("{route:?}, {record:?}, {}", method.info().name);
+                let problem = Problem::unconstrained(
+                    LogWall,
+                    0.0,
+                    SVector::from([1.0]),
+                    SVector::from([-1.0]),
+                )
+                .expect("valid inside the domain")
+                .with_route(route);
+                let sol = solve(&problem, method, &o(record)).expect("valid options");
+                check(&format!("ln in L, {what}"), &sol, 0);
+                for g in [
+                    ConstraintWall {
+                        g: f64::ln,
+                        name: "ln",
+                    },
+                    ConstraintWall {
+                        g: f64::log2,
+                        name: "log2",
+                    },
+                    ConstraintWall {
+                        g: f64::log10,
+                        name: "log10",
+                    },
+                    ConstraintWall {
+                        g: |y| (y - 1.0).ln_1p(),
+                        name: "ln_1p",
+                    },
+                    ConstraintWall {
+                        g: |y| (y - 1.0).atanh(),
+                        name: "atanh",
+                    },
+                    ConstraintWall {
+                        g: |y| y.log(3.0),
+                        name: "log",
+                    },
+                ] {
+                    let name = g.name;
+                    assert!((g.g)(1.0).is_finite() && (g.g)(-1e-3).is_nan(), "{name}");
+                    let problem = Problem::dynamic(g, 0.0, vec![0.0, 1.0], vec![0.0, -1.0])
+                        .expect("valid inside the domain")
+                        .with_route(route);
+                    let sol = solve(&problem, method, &o(record)).expect("valid options");
+                    check(&format!("{name} in f, {what}"), &sol, 1);
+                }
+            }
+        }
+    }
+}
+
 /// `ẍ = x²` from `x = 1`, `ẋ = √(2/3)·...`: blows up in finite time.
 struct BlowUp;
 

@@ -651,7 +651,7 @@ impl Compiled {
     /// (`2n + 1`, or `2n` without time). The groups are made at once (with and without the rows
     /// of the energy balance), so that solves use them from their first Jacobian rather than after
     /// [`COLOUR_AFTER`] passes. `None` where the passes are not compressed: equations whose
-    /// recording has guards, whose metric is constant but not positive definite, or too large to
+    /// recording has branches, whose metric is constant but not positive definite, or too large to
     /// find their pattern cheaply (more than 2²⁰ operations × 64 columns).
     pub fn jacobian_passes(&self) -> Option<usize> {
         self.colouring(Need::Rates);
@@ -736,7 +736,7 @@ impl Compiled {
     /// An implicit method's `∂F/∂t` is then zero without evaluating it.
     pub fn autonomous(&self) -> bool {
         let s = &self.structure;
-        self.graph.guards().is_empty()
+        self.graph.branches() == 0
             && ![s.w, s.dl_dq, s.g, s.dl_dt, s.j, s.c, s.forces]
                 .iter()
                 .any(|d| d.t)
@@ -746,13 +746,20 @@ impl Compiled {
     /// in the recording, and no comparison in the model's code could switch to a branch that
     /// states them. The energy balance then needs no quadrature of the forces' work.
     pub fn without_forces(&self) -> bool {
-        self.graph.guards().is_empty()
-            && self.blocks.forces.iter().all(|&id| self.graph.is_zero(id))
+        self.graph.branches() == 0 && self.blocks.forces.iter().all(|&id| self.graph.is_zero(id))
     }
 
-    /// The number of comparisons in the model's code that the tape re-checks.
+    /// The number of comparisons the tape re-checks: the branches of the model's code
+    /// ([`Compiled::branches`]) and the bounds of the domains of `ln`, `log2`, `log10`, `ln_1p` and
+    /// `atanh`, whose derivatives stay finite beyond them.
     pub fn guards(&self) -> usize {
         self.graph.guards().len()
+    }
+
+    /// The number of comparisons in the model's code (branches) that the tape re-checks: where
+    /// one flips, another branch may have other equations and another structure.
+    pub fn branches(&self) -> usize {
+        self.graph.branches()
     }
 
     /// Whether `W` is constant and factorised once (diagonal or by Cholesky).

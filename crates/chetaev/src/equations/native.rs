@@ -569,12 +569,12 @@ pub(crate) struct Colouring {
 
 impl Colouring {
     /// The colouring of `compiled`'s Jacobian, with the rates' rows or without; `None` where the
-    /// equations have guards, where they have no program (see [`NativeEquations::new`]), where
+    /// equations have branches, where they have no program (see [`NativeEquations::new`]), where
     /// the pattern would take more than [`PATTERN_MAX_WORDS`], or where a row is reached by more
     /// than [`DENSE_ROW`] columns and more than half of them (grouping would save less than half
     /// the passes).
     pub(crate) fn new(compiled: &Compiled, rates: bool) -> Option<Self> {
-        if compiled.guards() > 0 {
+        if compiled.branches() > 0 {
             return None;
         }
         let Built {

@@ -9,11 +9,15 @@
 //!
 //! - Every node is created once (hash-consing): equal subexpressions are shared.
 //! - Constants fold at creation, with the algebraic identities `x + 0`, `x·1`, `x·0`, `x − x`, ...
-//!   (`x·0 = 0` also where `x` would be infinite: the finiteness of `L` and `f` themselves is still
-//!   checked at every evaluation).
+//!   (`x·0 = 0` also where `x` would be infinite: the finiteness of `L` and `f` themselves is
+//!   checked where they are evaluated, at the start, at recorded points and in a fallback).
 //! - A comparison of recorded values (a branch in the user's code: `if x > 0.0`) becomes a
 //!   [`Guard`]: the tape re-checks it at every evaluation and reports a flip, and the engine then
 //!   falls back to the dual-number path for that evaluation.
+//! - So does the bound of the domain of `ln`, `log2`, `log10`, `ln_1p` and `atanh`, whose
+//!   derivatives stay finite outside it (`1/x` for `ln x` at `x < 0`): the fallback evaluates the
+//!   value, NaN there, and reports it. The other functions' derivatives are NaN wherever their
+//!   value is (`√x` and `1/(2√x)`, `asin x` and `1/√(1 − x²)`, `x^a` and `a x^(a−1)`).
 //! - A value taken out of the graph (`x.re()` on a recorded value) cannot be followed: the
 //!   recording is marked as escaped and not used.
 //!
@@ -272,6 +276,10 @@ pub struct Guard {
     pub b: u32,
     /// `a.partial_cmp(b)` when recorded.
     pub outcome: Option<std::cmp::Ordering>,
+    /// A bound of an elementary function's domain (`x > 0` under `ln x`), not a branch of the
+    /// model's code: where it flips the value is NaN while the derivatives may not be (`1/x`), and
+    /// the dual-number evaluation it falls back to reports it. It changes no structure.
+    pub domain: bool,
 }
 
 /// A recorded expression graph.
@@ -322,6 +330,11 @@ impl Graph {
     /// The comparisons recorded as guards.
     pub fn guards(&self) -> &[Guard] {
         &self.guards
+    }
+
+    /// The number of guards that are branches of the model's code (not bounds of a domain).
+    pub fn branches(&self) -> usize {
+        self.guards.iter().filter(|g| !g.domain).count()
     }
 
     /// Whether a recorded value left the graph (`re()`), so that the recording cannot be trusted.
@@ -500,9 +513,21 @@ impl Graph {
         self.push(Node::Fun(f, a))
     }
 
-    /// Records a comparison of two nodes.
-    pub(crate) fn guard(&mut self, a: u32, b: u32, outcome: Option<std::cmp::Ordering>) {
-        let g = Guard { a, b, outcome };
+    /// Records a comparison of two nodes: a branch of the model's code, or a bound of an
+    /// elementary function's domain (`domain`).
+    pub(crate) fn guard(
+        &mut self,
+        a: u32,
+        b: u32,
+        outcome: Option<std::cmp::Ordering>,
+        domain: bool,
+    ) {
+        let g = Guard {
+            a,
+            b,
+            outcome,
+            domain,
+        };
         if !self.guards.contains(&g) {
             self.guards.push(g);
         }

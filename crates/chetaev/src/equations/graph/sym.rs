@@ -99,16 +99,32 @@ impl Sym {
     }
 
     fn fun(self, f: Fun) -> Self {
+        // The bounds of the domains that the derivatives do not carry (module docs).
+        let bounds: &[f64] = match f {
+            Fun::Ln | Fun::Log2 | Fun::Log10 => &[0.0],
+            Fun::Ln1p => &[-1.0],
+            Fun::Atanh => &[-1.0, 1.0],
+            _ => &[],
+        };
+        for &bound in bounds {
+            self.guard(Sym::constant(bound), true);
+        }
         self.unary(|a| Node::Fun(f, a))
     }
 
     /// Compares two values and, when either is recorded, keeps the comparison as a guard.
     fn compare(self, other: Self) -> Option<Ordering> {
+        self.guard(other, false)
+    }
+
+    /// `self.partial_cmp(other)`, kept as a guard (a bound of a domain or a branch) when either
+    /// is recorded.
+    fn guard(self, other: Self, domain: bool) -> Option<Ordering> {
         let outcome = self.v.partial_cmp(&other.v);
         if self.id != FREE || other.id != FREE {
             with_graph(|g| {
                 let (a, b) = (self.lift(g), other.lift(g));
-                g.guard(a, b, outcome);
+                g.guard(a, b, outcome, domain);
             });
         }
         outcome
