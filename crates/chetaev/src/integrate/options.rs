@@ -26,7 +26,8 @@ pub enum Output {
     Steps,
     /// At these times only, by dense output (plus the start and the final point), recorded in
     /// the direction of integration whatever their order here; a time given twice is recorded
-    /// twice.
+    /// twice, but for the start and the final point, each recorded once however often it is
+    /// listed.
     Times(Vec<f64>),
     /// At the start and the final point only.
     Final,
