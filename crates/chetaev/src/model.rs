@@ -540,8 +540,8 @@ where
     fn evaluate_planned<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
         // The fixed-size passes skip what the recorded structure proves, but they do not re-check
         // the recorded guards (branches, bounds of domains): a model with guards takes the
-        // compiled tape, which does. Neither
-        // does a model too large for the passes to be the faster route.
+        // compiled tape, which does. Neither does a model too large for the passes to be the
+        // faster route.
         // A constant metric leaves a short body, inlined into the caller; the longer one of a
         // metric that varies is called, which keeps the caller's loop lean.
         let c = plan.compiled;
