@@ -271,8 +271,9 @@ fn main() -> ExitCode {
             });
             match described {
                 Ok(text) => {
-                    Stdout::new().print(&format!("{text}\n"));
-                    ExitCode::SUCCESS
+                    let mut stdout = Stdout::new();
+                    stdout.print(&format!("{text}\n"));
+                    stdout.finish(0)
                 }
                 Err(e) => fail(&e),
             }

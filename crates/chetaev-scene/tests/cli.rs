@@ -245,6 +245,37 @@ fn a_closed_standard_output_ends_the_printing_quietly() {
     assert!(dir.join("out/manifest.toml").is_file());
 }
 
+/// Standard output that refuses every write (`/dev/full`): the text is lost, and the command
+/// says so with status 2 instead of reporting success.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_standard_output_that_cannot_be_written_is_an_error() {
+    let dir = tmp("full");
+    let scene = scene_path("uniform-projectile.toml");
+    for args in [
+        vec!["describe", scene.as_str()],
+        vec!["describe", "--latex", scene.as_str()],
+        vec!["check", scene.as_str(), "--out", "out"],
+    ] {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .expect("/dev/full");
+        let o = Command::new(env!("CARGO_BIN_EXE_chetaev"))
+            .args(&args)
+            .current_dir(&dir)
+            .stdout(full)
+            .output()
+            .expect("the binary runs");
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("error: cannot write to standard output"),
+            "{args:?}: {stderr}"
+        );
+    }
+}
+
 fn short_scene(dir: &Path) -> String {
     let uniform = std::fs::read_to_string(scene_path("uniform-projectile.toml")).expect("scene");
     write_scene(
