@@ -493,8 +493,22 @@ pub fn absolute_tolerances(p: &Params, tol: f64) -> [f64; 4] {
 }
 
 /// The Euclidean norm.
+/// The Euclidean norm, scaled by a power of two so that the squares neither overflow (`|Φ| ≈ m g`
+/// at `m = 1e155`) nor underflow. Scaling by a power of two is exact, so wherever the squares fit
+/// in `f64` this is the plain `√(Σ x²)` to the last bit.
 fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+    let scaled = |scale: f64| {
+        v.iter()
+            .map(|x| (x * scale) * (x * scale))
+            .sum::<f64>()
+            .sqrt()
+            / scale
+    };
+    let largest = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if !(largest >= f64::MIN_POSITIVE && largest.is_finite()) || v.iter().any(|x| x.is_nan()) {
+        return scaled(1.0);
+    }
+    scaled(2f64.powi(-(largest.log2().floor() as i32)))
 }
 
 fn motion_errors(p: &Params, sol: &Solution, k: &Kinematics, uniform_motion: bool) -> MotionErrors {

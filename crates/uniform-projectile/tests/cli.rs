@@ -99,6 +99,18 @@ fn a_limit_below_the_errors_is_not_verified_and_exits_with_1() {
 }
 
 #[test]
+fn the_mass_scales_out_of_every_error() {
+    // The motion does not depend on m; μ and Φ scale with it, |Φ| to 1e155 and 1e-299, whose
+    // squares would overflow and underflow.
+    for m in ["1e155", "1e-300"] {
+        let o = run(&["--m", m]);
+        let text = stdout(&o);
+        assert!(o.status.success(), "m = {m}: {text}");
+        assert!(text.starts_with("VERIFIED: "), "m = {m}: {text}");
+    }
+}
+
+#[test]
 fn bad_arguments_exit_with_2() {
     for args in [&["--tol", "0"][..], &["--v0", "nan"], &["--json", "--full"]] {
         let o = run(args);
