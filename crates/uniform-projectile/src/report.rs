@@ -492,7 +492,6 @@ pub fn absolute_tolerances(p: &Params, tol: f64) -> [f64; 4] {
     [x, y, xd, yd].map(|a| a.min(tol))
 }
 
-/// The Euclidean norm.
 /// The Euclidean norm, scaled by a power of two so that the squares neither overflow (`|Φ| ≈ m g`
 /// at `m = 1e155`) nor underflow. Scaling by a power of two is exact, so wherever the squares fit
 /// in `f64` this is the plain `√(Σ x²)` to the last bit.
