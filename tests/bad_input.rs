@@ -285,6 +285,18 @@ fn bad_tolerances_are_rejected() {
     )
     .expect("rtol = 0 with a usable atol is valid");
     assert!(sol.is_success(), "{:?}", sol.status);
+    // A tolerance that never rejects holds an adaptive method to fixed steps.
+    let sol = solve(
+        &p,
+        Dopri5::default(),
+        &Options::until(1.0)
+            .tolerances(1e3, 1e3)
+            .initial_step(0.125)
+            .max_step(0.125),
+    )
+    .expect("a loose tolerance is valid");
+    assert!(sol.is_success(), "{:?}", sol.status);
+    assert_eq!((sol.stats.accepted_steps, sol.stats.rejected_steps), (8, 0));
     let e = solve(&p, Rk4::new(0.0), &Options::until(1.0)).unwrap_err();
     assert!(
         matches!(e, Error::InvalidOption { name: "Rk4::h", .. }),
@@ -342,16 +354,19 @@ fn bad_tolerances_are_rejected() {
         tol,
         ..Projection::default()
     };
-    let e = solve(
-        &p,
-        Dopri5::default(),
-        &Options::until(1.0).project(tight(1e-17)),
-    )
-    .unwrap_err();
-    assert!(
-        matches!(e, Error::InvalidOption { name: "projection tol", value, .. } if value == 1e-17),
-        "{e}"
-    );
+    // So is one that a velocity as far off as its own size would meet.
+    for tol in [1e-17, 1.0, 1e10] {
+        let e = solve(
+            &p,
+            Dopri5::default(),
+            &Options::until(1.0).project(tight(tol)),
+        )
+        .unwrap_err();
+        assert!(
+            matches!(e, Error::InvalidOption { name: "projection tol", value, .. } if value == tol),
+            "{e}"
+        );
+    }
     let sol = solve(
         &p,
         Dopri5::default(),

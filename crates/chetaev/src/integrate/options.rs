@@ -56,7 +56,9 @@ pub const MAX_EVENT_SAMPLES: usize = 10_000;
 pub struct Options {
     /// The end time; earlier than the start time integrates backward.
     pub t_end: f64,
-    /// Relative tolerance.
+    /// Relative tolerance: 0 (with a positive `atol`), or 100 ulps (`2.2e-14`) or more. A tolerance
+    /// far above 1 never rejects a step: with [`Options::initial_step`] and [`Options::max_step`]
+    /// both `h`, it holds an adaptive method to fixed steps `h`, for studying its order in `h`.
     pub rtol: f64,
     /// Absolute tolerance.
     pub atol: Atol,
@@ -249,6 +251,14 @@ impl Options {
                     p.tol,
                     "below the rounding error of f in f64 (2.2e-16 of its terms) no projection can \
                      reach it; use 1e-14 or more (the default is 1e-12)",
+                );
+            }
+            if p.tol >= 1.0 {
+                return invalid(
+                    "projection tol",
+                    p.tol,
+                    "a relative residual of 1 or more leaves a velocity as far off as its own size \
+                     alone; use less than 1 (the default is 1e-12)",
                 );
             }
             if p.max_iterations == 0 {

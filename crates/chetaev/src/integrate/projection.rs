@@ -25,7 +25,7 @@ pub struct Projection {
     /// already within it is left alone, so the residual is held at or below `tol`. The default
     /// 1e-12 leaves room for nearly dependent constraints, whose rounding floor is raised by their
     /// conditioning; a well-conditioned constraint can be held at 1e-14. Below `f64::EPSILON`,
-    /// the rounding error of `f` itself, it is refused.
+    /// the rounding error of `f` itself, it is refused, and so is 1 or more.
     pub tol: f64,
     /// Newton iterations before giving up with [`Error::ProjectionFailed`].
     pub max_iterations: usize,
