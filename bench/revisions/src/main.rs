@@ -232,10 +232,12 @@ mod base {
     fn solved<T>(method: &str, tol: f64, read: impl FnOnce(&Solution) -> T) -> T {
         let problem = problem();
         let impact = Event::new("impact", |_t, q, _qd| q[1]).falling().terminal();
-        let o = Options::until(10.0)
-            .tolerances(tol, tol)
-            .event(impact)
-            .output_final();
+        let o = Options::until(10.0).tolerances(tol, tol).event(impact);
+        let o = if crate::every_step() {
+            o
+        } else {
+            o.output_final()
+        };
         let sol = match method {
             "dop853" => solve(&problem, Dop853::default(), &o),
             "rodas4" => solve(&problem, Rodas4, &o),
@@ -325,10 +327,12 @@ mod head {
             &fresh
         };
         let impact = Event::new("impact", |_t, q, _qd| q[1]).falling().terminal();
-        let o = Options::until(10.0)
-            .tolerances(tol, tol)
-            .event(impact)
-            .output_final();
+        let o = Options::until(10.0).tolerances(tol, tol).event(impact);
+        let o = if crate::every_step() {
+            o
+        } else {
+            o.output_final()
+        };
         let (samples, i_controller) = crate::settings();
         let o = o.event_samples(samples);
         let o = if i_controller {
@@ -360,6 +364,12 @@ mod head {
 /// `--route dual`: the head evaluates by dual numbers (no compiled equations).
 fn dual_route() -> bool {
     flag("dual")
+}
+
+/// `--every-step`: both revisions record at every step, everything (the library's default output)
+/// instead of at the end only.
+fn every_step() -> bool {
+    flag("--every-step")
 }
 
 /// `--reuse`: the head builds its problem once (the compiled equations made once) instead of in
@@ -568,7 +578,12 @@ fn main() {
         }
     );
     let exact = 0.5f64.exp().acosh();
-    println!("paper scene (README model) to the impact event, output final; median of {rounds} interleaved rounds");
+    let output = if every_step() {
+        "output at every step, everything recorded"
+    } else {
+        "output final"
+    };
+    println!("paper scene (README model) to the impact event, {output}; median of {rounds} interleaved rounds");
     println!(
         "{:8} {:>6} {:>10} {:>10} {:>9} {:>9} {:>8} {:>12}",
         "method", "tol", "base [µs]", "head [µs]", "err base", "err head", "at tol", "at equal err"

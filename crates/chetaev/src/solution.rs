@@ -52,6 +52,11 @@ impl Series {
         self.rows += 1;
     }
 
+    /// Makes room for `rows` more vectors without reallocating.
+    pub fn reserve(&mut self, rows: usize) {
+        self.data.reserve(rows.saturating_mul(self.width));
+    }
+
     /// Removes every vector after the first `len`.
     pub fn truncate(&mut self, len: usize) {
         if len < self.rows {
@@ -258,6 +263,30 @@ impl Solution {
             sensitivities: None,
             stats: Stats::default(),
             status: Status::Success,
+        }
+    }
+
+    /// Makes room for `rows` more recorded points in every series that its [`Record`] level fills,
+    /// so that recording them does not reallocate.
+    pub fn reserve(&mut self, rows: usize) {
+        self.t.reserve(rows);
+        self.q.reserve(rows);
+        self.qd.reserve(rows);
+        if self.record >= Record::Dynamics {
+            self.qdd.reserve(rows);
+            self.mu.reserve(rows);
+            self.phi.reserve(rows);
+            self.residual.reserve(rows);
+            self.relative_residual.reserve(rows);
+            self.energy.reserve(rows);
+        }
+        if self.record >= Record::Energy {
+            self.work.reserve(rows);
+            self.dl_dt_integral.reserve(rows);
+            self.work_forces.reserve(rows);
+        }
+        if let Some(s) = &mut self.sensitivities {
+            s.values.reserve(rows);
         }
     }
 

@@ -82,6 +82,7 @@ where
         v.initial(&mut y[2 * n..sys.quadratures()]);
         sol.sensitivities = Some(Sensitivities::new(v.names(), n));
     }
+    sol.reserve(expected_rows(&options.output, sys.dim()));
     let mut hooks = ChetaevHooks {
         sol: &mut sol,
         options,
@@ -101,6 +102,18 @@ where
     sol.stats = run.counts.merged(sys.stats, event_evaluations);
     sol.stats.graph_fallbacks += sys.sens.as_ref().map_or(0, |v| v.rerecords);
     Ok(sol)
+}
+
+/// How many points a solve is likely to record, so that the series of a short solve are allocated
+/// once: at most the start, the listed times and the end for [`Output::Final`] and
+/// [`Output::Times`]; for [`Output::Steps`] 64 points of a small model, fewer of a large one (about
+/// 64 KiB per series at most), beyond which the series grow as vectors do.
+fn expected_rows(output: &Output, dim: usize) -> usize {
+    match output {
+        Output::Final => 2,
+        Output::Times(ts) => ts.len().saturating_add(2),
+        Output::Steps => (8192 / dim.max(1)).clamp(2, 64),
+    }
 }
 
 /// What the step loop is asked to do, validated once for every driver.
