@@ -539,14 +539,14 @@ where
     #[inline]
     fn evaluate_planned<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
         // The fixed-size passes skip what the recorded structure proves, but they do not re-check
-        // the recorded guards (branches, bounds of domains): a model with guards takes the
-        // compiled tape, which does. Neither does a model too large for the passes to be the
-        // faster route.
+        // the recorded branches: a model with branches takes the compiled tape, which does. A
+        // bound of a domain needs no re-check there: the passes check the values of `L` and `f`.
+        // A model too large for the passes to be the faster route takes the tape too.
         // A constant metric leaves a short body, inlined into the caller; the longer one of a
         // metric that varies is called, which keeps the caller's loop lean.
         let c = plan.compiled;
         let passes = fixed_passes_pay::<T>(N, c.constant_metric());
-        (passes && self.0.holonomic_count() == 0 && c.guards() == 0).then(|| {
+        (passes && self.0.holonomic_count() == 0 && c.branches() == 0).then(|| {
             if c.constant_factor().is_some() {
                 crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, x)
             } else {

@@ -465,7 +465,14 @@ where
         };
         (f, j, c)
     };
-    if l.is_some_and(|l| !l.re().is_finite()) || f.iter().any(|f| !f.re().is_finite()) {
+    // A model with bounds of domains (`ln x`, `atanh x`, …) can leave its domain where the value
+    // is NaN but every derivative is finite (`ln x` beyond 0, `1/x` there): its value of `L` is
+    // checked when no pass made it.
+    let l_checked = match l {
+        None if plan.is_some_and(|p| p.guards() > 0) => Some(at.value()),
+        l => l,
+    };
+    if l_checked.is_some_and(|l| !l.re().is_finite()) || f.iter().any(|f| !f.re().is_finite()) {
         return Err(SaddleFailure::NonFinite);
     }
     for a in 0..K {

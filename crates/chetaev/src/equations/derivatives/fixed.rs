@@ -189,6 +189,12 @@ impl<M: Lagrangian<N> + ?Sized, T: Real, const N: usize> At<'_, M, T, N> {
         l.eps.unwrap_generic(Const::<N>, U1)
     }
 
+    /// `L` alone.
+    #[inline(always)]
+    pub fn value(&self) -> T {
+        self.model.lagrangian(self.t, &self.q, &self.qd)
+    }
+
     /// `L` and `p = ∂L/∂q̇` (shape `N`) from one gradient pass over `q̇`.
     #[inline(always)]
     pub fn momentum(&self) -> (T, SVector<T, N>) {
