@@ -548,13 +548,23 @@ fn a_singular_point_of_the_constraint_stops_the_run_where_it_is() {
     )
     .expect("valid");
     let t_singular = v0 / a;
-    for method in AnyMethod::all(1e-3) {
-        let sol = solve(
-            &problem,
-            method,
-            &Options::until(10.0).tolerances(1e-10, 1e-10),
-        )
-        .expect("valid options");
+    // With and without dense output (Dop853 makes three more evaluations inside the step for it,
+    // after the one at its end that the check reads), and to an end just past the point, where
+    // the step across it is the last.
+    let never = Event::new("never", |_t, _q, _qd| 1.0);
+    let variants = [
+        Options::until(10.0),
+        Options::until(10.0).event(never.clone()),
+        Options::until(10.0).output_times(vec![0.5]),
+        Options::until(t_singular * 1.035),
+        Options::until(t_singular * 1.035).event(never),
+    ];
+    for (method, options) in AnyMethod::all(1e-3)
+        .into_iter()
+        .flat_map(|m| variants.iter().map(move |o| (m, o)))
+    {
+        let sol = solve(&problem, method, &options.clone().tolerances(1e-10, 1e-10))
+            .expect("valid options");
         if method.info().fixed_step.is_some() {
             // Rk4 (no error control) steps around the zero: its speed bounces off 4e-5 v0 and the
             // gradient never changes sign between accepted steps, where the check is made, so this

@@ -418,23 +418,35 @@ impl Stepper for Dop853Stepper {
     }
 
     fn commit<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
-        let Step { t, h, y, y_new } = step;
+        let Step { t, h, y_new, .. } = step;
         let n = self.dim;
-        let (y, y_new) = (&y[..n], &y_new[..n]);
+        let y_new = &y_new[..n];
         split!(&mut self.work, n =>
-               k1, _, _, _, _, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16,
-               yt, ysti, r1, r2, r3, r4, r5, r6, r7, r8);
+               k1, _, _, _, _, _, _, _, _, _, _, k12, k13, _, _, _, _, ysti);
         sys.rhs(t + h, y_new, k13)?;
         // h·|λ| from stages 12 and 13, which share the node t + h.
         if self.stiffness.wants_test() {
             self.stiffness.observe(h, k13, k12, y_new, ysti);
         }
         if !self.dense {
-            // Nothing will interpolate: skip the three extra stages.
+            // Nothing will interpolate: no extra stages, and `k_13` starts the next step.
             k1.copy_from_slice(k13);
+        }
+        Ok(())
+    }
+
+    fn extend<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
+        if !self.dense {
             return Ok(());
         }
-        // The three stages of the continuous extension.
+        let Step { t, h, y, y_new } = step;
+        let n = self.dim;
+        let (y, y_new) = (&y[..n], &y_new[..n]);
+        split!(&mut self.work, n =>
+               k1, _, _, _, _, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16,
+               yt, _, r1, r2, r3, r4, r5, r6, r7, r8);
+        // The three stages of the continuous extension, after the end of the step was checked
+        // (their nodes lie inside the step).
         combine(yt, y, h, &S14.a, [k1, k7, k8, k9, k10, k11, k12, k13]);
         sys.rhs(t + S14.c * h, yt, k14)?;
         combine(yt, y, h, &S15.a, [k1, k6, k7, k8, k11, k12, k13, k14]);

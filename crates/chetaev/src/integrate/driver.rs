@@ -640,7 +640,6 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         // Accepted.
         counts.accepted_steps += 1;
         stepper.accept(sys, t, h, y, &y_new)?;
-        sys.accepted(t + h, &y_new)?;
         let t_new = if last { t_end } else { t + h };
         if let Some(h_lambda) = stepper.stiffness() {
             y.copy_from_slice(&y_new);

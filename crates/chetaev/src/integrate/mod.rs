@@ -348,7 +348,16 @@ pub trait Stepper {
     /// measured with `norm` (`≤ 1` means acceptable; `0` for fixed-step methods).
     fn attempt<S: OdeSystem>(&mut self, sys: &mut S, trial: Trial<'_>) -> Result<f64, Error>;
     /// The attempted step was accepted: prepare dense output on `[t, t + h]` and the next step.
+    /// The last evaluation of `F` here (or in [`Stepper::attempt`], where this makes none) must be
+    /// at the end of the step, `t + h`, where [`OdeSystem::accepted`] checks what it evaluated;
+    /// evaluations that only the dense output needs go in [`Stepper::extend`].
     fn commit<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error>;
+    /// After the end of the accepted step was checked: the evaluations only the dense output
+    /// needs (Dop853's three extra stages). The default makes none.
+    fn extend<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
+        let _ = (sys, step);
+        Ok(())
+    }
     /// [`Stepper::attempt`] with the trial's parts as arguments.
     fn try_step<S: OdeSystem>(
         &mut self,
@@ -370,7 +379,8 @@ pub trait Stepper {
             },
         )
     }
-    /// [`Stepper::commit`] with the step's parts as arguments.
+    /// Accepts the step from `(t, y)` to `(t + h, y_new)`: [`Stepper::commit`], the system's check
+    /// of the step's end ([`OdeSystem::accepted`]), then [`Stepper::extend`].
     fn accept<S: OdeSystem>(
         &mut self,
         sys: &mut S,
@@ -379,7 +389,10 @@ pub trait Stepper {
         y: &[f64],
         y_new: &[f64],
     ) -> Result<(), Error> {
-        self.commit(sys, Step { t, h, y, y_new })
+        let step = Step { t, h, y, y_new };
+        self.commit(sys, step)?;
+        sys.accepted(t + h, y_new)?;
+        self.extend(sys, step)
     }
     /// The dense output `y(t + θh)`, `θ ∈ [0, 1]`, of the last accepted step.
     fn interpolate(&self, theta: f64, out: &mut [f64]);
@@ -497,6 +510,11 @@ macro_rules! method_list {
             fn commit<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
                 match self {
                     $(AnyStepper::$name(s) => s.commit(sys, step),)+
+                }
+            }
+            fn extend<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
+                match self {
+                    $(AnyStepper::$name(s) => s.extend(sys, step),)+
                 }
             }
             fn interpolate(&self, theta: f64, out: &mut [f64]) {
