@@ -195,8 +195,9 @@ pub enum Error {
         "singular point at t = {t} (the last state checked, at or after it: q = {q:?}, q̇ = {qd:?}): {} \
          (a rank loss, such as the speed passing through zero under a constraint on its magnitude, \
          or a pole of the model; or a computed state that has drifted off the constraints, which tighter \
-         tolerances or Options::project prevent); the equations do not determine the motion there, and the motion up to the \
-         last accepted step before t is kept. Check the model near this state (Problem::equations_at); Options::rank_tolerance sets \
+         tolerances or Options::project prevent); the equations do not determine the motion there. The motion up to just \
+         before t is kept, with its events and output times (an adaptive method steps towards the point, at most halfway at \
+         each step; Rk4 keeps its last step before it). Check the model near this state (Problem::equations_at); Options::rank_tolerance sets \
          the threshold",
         match cause {
             Singularity::Gradient(a) => format!("the gradient ∂f/∂q̇ of constraint {a} passes through zero, down to {ratio:e} times its size at the ends of the step"),

@@ -606,6 +606,63 @@ fn a_singular_point_of_the_constraint_stops_the_run_where_it_is() {
     assert!(!matches!(sol.error(), Some(Error::SingularPoint { .. })));
 }
 
+#[test]
+fn the_motion_events_and_output_times_before_a_singular_point_are_kept() {
+    // x = v0 t − a t²/2 along x, to the singular point t = v0/a, where the speed vanishes. The
+    // adaptive methods take long steps on this polynomial motion, so the step that crosses the
+    // point can begin far before it: it is taken again, shorter, until the run stops just before.
+    let (v0, a) = (2.0, 0.5);
+    let problem = Problem::new(
+        Speed { v0, a, lambda: 0.0 },
+        0.0,
+        SVector::zeros(),
+        SVector::from([v0, 0.0]),
+    )
+    .expect("valid");
+    let t_singular = v0 / a;
+    let x = |t: f64| v0 * t - 0.5 * a * t * t;
+    let t_event = 4.0 - 2f64.sqrt(); // x = 3.5
+    let times = vec![1.0, 3.9, 3.99];
+    for method in AnyMethod::all(1e-3) {
+        if method.info().fixed_step.is_some() {
+            continue;
+        }
+        let name = method.name();
+        let options = Options::until(10.0)
+            .tolerances(1e-10, 1e-10)
+            .event(Event::new("x = 3.5", |_t, q, _qd| q[0] - 3.5))
+            .output_times(times.clone());
+        let sol = solve(&problem, method, &options).expect("valid options");
+        assert!(
+            matches!(sol.error(), Some(Error::SingularPoint { t, .. }) if (t - t_singular).abs() < 1e-6),
+            "{name}: {:?}",
+            sol.status
+        );
+        assert_eq!(sol.events.len(), 1, "{name}: {:?}", sol.events);
+        assert!(
+            (sol.events[0].t - t_event).abs() < 1e-8,
+            "{name}: event at {}",
+            sol.events[0].t
+        );
+        for &s in &times {
+            let i = sol.t.iter().position(|&t| t == s);
+            let i = i.unwrap_or_else(|| panic!("{name}: no point at {s} in {:?}", sol.t));
+            assert!(
+                (sol.q[i][0] - x(s)).abs() < 1e-7,
+                "{name}: x({s}) = {} against {}",
+                sol.q[i][0],
+                x(s)
+            );
+        }
+        let (t_last, q_last, _) = sol.last().expect("kept");
+        assert!(
+            t_last < t_singular && t_singular - t_last < 1e-4,
+            "{name}: the motion kept ends at {t_last}"
+        );
+        assert!((q_last[0] - x(t_last)).abs() < 1e-7, "{name}: {q_last:?}");
+    }
+}
+
 /// A free particle of unit speed whose `ẏ` is prescribed, `f = (|q̇|² − 1, ẏ − sin t)`, moving in
 /// the plane `(x, y)` of `dim` coordinates (the others free): `q̇ = (cos t, sin t, 0, …)` exactly.
 /// Each gradient stays away from zero (`|J_1| = 2`, `|J_2| = 1`), but at `t = π/2` they turn

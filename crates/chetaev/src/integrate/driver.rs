@@ -116,6 +116,54 @@ fn expected_rows(output: &Output, dim: usize) -> usize {
     }
 }
 
+/// The approach to a singular point found inside an accepted step. That step is rejected, and
+/// from then on every step stops at most halfway to the point, so that the motion, the events
+/// and the output times before it are kept and no step crosses it again (a short step across it
+/// can land on the other branch of the motion without the check seeing it: a speed that falls to
+/// zero and rises again in the same direction). After 20 steps that the halfway bound held (the
+/// point a millionth of the first distance away), or when such a step no longer changes `t`, the
+/// run ends with the point's error.
+#[derive(Default)]
+struct Approach {
+    /// The point's error, where it lies, and how many steps the halfway bound held.
+    point: Option<(Error, f64, u32)>,
+}
+
+impl Approach {
+    const HALVINGS: u32 = 20;
+
+    /// An accepted step from `t` failed its check with `e`: `Ok` when the step is to be taken
+    /// again towards the point, `e` when the run ends with it (another error, a fixed-step
+    /// method, a second point while one is approached).
+    fn found(&mut self, e: Error, t: f64, adaptive: bool) -> Result<(), Error> {
+        match e {
+            Error::SingularPoint { t: at, .. } if adaptive && self.point.is_none() && at != t => {
+                self.point = Some((e, at, 0));
+                Ok(())
+            }
+            e => Err(e),
+        }
+    }
+
+    /// The step to take from `t` instead of `h`: at most halfway to the point approached; its
+    /// error once the point is reached.
+    fn bound(&mut self, t: f64, h: f64) -> Result<f64, Error> {
+        let Some((_, at, held)) = &mut self.point else {
+            return Ok(h);
+        };
+        let half = 0.5 * (*at - t);
+        if *held >= Self::HALVINGS || half.abs() <= time_resolution(t) {
+            let (e, _, _) = self.point.take().expect("approached");
+            return Err(e);
+        }
+        if h.abs() < half.abs() {
+            return Ok(h);
+        }
+        *held += 1;
+        Ok(half)
+    }
+}
+
 /// What the step loop is asked to do, validated once for every driver.
 pub(crate) struct LoopSettings<'o> {
     /// The options, validated.
@@ -557,6 +605,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     // what the first half did have slowed at a point (a kink, a singular point, a blow-up, or a
     // fast regular phase), not merely been many.
     let mut t_half = t0;
+    let mut approach = Approach::default();
     loop {
         if steps >= options.max_steps {
             let stalled = adaptive
@@ -590,6 +639,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         if !adaptive {
             h = h_fixed;
         }
+        h = approach.bound(t, h)?;
         let remaining = t_end - t;
         // Land exactly on t_end; avoid a sliver of a last step by stretching within 1%.
         let last = (h * 1.01).abs() >= remaining.abs();
@@ -637,9 +687,17 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
             continue;
         }
 
-        // Accepted.
+        // Accepted, unless a singular point lies inside the step.
         counts.accepted_steps += 1;
-        stepper.accept(sys, t, h, y, &y_new)?;
+        if let Err(e) = stepper.accept(sys, t, h, y, &y_new) {
+            // Approach the point instead (`Approach`): this step is rejected.
+            approach.found(e, t, adaptive)?;
+            counts.accepted_steps -= 1;
+            counts.rejected_steps += 1;
+            stepper.reset(sys, t, y)?;
+            rejected_last = true;
+            continue;
+        }
         let t_new = if last { t_end } else { t + h };
         if let Some(h_lambda) = stepper.stiffness() {
             y.copy_from_slice(&y_new);

@@ -324,6 +324,17 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
                 }
             });
         }
+        if let Some((cause, ratio, t)) = culprit {
+            // What was seen last stays that of the last accepted step: the step across the
+            // point may be taken again, shorter.
+            return Err(Error::SingularPoint {
+                t,
+                cause,
+                ratio,
+                q: q.to_vec(),
+                qd: qd.to_vec(),
+            });
+        }
         // Element by element: `clone_from` calls `memcpy`, which costs more for a few words.
         if self.previous_j.len() == d.j.len() {
             for (dst, &v) in self.previous_j.iter_mut().zip(&d.j) {
@@ -335,16 +346,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         self.previous_w = d.w_scale;
         self.previous_sign = d.det_sign;
         self.previous_t = t;
-        match culprit {
-            None => Ok(()),
-            Some((cause, ratio, t)) => Err(Error::SingularPoint {
-                t,
-                cause,
-                ratio,
-                q: q.to_vec(),
-                qd: qd.to_vec(),
-            }),
-        }
+        Ok(())
     }
 
     /// The reduced equations of `model`; with `energy` the state carries the three quadratures of
