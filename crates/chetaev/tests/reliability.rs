@@ -607,6 +607,41 @@ fn a_singular_point_of_the_constraint_stops_the_run_where_it_is() {
 }
 
 #[test]
+fn a_singular_point_inside_the_first_step_is_found() {
+    // From 0.13 before the point, with a first step of 0.5 across it: the first step is checked
+    // against the state the run starts from.
+    let (v0, a) = (2.0, 0.5);
+    let (t0, t_singular) = (3.87, v0 / a);
+    let problem = Problem::new(
+        Speed { v0, a, lambda: 0.0 },
+        t0,
+        SVector::zeros(),
+        SVector::from([v0 - a * t0, 0.0]),
+    )
+    .expect("valid");
+    for method in AnyMethod::all(1e-3) {
+        if method.info().fixed_step.is_some() {
+            continue;
+        }
+        let name = method.name();
+        let options = Options::until(10.0)
+            .tolerances(1e-10, 1e-10)
+            .initial_step(0.5);
+        let sol = solve(&problem, method, &options).expect("valid options");
+        assert!(
+            matches!(sol.error(), Some(Error::SingularPoint { t, .. }) if (t - t_singular).abs() < 1e-6),
+            "{name}: {:?}",
+            sol.status
+        );
+        let (t_last, _, _) = sol.last().expect("kept");
+        assert!(
+            t_last < t_singular,
+            "{name}: the motion kept ends at {t_last}"
+        );
+    }
+}
+
+#[test]
 fn the_motion_events_and_output_times_before_a_singular_point_are_kept() {
     // x = v0 t − a t²/2 along x, to the singular point t = v0/a, where the speed vanishes. The
     // adaptive methods take long steps on this polynomial motion, so the step that crosses the

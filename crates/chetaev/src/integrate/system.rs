@@ -242,8 +242,11 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     /// Both compare a state with the one before it, not with the start: a gradient or metric
     /// that grows or shrinks steadily (`L = e^(γt) L0`, a prescribed speed decaying
     /// exponentially) is regular however far it goes.
+    ///
+    /// The first state checked is that of the next evaluation (the start of a solve).
     pub fn with_rank_tolerance(mut self, tolerance: f64) -> Self {
         self.rank_tolerance = tolerance;
+        self.previous_t = f64::NAN;
         self
     }
 
@@ -347,6 +350,26 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         self.previous_sign = d.det_sign;
         self.previous_t = t;
         Ok(())
+    }
+
+    /// Keeps what the singular-point check compares from the first evaluation of a solve, at its
+    /// start (every method evaluates there first), so that the first step is checked as every
+    /// other one.
+    #[cold]
+    fn seed_singular_check(&mut self, t: f64) {
+        self.previous_t = t;
+        if self.rank_tolerance <= 0.0 {
+            return;
+        }
+        if self.native_last {
+            if let NativeState::On(native, buf) = &self.native {
+                native.fill(buf, self.ws.dynamics_mut());
+            }
+        }
+        let d = self.ws.dynamics();
+        self.previous_j.clone_from(&d.j);
+        self.previous_w = d.w_scale;
+        self.previous_sign = d.det_sign;
     }
 
     /// The reduced equations of `model`; with `energy` the state carries the three quadratures of
@@ -515,6 +538,9 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             self.native_last = false;
         }
         self.last_t = t;
+        if self.previous_t.is_nan() {
+            self.seed_singular_check(t);
+        }
         if let Some(sens) = &mut self.sens {
             sens.rhs(
                 self.model,
@@ -604,6 +630,9 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                         self.stats.rhs_evaluations += 1;
                         self.native_done(rates, dy);
                         self.last_t = t;
+                        if self.previous_t.is_nan() {
+                            self.seed_singular_check(t);
+                        }
                         return Ok(());
                     }
                 }
