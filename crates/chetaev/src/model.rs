@@ -445,6 +445,20 @@ pub trait Model {
         let _ = (plan, ws, x);
         None
     }
+
+    /// [`Model::evaluate_planned`] for a model whose compiled equations re-check bounds of
+    /// domains (`ln x`, `atanh x`, …) and no branch, asked where `evaluate_planned` had no route
+    /// of its own: a route that checks the model's values instead of the bounds, or `None` to
+    /// evaluate the compiled tape, which re-checks them.
+    fn evaluate_planned_in_domain<T: Real>(
+        &self,
+        plan: Plan,
+        ws: &mut Workspace<T>,
+        x: Point<T>,
+    ) -> Planned {
+        let _ = (plan, ws, x);
+        None
+    }
 }
 
 /// The model's compiled equations and what the caller needs of the dynamics: what
@@ -539,20 +553,48 @@ where
     #[inline]
     fn evaluate_planned<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
         // The fixed-size passes skip what the recorded structure proves, but they do not re-check
-        // the recorded branches: a model with branches takes the compiled tape, which does. A
-        // bound of a domain needs no re-check there: the passes check the values of `L` and `f`.
-        // A model too large for the passes to be the faster route takes the tape too.
+        // the recorded guards: a model with branches takes the compiled tape, which does, and one
+        // with bounds of domains only `evaluate_planned_in_domain`. So does a model too large for
+        // the passes to be the faster route.
         // A constant metric leaves a short body, inlined into the caller; the longer one of a
         // metric that varies is called, which keeps the caller's loop lean.
         let c = plan.compiled;
         let passes = fixed_passes_pay::<T>(N, c.constant_metric());
-        (passes && self.0.holonomic_count() == 0 && c.branches() == 0).then(|| {
+        (passes && self.0.holonomic_count() == 0 && c.guards() == 0).then(|| {
             if c.constant_factor().is_some() {
                 crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, x)
             } else {
                 self.evaluate_outlined(plan, ws, x)
             }
         })
+    }
+
+    /// A bound of a domain needs no re-check on the fixed-size passes when the values are
+    /// checked: beyond the bound the value is NaN while every derivative may be finite (`ln x`
+    /// beyond 0, `1/x` there). The passes check `f`'s and, where they make it, `L`'s; `L`'s is
+    /// checked here first, since they need not make it (not for a constant metric). Apart from
+    /// [`Model::evaluate_planned`], so that the passes of every other model stay as they are.
+    #[inline(never)]
+    fn evaluate_planned_in_domain<T: Real>(
+        &self,
+        plan: Plan,
+        ws: &mut Workspace<T>,
+        x: Point<T>,
+    ) -> Planned {
+        let c = plan.compiled;
+        let passes = fixed_passes_pay::<T>(N, c.constant_metric());
+        (passes && self.0.holonomic_count() == 0 && c.guards() > 0 && c.branches() == 0).then(
+            || {
+                if !At::<M, T, N>::from_point(&self.0, x)
+                    .value()
+                    .re()
+                    .is_finite()
+                {
+                    return Err(SaddleFailure::NonFinite);
+                }
+                crate::equations::evaluate_fixed::<M, T, N, K>(&self.0, Some(plan), ws, x)
+            },
+        )
     }
 
     #[inline]

@@ -262,6 +262,11 @@ pub(crate) fn evaluate_with_unchecked<'w, M: Model + ?Sized, T: Real>(
     if let Some(result) = model.evaluate_planned(plan, ws, x) {
         return result.map(|()| (&ws.dynamics, false));
     }
+    if c.guards() > 0 {
+        if let Some(result) = model.evaluate_planned_in_domain(plan, ws, x) {
+            return result.map(|()| (&ws.dynamics, false));
+        }
+    }
     let cws = ws.compiled.get_or_insert_with(|| CompiledWorkspace::new(c));
     match c.evaluate_unchecked(cws, &mut ws.dynamics, x, need) {
         Ok(()) => Ok((&ws.dynamics, false)),
@@ -465,14 +470,7 @@ where
         };
         (f, j, c)
     };
-    // A model with bounds of domains (`ln x`, `atanh x`, …) can leave its domain where the value
-    // is NaN but every derivative is finite (`ln x` beyond 0, `1/x` there): its value of `L` is
-    // checked when no pass made it.
-    let l_checked = match l {
-        None if plan.is_some_and(|p| p.guards() > 0) => Some(at.value()),
-        l => l,
-    };
-    if l_checked.is_some_and(|l| !l.re().is_finite()) || f.iter().any(|f| !f.re().is_finite()) {
+    if l.is_some_and(|l| !l.re().is_finite()) || f.iter().any(|f| !f.re().is_finite()) {
         return Err(SaddleFailure::NonFinite);
     }
     for a in 0..K {
