@@ -450,12 +450,7 @@ pub trait Model {
     /// domains (`ln x`, `atanh x`, …) and no branch, asked where `evaluate_planned` had no route
     /// of its own: a route that checks the model's values instead of the bounds, or `None` to
     /// evaluate the compiled tape, which re-checks them.
-    fn evaluate_planned_in_domain<T: Real>(
-        &self,
-        plan: Plan,
-        ws: &mut Workspace<T>,
-        x: Point<T>,
-    ) -> Planned {
+    fn evaluate_bounded<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
         let _ = (plan, ws, x);
         None
     }
@@ -554,7 +549,7 @@ where
     fn evaluate_planned<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
         // The fixed-size passes skip what the recorded structure proves, but they do not re-check
         // the recorded guards: a model with branches takes the compiled tape, which does, and one
-        // with bounds of domains only `evaluate_planned_in_domain`. So does a model too large for
+        // with bounds of domains only `evaluate_bounded`. So does a model too large for
         // the passes to be the faster route.
         // A constant metric leaves a short body, inlined into the caller; the longer one of a
         // metric that varies is called, which keeps the caller's loop lean.
@@ -575,12 +570,7 @@ where
     /// checked here first, since they need not make it (not for a constant metric). Apart from
     /// [`Model::evaluate_planned`], so that the passes of every other model stay as they are.
     #[inline(never)]
-    fn evaluate_planned_in_domain<T: Real>(
-        &self,
-        plan: Plan,
-        ws: &mut Workspace<T>,
-        x: Point<T>,
-    ) -> Planned {
+    fn evaluate_bounded<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
         let c = plan.compiled;
         let passes = fixed_passes_pay::<T>(N, c.constant_metric());
         (passes && self.0.holonomic_count() == 0 && c.guards() > 0 && c.branches() == 0).then(

@@ -52,6 +52,15 @@ impl Series {
         self.rows += 1;
     }
 
+    /// An empty series of vectors of length `width`, with room for `rows` of them.
+    pub fn with_capacity(width: usize, rows: usize) -> Self {
+        Self {
+            width,
+            rows: 0,
+            data: Vec::with_capacity(rows.saturating_mul(width)),
+        }
+    }
+
     /// Makes room for `rows` more vectors without reallocating.
     pub fn reserve(&mut self, rows: usize) {
         self.data.reserve(rows.saturating_mul(self.width));
@@ -243,50 +252,40 @@ impl Solution {
     /// An empty solution for a model with `n` coordinates and `k` constraints, recording at the
     /// level `record`: for integrators outside the crate, which fill it with [`Solution::record`].
     pub fn empty(method: &'static str, record: Record, n: usize, k: usize) -> Self {
+        Self::with_capacity(method, record, n, k, 0)
+    }
+
+    /// [`Solution::empty`] with room for `rows` recorded points in every series that the level
+    /// `record` fills, so that recording them does not reallocate.
+    pub fn with_capacity(
+        method: &'static str,
+        record: Record,
+        n: usize,
+        k: usize,
+        rows: usize,
+    ) -> Self {
+        let at = |level: Record| if record >= level { rows } else { 0 };
+        let (dynamics, energy) = (at(Record::Dynamics), at(Record::Energy));
         Self {
             method,
             record,
-            t: Vec::new(),
-            q: Series::new(n),
-            qd: Series::new(n),
-            qdd: Series::new(n),
-            mu: Series::new(k),
-            phi: Series::new(n),
-            residual: Series::new(k),
-            relative_residual: Vec::new(),
+            t: Vec::with_capacity(rows),
+            q: Series::with_capacity(n, rows),
+            qd: Series::with_capacity(n, rows),
+            qdd: Series::with_capacity(n, dynamics),
+            mu: Series::with_capacity(k, dynamics),
+            phi: Series::with_capacity(n, dynamics),
+            residual: Series::with_capacity(k, dynamics),
+            relative_residual: Vec::with_capacity(dynamics),
             position_residual: Series::new(0),
-            energy: Vec::new(),
-            work: Vec::new(),
-            dl_dt_integral: Vec::new(),
-            work_forces: Vec::new(),
+            energy: Vec::with_capacity(dynamics),
+            work: Vec::with_capacity(energy),
+            dl_dt_integral: Vec::with_capacity(energy),
+            work_forces: Vec::with_capacity(energy),
             events: Vec::new(),
             sensitivities: None,
             stats: Stats::default(),
             status: Status::Success,
-        }
-    }
-
-    /// Makes room for `rows` more recorded points in every series that its [`Record`] level fills,
-    /// so that recording them does not reallocate.
-    pub fn reserve(&mut self, rows: usize) {
-        self.t.reserve(rows);
-        self.q.reserve(rows);
-        self.qd.reserve(rows);
-        if self.record >= Record::Dynamics {
-            self.qdd.reserve(rows);
-            self.mu.reserve(rows);
-            self.phi.reserve(rows);
-            self.residual.reserve(rows);
-            self.relative_residual.reserve(rows);
-            self.energy.reserve(rows);
-        }
-        if self.record >= Record::Energy {
-            self.work.reserve(rows);
-            self.dl_dt_integral.reserve(rows);
-            self.work_forces.reserve(rows);
-        }
-        if let Some(s) = &mut self.sensitivities {
-            s.values.reserve(rows);
         }
     }
 

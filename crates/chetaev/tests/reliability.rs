@@ -520,6 +520,43 @@ fn speed() -> Problem<chetaev::model::Fixed<Speed, 2, 1>> {
     Problem::new(unit, 0.0, SVector::zeros(), SVector::from([1.0, 0.0])).expect("valid")
 }
 
+/// [`Speed`] slowing at `a` from `v0` at `t = 0`, started at `t0` from the origin along `x`: its
+/// singular point is at `t = v0/a`.
+fn slowing(v0: f64, a: f64, t0: f64) -> Problem<chetaev::model::Fixed<Speed, 2, 1>> {
+    let model = Speed { v0, a, lambda: 0.0 };
+    let qd0 = SVector::from([v0 - a * t0, 0.0]);
+    Problem::new(model, t0, SVector::zeros(), qd0).expect("valid")
+}
+
+/// Solves `problem` with each adaptive method and `options`, checks that the run stopped at the
+/// singular point `t_singular` (to 1e-6) with the motion kept before it, and hands each solution
+/// to `check`.
+fn stops_at_the_singular_point(
+    problem: &Problem<chetaev::model::Fixed<Speed, 2, 1>>,
+    options: &Options,
+    t_singular: f64,
+    check: impl Fn(&str, &Solution),
+) {
+    for method in AnyMethod::all(1e-3) {
+        if method.info().fixed_step.is_some() {
+            continue;
+        }
+        let name = method.name();
+        let sol = solve(problem, method, options).expect("valid options");
+        assert!(
+            matches!(sol.error(), Some(Error::SingularPoint { t, .. }) if (t - t_singular).abs() < 1e-6),
+            "{name}: {:?}",
+            sol.status
+        );
+        let (t_last, _, _) = sol.last().expect("kept");
+        assert!(
+            t_last < t_singular,
+            "{name}: the motion kept ends at {t_last}"
+        );
+        check(name, &sol);
+    }
+}
+
 #[test]
 fn the_equations_at_a_state_report_failures_with_the_state() {
     let problem = speed();
@@ -540,13 +577,7 @@ fn the_equations_at_a_state_report_failures_with_the_state() {
 #[test]
 fn a_singular_point_of_the_constraint_stops_the_run_where_it_is() {
     let (v0, a) = (2.0, 0.5);
-    let problem = Problem::new(
-        Speed { v0, a, lambda: 0.0 },
-        0.0,
-        SVector::zeros(),
-        SVector::from([v0, 0.0]),
-    )
-    .expect("valid");
+    let problem = slowing(v0, a, 0.0);
     let t_singular = v0 / a;
     // With and without dense output (Dop853 makes three more evaluations inside the step for it,
     // after the one at its end that the check reads), and to an end just past the point, where
@@ -611,34 +642,10 @@ fn a_singular_point_inside_the_first_step_is_found() {
     // From 0.13 before the point, with a first step of 0.5 across it: the first step is checked
     // against the state the run starts from.
     let (v0, a) = (2.0, 0.5);
-    let (t0, t_singular) = (3.87, v0 / a);
-    let problem = Problem::new(
-        Speed { v0, a, lambda: 0.0 },
-        t0,
-        SVector::zeros(),
-        SVector::from([v0 - a * t0, 0.0]),
-    )
-    .expect("valid");
-    for method in AnyMethod::all(1e-3) {
-        if method.info().fixed_step.is_some() {
-            continue;
-        }
-        let name = method.name();
-        let options = Options::until(10.0)
-            .tolerances(1e-10, 1e-10)
-            .initial_step(0.5);
-        let sol = solve(&problem, method, &options).expect("valid options");
-        assert!(
-            matches!(sol.error(), Some(Error::SingularPoint { t, .. }) if (t - t_singular).abs() < 1e-6),
-            "{name}: {:?}",
-            sol.status
-        );
-        let (t_last, _, _) = sol.last().expect("kept");
-        assert!(
-            t_last < t_singular,
-            "{name}: the motion kept ends at {t_last}"
-        );
-    }
+    let options = Options::until(10.0)
+        .tolerances(1e-10, 1e-10)
+        .initial_step(0.5);
+    stops_at_the_singular_point(&slowing(v0, a, 3.87), &options, v0 / a, |_, _| {});
 }
 
 #[test]
@@ -647,32 +654,15 @@ fn the_motion_events_and_output_times_before_a_singular_point_are_kept() {
     // adaptive methods take long steps on this polynomial motion, so the step that crosses the
     // point can begin far before it: it is taken again, shorter, until the run stops just before.
     let (v0, a) = (2.0, 0.5);
-    let problem = Problem::new(
-        Speed { v0, a, lambda: 0.0 },
-        0.0,
-        SVector::zeros(),
-        SVector::from([v0, 0.0]),
-    )
-    .expect("valid");
     let t_singular = v0 / a;
     let x = |t: f64| v0 * t - 0.5 * a * t * t;
     let t_event = 4.0 - 2f64.sqrt(); // x = 3.5
     let times = vec![1.0, 3.9, 3.99];
-    for method in AnyMethod::all(1e-3) {
-        if method.info().fixed_step.is_some() {
-            continue;
-        }
-        let name = method.name();
-        let options = Options::until(10.0)
-            .tolerances(1e-10, 1e-10)
-            .event(Event::new("x = 3.5", |_t, q, _qd| q[0] - 3.5))
-            .output_times(times.clone());
-        let sol = solve(&problem, method, &options).expect("valid options");
-        assert!(
-            matches!(sol.error(), Some(Error::SingularPoint { t, .. }) if (t - t_singular).abs() < 1e-6),
-            "{name}: {:?}",
-            sol.status
-        );
+    let options = Options::until(10.0)
+        .tolerances(1e-10, 1e-10)
+        .event(Event::new("x = 3.5", |_t, q, _qd| q[0] - 3.5))
+        .output_times(times.clone());
+    stops_at_the_singular_point(&slowing(v0, a, 0.0), &options, t_singular, |name, sol| {
         assert_eq!(sol.events.len(), 1, "{name}: {:?}", sol.events);
         assert!(
             (sol.events[0].t - t_event).abs() < 1e-8,
@@ -691,11 +681,11 @@ fn the_motion_events_and_output_times_before_a_singular_point_are_kept() {
         }
         let (t_last, q_last, _) = sol.last().expect("kept");
         assert!(
-            t_last < t_singular && t_singular - t_last < 1e-4,
+            t_singular - t_last < 1e-4,
             "{name}: the motion kept ends at {t_last}"
         );
         assert!((q_last[0] - x(t_last)).abs() < 1e-7, "{name}: {q_last:?}");
-    }
+    });
 }
 
 /// A free particle of unit speed whose `ẏ` is prescribed, `f = (|q̇|² − 1, ẏ − sin t)`, moving in

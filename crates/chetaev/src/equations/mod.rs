@@ -263,7 +263,7 @@ pub(crate) fn evaluate_with_unchecked<'w, M: Model + ?Sized, T: Real>(
         return result.map(|()| (&ws.dynamics, false));
     }
     if c.guards() > 0 {
-        if let Some(result) = model.evaluate_planned_in_domain(plan, ws, x) {
+        if let Some(result) = model.evaluate_bounded(plan, ws, x) {
             return result.map(|()| (&ws.dynamics, false));
         }
     }

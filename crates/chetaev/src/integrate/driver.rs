@@ -77,12 +77,14 @@ where
     y[..n].copy_from_slice(problem.q0());
     y[n..2 * n].copy_from_slice(problem.qd0());
 
-    let mut sol = Solution::empty(settings.info.name, options.record, n, k);
+    let rows = expected_rows(&options.output, sys.dim());
+    let mut sol = Solution::with_capacity(settings.info.name, options.record, n, k, rows);
     if let Some(v) = &sys.sens {
         v.initial(&mut y[2 * n..sys.quadratures()]);
-        sol.sensitivities = Some(Sensitivities::new(v.names(), n));
+        let mut s = Sensitivities::new(v.names(), n);
+        s.values.reserve(rows);
+        sol.sensitivities = Some(s);
     }
-    sol.reserve(expected_rows(&options.output, sys.dim()));
     let mut hooks = ChetaevHooks {
         sol: &mut sol,
         options,
