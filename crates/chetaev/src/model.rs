@@ -567,7 +567,7 @@ where
     /// A bound of a domain needs no re-check on the fixed-size passes when the values are
     /// checked: beyond the bound the value is NaN while every derivative may be finite (`ln x`
     /// beyond 0, `1/x` there). The passes check `f`'s and, where they make it, `L`'s; `L`'s is
-    /// checked here first, since they need not make it (not for a constant metric). Apart from
+    /// checked here first where they do not make it (a constant metric, `L` and `E` not needed). Apart from
     /// [`Model::evaluate_planned`], so that the passes of every other model stay as they are.
     #[inline(never)]
     fn evaluate_bounded<T: Real>(&self, plan: Plan, ws: &mut Workspace<T>, x: Point<T>) -> Planned {
@@ -575,10 +575,14 @@ where
         let passes = fixed_passes_pay::<T>(N, c.constant_metric());
         (passes && self.0.holonomic_count() == 0 && c.guards() > 0 && c.branches() == 0).then(
             || {
-                if !At::<M, T, N>::from_point(&self.0, x)
-                    .value()
-                    .re()
-                    .is_finite()
+                // The passes make `L` (and check it) unless `W` is constant and factorised once
+                // and the caller needs neither `L` nor `E`.
+                let made = c.constant_factor().is_none() || plan.need == Need::All;
+                if !made
+                    && !At::<M, T, N>::from_point(&self.0, x)
+                        .value()
+                        .re()
+                        .is_finite()
                 {
                     return Err(SaddleFailure::NonFinite);
                 }

@@ -52,18 +52,20 @@ impl Series {
         self.rows += 1;
     }
 
-    /// An empty series of vectors of length `width`, with room for `rows` of them.
+    /// An empty series of vectors of length `width`, with room for `rows` of them where memory
+    /// allows.
     pub fn with_capacity(width: usize, rows: usize) -> Self {
         Self {
             width,
             rows: 0,
-            data: Vec::with_capacity(rows.saturating_mul(width)),
+            data: room(rows.saturating_mul(width)),
         }
     }
 
-    /// Makes room for `rows` more vectors without reallocating.
+    /// Makes room for `rows` more vectors without reallocating, where memory allows (room is only
+    /// a saving: what cannot be had is left to grow as vectors do).
     pub fn reserve(&mut self, rows: usize) {
-        self.data.reserve(rows.saturating_mul(self.width));
+        let _ = self.data.try_reserve(rows.saturating_mul(self.width));
     }
 
     /// Removes every vector after the first `len`.
@@ -256,7 +258,8 @@ impl Solution {
     }
 
     /// [`Solution::empty`] with room for `rows` recorded points in every series that the level
-    /// `record` fills, so that recording them does not reallocate.
+    /// `record` fills, so that recording them does not reallocate; where memory does not allow it,
+    /// the series start empty and grow as vectors do.
     pub fn with_capacity(
         method: &'static str,
         record: Record,
@@ -269,19 +272,19 @@ impl Solution {
         Self {
             method,
             record,
-            t: Vec::with_capacity(rows),
+            t: room(rows),
             q: Series::with_capacity(n, rows),
             qd: Series::with_capacity(n, rows),
             qdd: Series::with_capacity(n, dynamics),
             mu: Series::with_capacity(k, dynamics),
             phi: Series::with_capacity(n, dynamics),
             residual: Series::with_capacity(k, dynamics),
-            relative_residual: Vec::with_capacity(dynamics),
+            relative_residual: room(dynamics),
             position_residual: Series::new(0),
-            energy: Vec::with_capacity(dynamics),
-            work: Vec::with_capacity(energy),
-            dl_dt_integral: Vec::with_capacity(energy),
-            work_forces: Vec::with_capacity(energy),
+            energy: room(dynamics),
+            work: room(energy),
+            dl_dt_integral: room(energy),
+            work_forces: room(energy),
             events: Vec::new(),
             sensitivities: None,
             stats: Stats::default(),
@@ -546,4 +549,12 @@ fn finite(t: f64, quantity: &'static str, values: &[f64]) -> Result<(), Error> {
     } else {
         Err(Error::NonFiniteSolution { t, quantity })
     }
+}
+
+/// An empty vector with room for `len` numbers where memory allows (never a failure: the room is
+/// only a saving).
+fn room(len: usize) -> Vec<f64> {
+    let mut v = Vec::new();
+    let _ = v.try_reserve(len);
+    v
 }

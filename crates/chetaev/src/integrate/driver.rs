@@ -107,14 +107,15 @@ where
 }
 
 /// How many points a solve is likely to record, so that the series of a short solve are allocated
-/// once: at most the start, the listed times and the end for [`Output::Final`] and
-/// [`Output::Times`]; for [`Output::Steps`] 64 points of a small model, fewer of a large one (about
-/// 64 KiB per series at most), beyond which the series grow as vectors do.
+/// once: the start and the end for [`Output::Final`], with the listed times for [`Output::Times`],
+/// and 64 points for [`Output::Steps`]; never more than about 64 KiB per series (a list of times
+/// that the run may not reach, a large model), beyond which the series grow as vectors do.
 fn expected_rows(output: &Output, dim: usize) -> usize {
+    let most = (8192 / dim.max(1)).max(2);
     match output {
         Output::Final => 2,
-        Output::Times(ts) => ts.len().saturating_add(2),
-        Output::Steps => (8192 / dim.max(1)).clamp(2, 64),
+        Output::Times(ts) => ts.len().saturating_add(2).min(most),
+        Output::Steps => most.min(64),
     }
 }
 
