@@ -1012,6 +1012,10 @@ fn initial_step<S: OdeSystem>(
         // The squares overflow (a state or a rate near 1e150 against its tolerance): the same
         // norm, scaled by its largest ratio first.
         let largest = (0..norm.len()).fold(0.0f64, |m, i| m.max(ratio(i).abs()));
+        if !largest.is_finite() {
+            // A ratio beyond the floating-point range: the norm is too.
+            return f64::INFINITY;
+        }
         let s: f64 = (0..norm.len()).map(|i| (ratio(i) / largest).powi(2)).sum();
         largest * (s / n).sqrt()
     };
@@ -1022,22 +1026,48 @@ fn initial_step<S: OdeSystem>(
     } else {
         0.01 * d0 / d1
     };
-    h0 = h0.min((t_end - t0).abs());
-    for i in 0..dim {
-        y1[i] = y0[i] + dir * h0 * f0[i];
+    if h0.is_nan() || h0 <= 0.0 {
+        // Rates beyond the floating-point range against their scale: start small (a step that
+        // still leaves the range is shortened by the step loop).
+        h0 = 1e-6 * (t_end - t0).abs();
     }
-    sys.rhs(t0 + dir * h0, y1, f1)?;
+    h0 = h0.min((t_end - t0).abs());
+    // The Euler step may leave the model's domain (slow rates against a large state make a long
+    // guess): it is shortened, as a trial step would be, and the guess is never a failure of its
+    // own except where the domain ends within rounding of `t0`. A shortened guess also bounds
+    // the first step.
+    let mut shortened = false;
+    loop {
+        for i in 0..dim {
+            y1[i] = y0[i] + dir * h0 * f0[i];
+        }
+        let probe = sys.rhs(t0 + dir * h0, y1, f1);
+        match probe {
+            Err(Error::NonFiniteEvaluation { .. })
+                if h0 > time_resolution(t0.abs().max(f64::MIN_POSITIVE)) =>
+            {
+                h0 *= 0.25;
+                shortened = true;
+            }
+            _ => {
+                probe?;
+                break;
+            }
+        }
+    }
     let d2 = rms(&|i| f1[i] - f0[i]) / h0;
     let h1 = if d1.max(d2) <= 1e-15 {
         (h0 * 1e-3).max(1e-6)
     } else {
         (0.01 / d1.max(d2)).powf(1.0 / p)
     };
-    let h = (100.0 * h0).min(h1);
+    let h = (if shortened { h0 } else { 100.0 * h0 }).min(h1);
     // Rates so large that the guess underflows to zero: start small and let the error control
     // grow the step.
     Ok(if h > 0.0 && h.is_finite() {
         h
+    } else if shortened {
+        h0
     } else {
         1e-6 * (t_end - t0).abs()
     })
