@@ -414,7 +414,15 @@ impl Stepper for Dop853Stepper {
         if deno <= 0.0 {
             deno = 1.0;
         }
-        Ok(err * (1.0 / (norm.len() as f64 * deno)).sqrt())
+        let nd = norm.len() as f64 * deno;
+        // Hairer's form, except where the sums are so small (below about 1e-308, on a step of
+        // 1e-150) that `1/nd` overflows: there the quotient, which stays finite.
+        let inverse = 1.0 / nd;
+        Ok(if inverse.is_finite() {
+            err * inverse.sqrt()
+        } else {
+            err / nd.sqrt()
+        })
     }
 
     fn commit<S: OdeSystem>(&mut self, sys: &mut S, step: Step<'_>) -> Result<(), Error> {
