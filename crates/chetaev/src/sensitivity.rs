@@ -81,12 +81,12 @@ impl Seed {
 
     /// `∂/∂q_i(t0)` (index from 0), named `q{i+1}(t0)`.
     pub fn position(i: usize) -> Self {
-        Self::new(format!("q{}(t0)", i + 1)).with_position(i, 1.0)
+        Self::new(format!("q{}(t0)", i as u128 + 1)).with_position(i, 1.0)
     }
 
     /// `∂/∂q̇_i(t0)` (index from 0), named `q̇{i+1}(t0)`.
     pub fn velocity(i: usize) -> Self {
-        Self::new(format!("q̇{}(t0)", i + 1)).with_velocity(i, 1.0)
+        Self::new(format!("q̇{}(t0)", i as u128 + 1)).with_velocity(i, 1.0)
     }
 
     /// Also moves the parameter `name` at rate `rate`.

@@ -380,6 +380,11 @@ fn bad_seeds_are_typed_errors() -> Result<(), Error> {
     )
     .expect_err("index");
     assert!(e.to_string().contains("2 coordinates"), "{e}");
+    for seed in [Seed::position(usize::MAX), Seed::velocity(usize::MAX)] {
+        let e =
+            solve(&problem, Dop853::default(), &base.clone().sensitivity(seed)).expect_err("index");
+        assert!(e.to_string().contains("2 coordinates"), "{e}");
+    }
     let twice = base
         .clone()
         .sensitivity(Seed::parameter("g"))
