@@ -71,6 +71,98 @@ fn a_model_whose_value_leaves_its_domain_fails_at_the_boundary_with_the_motion_k
     }
 }
 
+/// A slow push `ẍ = 1e-3·√(1 − t)`, defined only up to `t = 1`, on a particle far from the origin
+/// (`x0 = 1e3`): the first-step guess, `0.01·|y0|/|ẏ0|`, reaches far beyond the end of the domain.
+struct UntilOne;
+
+impl Lagrangian<1> for UntilOne {
+    fn lagrangian<R: Real>(&self, t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        qd[0] * qd[0] * 0.5 + q[0] * (R::one() - t).sqrt() * 1e-3
+    }
+}
+
+#[test]
+fn the_first_step_guess_shortens_its_probe_where_it_leaves_the_domain() {
+    let problem = Problem::unconstrained(UntilOne, 0.0, SVector::from([1e3]), SVector::from([1.0]))
+        .expect("valid");
+    for method in AnyMethod::all(1e-3) {
+        let name = method.info().name;
+        let sol = solve(&problem, method, &Options::until(2.0)).expect("valid options");
+        // The run ends where the domain does, with the motion up to there: not at the guess's
+        // probe beyond it, with the initial point alone.
+        let Some(Error::NonFiniteEvaluation { t, .. }) = sol.error() else {
+            panic!("{name}: {:?}", sol.status);
+        };
+        assert!(*t > 0.99 && *t <= 1.0 + 1e-9, "{name}: fails at t = {t}");
+        let (t_last, q, _) = sol.last().expect("recorded");
+        assert!(
+            sol.len() > 2 && t_last > 0.99,
+            "{name}: {} points to t = {t_last}",
+            sol.len()
+        );
+        // x = x0 + t + 1e-3·(4/15)((1 − t)^{5/2} − 1 + (5/2) t) from x0 = 1e3, ẋ0 = 1.
+        let s = 1.0 - t_last;
+        let x = 1e3 + t_last + 1e-3 * 4.0 / 15.0 * (s.powf(2.5) - 1.0 + 2.5 * t_last);
+        assert!(
+            (q[0] - x).abs() < 1e-6 * x,
+            "{name}: x = {} against {x}",
+            q[0]
+        );
+    }
+}
+
+/// `ẍ = k ẋ²` from `ẋ = 1`: `ẋ = 1/(1 − k t)` blows up at `t = 1/k`, which for `k = 1e304` and above
+/// puts the first rate beyond the floating-point range against its tolerance.
+struct BlowsUp {
+    k: f64,
+}
+
+impl Lagrangian<1> for BlowsUp {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        qd[0] * qd[0] * 0.5
+    }
+    fn forces<R: Real>(
+        &self,
+        _t: R,
+        _q: &SVector<R, 1>,
+        qd: &SVector<R, 1>,
+    ) -> Option<SVector<R, 1>> {
+        Some(SVector::from([qd[0] * qd[0] * self.k]))
+    }
+}
+
+impl Constraints<1, 0> for BlowsUp {}
+
+#[test]
+fn a_rate_beyond_the_range_of_its_tolerance_fails_where_the_motion_blows_up() {
+    for k in [1e300, 1e304, 1e307, f64::MAX] {
+        let problem = Problem::new(BlowsUp { k }, 0.0, [0.0].into(), [1.0].into()).expect("valid");
+        // The adaptive methods (a fixed step fails in its first step, wherever that ends).
+        for method in AnyMethod::all(1e-3)
+            .into_iter()
+            .filter(|m| m.info().fixed_step.is_none())
+        {
+            let name = method.info().name;
+            let sol = solve(&problem, method, &Options::until(5.0)).expect("valid options");
+            let err = sol
+                .error()
+                .unwrap_or_else(|| panic!("{name}, k = {k:e}: {:?}", sol.status));
+            // A breakdown of the numbers, not at the end of the interval, which the motion never
+            // reaches.
+            let t = match err {
+                Error::NonFiniteEvaluation { t, .. }
+                | Error::NonFiniteState { t, .. }
+                | Error::NonFiniteSolution { t, .. }
+                | Error::NonFiniteJacobian { t, .. }
+                | Error::StepSizeTooSmall { t, .. } => *t,
+                _ => panic!("{name}, k = {k:e}: {err}"),
+            };
+            assert!(t < 100.0 / k, "{name}, k = {k:e}: fails at t = {t:e}");
+            assert!(sol.q.as_flat().iter().all(|v| v.is_finite()));
+        }
+    }
+}
+
 /// A particle moving at `ẋ = −1` from `x = 1` under a Lagrangian with the term `1e-9·ln x`: its
 /// value is NaN beyond `x = 0`, reached at `t ≈ 1`, while its derivatives (`1e-9/x`, `−1e-9/x²`)
 /// stay finite there, so only a check of the value finds the end of the domain.
@@ -2137,5 +2229,33 @@ fn dop853_takes_a_tiny_absolute_tolerance() {
         assert!(sol.is_success(), "{method:?}: {:?}", sol.status);
         let (t, q, _) = sol.last().expect("recorded");
         assert!((q[0] - t.sin()).abs() < 1e-9, "{method:?}: {}", q[0]);
+    }
+}
+
+#[test]
+fn every_adaptive_method_crosses_a_tiny_interval_in_a_step_or_two() {
+    // The paper's particle to t = 1e-150, or with a first step of 1e-160: the error sums of
+    // Dop853 fall below 1e-308, where `1/(n·deno)` overflowed to an infinite error; the step was
+    // quartered as if it left the domain, and the run stalled at the step limit.
+    let problem = Problem::new(
+        Paper { v0: 10.0 },
+        0.0,
+        [0.0, 5.0].into(),
+        [10.0, 0.0].into(),
+    )
+    .expect("consistent");
+    for options in [
+        Options::until(1e-150),
+        Options::until(1.0).initial_step(1e-160),
+    ] {
+        for method in AnyMethod::all(1e-3)
+            .into_iter()
+            .filter(|m| m.info().fixed_step.is_none())
+        {
+            let name = method.info().name;
+            let sol = solve(&problem, method, &options.clone().max_steps(10_000)).expect("valid");
+            assert!(sol.is_success(), "{name}: {:?}", sol.status);
+            assert!(sol.stats.rejected_steps <= 2, "{name}: {:?}", sol.stats);
+        }
     }
 }
