@@ -85,10 +85,11 @@
 //! under error control (chetaev's driver keeps them outside) and the time `s`, integrated exactly,
 //! enters the mean. At equal tolerances its steps therefore differ slightly from chetaev's own
 //! `Dopri5` and `Dop853`. Its rejected steps are counted from the right-hand sides it requests,
-//! since `ode_solvers` does not count the rejections before its first accepted step. For the same
-//! reason its state carries the forces' work `W_Q` only for a model with forces at its initial
-//! state (a component that stays zero would still change its norm): the work of forces that begin
-//! later is missing from its `work_forces`, which chetaev's own `solve` records.
+//! since `ode_solvers` does not count the rejections before its first accepted step. Its state
+//! carries the forces' work `W_Q` as chetaev's own `solve` does: for every model with
+//! [`Record::Energy`], also one whose forces begin later, except where the compiled equations
+//! prove that the model has no forces anywhere (a component that stayed zero would still enter
+//! the mean of its norm).
 //!
 //! [`Options`]: chetaev::prelude::Options
 //! [`Record::Energy`]: chetaev::prelude::Record::Energy
@@ -100,7 +101,7 @@ pub use error::BackendError;
 
 use chetaev::integrate::system::{OdeSystem, ReducedOde};
 use chetaev::integrate::Controller;
-use chetaev::model::{Model, Point};
+use chetaev::model::Model;
 use chetaev::prelude::{Atol, Options, Output, Record};
 use chetaev::{Error, Problem, Solution, Status};
 use ode_solvers::dop_shared::IntegrationError;
@@ -202,13 +203,9 @@ pub fn solve_with_ode_solvers<M: Model>(
     }
     let dir = if options.t_end >= t0 { 1.0 } else { -1.0 };
 
-    // Its norm spans the whole state: the forces' work is carried only for a model with forces at
-    // its start (see the crate's docs).
-    let mut buf = vec![0.0; n];
-    let x0 = Point::new(t0, problem.q0(), problem.qd0());
-    let forces_at_start = problem.model().force_blocks(x0, &mut buf);
+    // The forces' work is carried unless the compiled equations prove that the model has no
+    // forces anywhere (see the crate's docs).
     let ode = ReducedOde::for_problem(problem, options.record >= Record::Energy)
-        .with_forces_quadrature(forces_at_start)
         .with_rank_tolerance(options.rank_tolerance);
     let mut z0 = vec![0.0; ode.dim() + 1];
     z0[..n].copy_from_slice(problem.q0());

@@ -734,3 +734,43 @@ fn a_step_limit_beyond_u32_is_refused() {
         });
     }
 }
+
+/// `ẍ = −ẋ` from `t = 1` on (a drag that begins later: no force at the start), `ẋ0 = 1`.
+struct LateDrag;
+impl Lagrangian<1> for LateDrag {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        qd[0] * qd[0] * 0.5
+    }
+    fn forces<R: Real>(
+        &self,
+        t: R,
+        _q: &SVector<R, 1>,
+        qd: &SVector<R, 1>,
+    ) -> Option<SVector<R, 1>> {
+        (t.re() >= 1.0).then(|| SVector::from([-qd[0]]))
+    }
+}
+
+#[test]
+fn the_work_of_forces_that_begin_later_is_in_the_balance() {
+    let problem =
+        Problem::unconstrained(LateDrag, 0.0, [0.0].into(), [1.0].into()).expect("consistent");
+    for method in METHODS {
+        let options = Options::until(3.0).tolerances(1e-12, 1e-12).max_step(0.25);
+        let sol = solve_with_ode_solvers(&problem, method, &options).expect("valid");
+        assert_eq!(sol.status, Status::Success);
+        // ẋ(3) = e^(−2); W_Q = E(3) − E(0) = ½(e^(−4) − 1).
+        let (_, _, qd) = sol.last().expect("points");
+        assert!(
+            (qd[0] - (-2f64).exp()).abs() < 1e-8,
+            "{method:?}: {}",
+            qd[0]
+        );
+        let w = *sol.work_forces.last().expect("recorded");
+        assert!(
+            (w - 0.5 * ((-4f64).exp() - 1.0)).abs() < 1e-8,
+            "{method:?}: W_Q = {w}"
+        );
+        assert!(max_abs(&sol.energy_balance()) < 1e-8, "{method:?}");
+    }
+}
