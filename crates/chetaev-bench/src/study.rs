@@ -370,6 +370,16 @@ pub fn study_methods() -> Vec<&'static str> {
     adaptive.into_iter().chain(fixed).collect()
 }
 
+/// Makes the scene's right-hand side as machine code before its first solve, where the host has
+/// it. A problem otherwise switches to it after `NATIVE_AFTER` right-hand sides counted over all
+/// its solves, so an item's last bits would depend on the items run before it in the process
+/// (a shard of the sweep or the whole of it).
+fn with_machine_code<M: Model>(scene: &StudyScene<M>) {
+    if let Some(compiled) = scene.problem.compiled() {
+        compiled.native_operations();
+    }
+}
+
 /// Runs the whole study on one scene: every method of the library's list ([`study_methods`]),
 /// those with error control over the tolerances and those without over the step counts, and
 /// ode_solvers' `Dopri5`, `Dop853` over the tolerances. `progress` is told the name of each method
@@ -382,6 +392,7 @@ pub fn run_scene<M>(
 where
     M: Model,
 {
+    with_machine_code(scene);
     let mut points = Vec::new();
     let b = &config.budget;
     for name in study_methods() {
@@ -620,6 +631,7 @@ pub fn run_limit<M>(
 where
     M: Model,
 {
+    with_machine_code(scene);
     let mut points = Vec::new();
     for name in study_methods() {
         let refused = |e: chetaev::Error| {
