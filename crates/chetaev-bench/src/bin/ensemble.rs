@@ -163,11 +163,35 @@ fn run() -> Result<(), Box<dyn Error>> {
     print_summary(&summary, &out)
 }
 
+/// The most points per axis: a grid of 10⁶ points, 100 times the default.
+const MAX_N: usize = 1000;
+
+/// The most threads of the parallel run.
+const MAX_THREADS: usize = 1024;
+
 /// Solves the sweep (or one shard of it); writes the part file, and for the whole sweep the
 /// report. Returns the summary for stdout.
 fn solve_sweep(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
-    if !(args.lo > 0.0 && args.hi > args.lo && args.n >= 2 && args.threads >= 1) {
-        return Err("need 0 < lo < hi, n ≥ 2 and threads ≥ 1".into());
+    if !(args.lo > 0.0 && args.hi > args.lo && args.hi.is_finite()) {
+        return Err(format!(
+            "--lo {} --hi {}: need finite 0 < lo < hi, such as --lo 0.1 --hi 100",
+            args.lo, args.hi
+        )
+        .into());
+    }
+    if !(2..=MAX_N).contains(&args.n) {
+        return Err(format!(
+            "--n {}: need 2 ≤ n ≤ {MAX_N} points per axis (the grid has n² points)",
+            args.n
+        )
+        .into());
+    }
+    if !(1..=MAX_THREADS).contains(&args.threads) {
+        return Err(format!(
+            "--threads {}: need 1 ≤ threads ≤ {MAX_THREADS}, such as the number of cores",
+            args.threads
+        )
+        .into());
     }
     if !(args.g.is_finite() && args.g > 0.0) {
         return Err(format!("--g {}: need a finite gravity g > 0, such as 9.81", args.g).into());
