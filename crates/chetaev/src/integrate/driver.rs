@@ -1041,19 +1041,15 @@ fn initial_step<S: OdeSystem>(
         for i in 0..dim {
             y1[i] = y0[i] + dir * h0 * f0[i];
         }
-        let probe = sys.rhs(t0 + dir * h0, y1, f1);
-        match probe {
-            Err(Error::NonFiniteEvaluation { .. })
-                if h0 > time_resolution(t0.abs().max(f64::MIN_POSITIVE)) =>
-            {
-                h0 *= 0.25;
-                shortened = true;
-            }
-            _ => {
-                probe?;
-                break;
-            }
+        // Classified as a trial step's outcome is (`left_domain`), with no error estimate.
+        let probe = sys.rhs(t0 + dir * h0, y1, f1).map(|()| 0.0);
+        if left_domain(&probe, y1) && h0 > time_resolution(t0.abs().max(f64::MIN_POSITIVE)) {
+            h0 *= 0.25;
+            shortened = true;
+            continue;
         }
+        probe?;
+        break;
     }
     let d2 = rms(&|i| f1[i] - f0[i]) / h0;
     let h1 = if d1.max(d2) <= 1e-15 {
