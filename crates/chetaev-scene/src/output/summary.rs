@@ -375,6 +375,21 @@ fn max_abs<'a>(values: impl IntoIterator<Item = &'a f64>) -> Option<f64> {
     })
 }
 
+/// `K` as the summary states it: "0 (unconstrained)", "2 constraints" when all are velocity
+/// constraints, "1 constraint (holonomic)", "3 constraints (2 velocity, 1 holonomic)".
+fn constraint_count(velocity: usize, holonomic: usize) -> String {
+    let k = velocity + holonomic;
+    match (velocity, holonomic) {
+        (0, 0) => "0 (unconstrained)".to_string(),
+        (_, 0) => count(k, "constraint", "constraints"),
+        (0, _) => format!("{} (holonomic)", count(k, "constraint", "constraints")),
+        _ => format!(
+            "{} ({velocity} velocity, {holonomic} holonomic)",
+            count(k, "constraint", "constraints")
+        ),
+    }
+}
+
 /// The summary a run prints: the scene, the method, the initial velocity if it was projected, why
 /// it stopped (and what to change if it failed), the events with their state, the work done, the
 /// largest residual and energy balance, and every value that is not finite.
@@ -387,11 +402,7 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         "  model    N = {} ({}), K = {}",
         scene.n(),
         scene.coordinates.join(", "),
-        if k == 0 {
-            "0 (unconstrained)".to_string()
-        } else {
-            count(k, "constraint", "constraints")
-        }
+        constraint_count(scene.constraints.len(), scene.holonomic.len())
     );
     let tol = match &scene.solve.atol {
         Atol::Scalar(a) => format!("atol = {a:e}"),
@@ -670,6 +681,13 @@ mod tests {
     fn counts_agree_with_their_nouns() {
         assert_eq!(count(1, "constraint", "constraints"), "1 constraint");
         assert_eq!(count(0, "constraint", "constraints"), "0 constraints");
+        assert_eq!(constraint_count(0, 0), "0 (unconstrained)");
+        assert_eq!(constraint_count(2, 0), "2 constraints");
+        assert_eq!(constraint_count(0, 1), "1 constraint (holonomic)");
+        assert_eq!(
+            constraint_count(2, 1),
+            "3 constraints (2 velocity, 1 holonomic)"
+        );
         assert_eq!(
             count(2, "right-hand side", "right-hand sides"),
             "2 right-hand sides"
