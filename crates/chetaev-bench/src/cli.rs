@@ -40,6 +40,15 @@ pub fn print_summary(summary: &str, out: &Path) -> Result<(), Box<dyn Error>> {
     Ok(())
 }
 
+/// Ends the binary on an argument that was read but makes no sense (`--n 0`, `--hi inf`), as clap
+/// ends it on one that cannot be read: the message and the usage on standard error, exit status 2.
+/// Errors of the run itself (a file that cannot be written) exit with status 1 through [`exit`].
+pub fn refuse_argument<C: clap::CommandFactory>(message: impl std::fmt::Display) -> ! {
+    C::command()
+        .error(clap::error::ErrorKind::ValueValidation, message)
+        .exit()
+}
+
 /// How the binary `binary` ends after `result`: success, also when the reader of its output has
 /// gone ([`is_broken_pipe`]); otherwise the error on standard error, after the binary's name.
 pub fn exit(binary: &str, result: Result<(), Box<dyn Error>>) -> ExitCode {

@@ -347,3 +347,41 @@ fn bench_report_reads_criterion_under_cargo_target_dir() {
         .expect("rhs-cost.csv");
     assert!(rhs.contains("static,4,0,400,400,400"), "{rhs}");
 }
+
+#[test]
+fn an_argument_that_makes_no_sense_is_refused_with_status_2_before_any_output() {
+    let dir = scratch("bad-arguments");
+    for (bin, args, names) in [
+        (ENSEMBLE, vec!["--hi", "inf"], "--hi inf"),
+        (ENSEMBLE, vec!["--lo", "5", "--hi", "1"], "--lo 5 --hi 1"),
+        (ENSEMBLE, vec!["--n", "1"], "--n 1"),
+        (ENSEMBLE, vec!["--threads", "0"], "--threads 0"),
+        (ENSEMBLE, vec!["--g", "nan"], "--g NaN"),
+        (ENSEMBLE, vec!["--tol", "0"], "--tol 0"),
+        (WORK_PRECISION, vec!["--tolerances", "10"], "--tolerances"),
+        (
+            WORK_PRECISION,
+            vec!["--tolerances", "1e-4,nan"],
+            "--tolerances",
+        ),
+        (WORK_PRECISION, vec!["--rk4-steps", "0"], "--rk4-steps"),
+        (WORK_PRECISION, vec!["--max-steps", "0"], "--max-steps"),
+        // Cannot be read at all: refused by the parser, with the same status.
+        (ENSEMBLE, vec!["--n", "two"], "--n"),
+    ] {
+        let out = Command::new(bin)
+            .args(&args)
+            .args(["--out", "out"])
+            .current_dir(&dir)
+            .output()
+            .expect("starts");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bin} {args:?}: {err}");
+        assert!(err.contains(names), "{bin} {args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{bin} {args:?}");
+        assert!(
+            !dir.join("out").exists(),
+            "{bin} {args:?} made its output folder"
+        );
+    }
+}

@@ -28,7 +28,7 @@ use clap::Parser;
 
 /// Tables from criterion's results.
 #[derive(Parser, Debug)]
-#[command(version)]
+#[command(name = "bench-report", version)]
 struct Args {
     /// criterion's output directory [default: $CRITERION_HOME, else $CARGO_TARGET_DIR/criterion,
     /// else cargo's target/criterion].

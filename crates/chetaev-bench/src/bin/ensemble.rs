@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use chetaev::prelude::Options;
-use chetaev_bench::cli::{exit, output_dir, print_summary};
+use chetaev_bench::cli::{exit, output_dir, print_summary, refuse_argument};
 use chetaev_bench::ensemble::{grid, sweep, SweepPoint};
 use chetaev_bench::parts::{
     number, read_number, sweep_point_from_json, sweep_point_to_json, Fields, Part, Shard,
@@ -37,7 +37,7 @@ use serde_json::{json, Value};
 
 /// The range ratio R_uniform / R_classical over a grid of (v0, h0), solved in parallel.
 #[derive(Parser, Debug)]
-#[command(version, args_conflicts_with_subcommands = true)]
+#[command(name = "ensemble", version, args_conflicts_with_subcommands = true)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -155,6 +155,9 @@ fn run() -> Result<(), Box<dyn Error>> {
             (out, summary)
         }
         None => {
+            if let Err(message) = check_arguments(&cli.run) {
+                refuse_argument::<Cli>(message);
+            }
             let out = output_dir(cli.run.out.clone(), "ensemble")?;
             let summary = solve_sweep(&cli.run, &out)?;
             (out, summary)
@@ -169,32 +172,31 @@ const MAX_N: usize = 1000;
 /// The most threads of the parallel run.
 const MAX_THREADS: usize = 1024;
 
-/// Solves the sweep (or one shard of it); writes the part file, and for the whole sweep the
-/// report. Returns the summary for stdout.
-fn solve_sweep(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
+/// The checks of the arguments of a sweep that clap cannot make alone: ranges, and `lo < hi`.
+fn check_arguments(args: &RunArgs) -> Result<(), String> {
     if !(args.lo > 0.0 && args.hi > args.lo && args.hi.is_finite()) {
         return Err(format!(
             "--lo {} --hi {}: need finite 0 < lo < hi, such as --lo 0.1 --hi 100",
             args.lo, args.hi
-        )
-        .into());
+        ));
     }
     if !(2..=MAX_N).contains(&args.n) {
         return Err(format!(
             "--n {}: need 2 ≤ n ≤ {MAX_N} points per axis (the grid has n² points)",
             args.n
-        )
-        .into());
+        ));
     }
     if !(1..=MAX_THREADS).contains(&args.threads) {
         return Err(format!(
             "--threads {}: need 1 ≤ threads ≤ {MAX_THREADS}, such as the number of cores",
             args.threads
-        )
-        .into());
+        ));
     }
     if !(args.g.is_finite() && args.g > 0.0) {
-        return Err(format!("--g {}: need a finite gravity g > 0, such as 9.81", args.g).into());
+        return Err(format!(
+            "--g {}: need a finite gravity g > 0, such as 9.81",
+            args.g
+        ));
     }
     // Every point's tolerances are `tol` and atol scaled from it: a `tol` the library refuses
     // would give a sweep of failures, so it is refused here, with the library's reason.
@@ -202,13 +204,17 @@ fn solve_sweep(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
         return Err(format!(
             "--tol {}: need a relative tolerance > 0, such as 1e-10",
             args.tol
-        )
-        .into());
+        ));
     }
     Options::until(1.0)
         .tolerances(args.tol, args.tol)
         .validate(0.0, 2)
-        .map_err(|e| format!("--tol {}: {e}", args.tol))?;
+        .map_err(|e| format!("--tol {}: {e}", args.tol))
+}
+
+/// Solves the sweep (or one shard of it), with arguments that passed [`check_arguments`]; writes
+/// the part file, and for the whole sweep the report. Returns the summary for stdout.
+fn solve_sweep(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
     let settings = Settings {
         n: args.n,
         lo: args.lo,

@@ -26,7 +26,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use chetaev::prelude::*;
-use chetaev_bench::cli::{exit, output_dir, print_summary};
+use chetaev_bench::cli::{exit, output_dir, print_summary, refuse_argument};
 use chetaev_bench::measure::{ratio_at_error, Budget};
 use chetaev_bench::overhead::{constraint_overhead, diagnostics_overhead, Comparison};
 use chetaev_bench::parts::{
@@ -47,7 +47,11 @@ use serde_json::{json, Value};
 
 /// Error against run time for chetaev's methods, ode_solvers and hand-written right-hand sides.
 #[derive(Parser, Debug)]
-#[command(version, args_conflicts_with_subcommands = true)]
+#[command(
+    name = "work-precision",
+    version,
+    args_conflicts_with_subcommands = true
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -161,8 +165,10 @@ fn run() -> Result<(), Box<dyn Error>> {
             (out, summary)
         }
         None => {
+            let settings =
+                Settings::from_args(&cli.run).unwrap_or_else(|m| refuse_argument::<Cli>(m));
             let out = output_dir(cli.run.out.clone(), "work-precision")?;
-            let summary = run_study(&cli.run, &out)?;
+            let summary = run_study(&cli.run, &settings, &out)?;
             (out, summary)
         }
     };
@@ -182,7 +188,8 @@ struct Settings {
 }
 
 impl Settings {
-    fn from_args(args: &RunArgs) -> Result<Self, Box<dyn Error>> {
+    /// The settings of `args`, or what is wrong with them.
+    fn from_args(args: &RunArgs) -> Result<Self, String> {
         let config = StudyConfig::default();
         let mut s = Self {
             tolerances: config.tolerances,
@@ -203,9 +210,10 @@ impl Settings {
             s.rk4_steps = Some(vec![16, 256, 4096, 16384]);
         }
         if let Some(t) = &args.tolerances {
-            if t.is_empty() || t.iter().any(|&t| !(t.is_finite() && t > 0.0)) {
+            if t.is_empty() || t.iter().any(|&t| !(t > 0.0 && t < 1.0)) {
                 return Err(
-                    "--tolerances needs positive finite numbers, e.g. --tolerances 1e-4,1e-8"
+                    "--tolerances needs relative tolerances between 0 and 1, e.g. --tolerances \
+                     1e-4,1e-8"
                         .into(),
                 );
             }
@@ -499,9 +507,8 @@ fn overhead(i: usize, b: &Budget) -> Result<Comparison, chetaev_catalogue::Error
 
 /// Runs the study, or one shard of it; writes the part file, and for the whole study the report.
 /// Returns the summary for stdout.
-fn run_study(args: &RunArgs, out: &Path) -> Result<String, Box<dyn Error>> {
-    let settings = Settings::from_args(args)?;
-    let mut study = Study::new(&settings)?;
+fn run_study(args: &RunArgs, settings: &Settings, out: &Path) -> Result<String, Box<dyn Error>> {
+    let mut study = Study::new(settings)?;
     let plan = study.plan();
     let shard = args.shard.unwrap_or(Shard::WHOLE);
     let mine: Vec<usize> = shard.items(plan.len()).collect();
