@@ -191,8 +191,8 @@ pub(crate) struct EventGradient {
     t: f64,
     q: Vec<f64>,
     qd: Vec<f64>,
-    /// With respect to the parameters it reads, by name.
-    params: Vec<(String, f64)>,
+    /// With respect to the parameters it reads: `(name, value read, derivative)`.
+    params: Vec<(String, f64, f64)>,
 }
 
 /// Records `f` at `(t, q, q̇)` with its parameters as inputs and differentiates it; `None` where a
@@ -237,7 +237,7 @@ pub(crate) fn event_gradient<F: EventFunction>(
         params: params
             .into_iter()
             .zip(&grad[2 * n + 1..])
-            .map(|(p, &d)| (p.0, d))
+            .map(|(p, &d)| (p.0, p.1, d))
             .collect(),
     })
 }
@@ -315,12 +315,33 @@ impl Variational {
             }
         }
         let compiled = Compiled::with_parameters(model, t0, q0, qd0)?;
-        let mut known: Vec<String> = compiled.parameters().iter().map(|p| p.0.clone()).collect();
+        // Every parameter read, by the model and the smooth events, with the value and who read it
+        // first: one name stands for one value, wherever it is read.
+        let mut read: Vec<(String, f64, String)> = compiled
+            .parameters()
+            .iter()
+            .map(|p| (p.0.clone(), p.1, "the model".to_string()))
+            .collect();
         for e in events {
-            if let Some(grad) = e.gradient.as_ref().and_then(|g| g(t0, q0, qd0)) {
-                known.extend(grad.params.into_iter().map(|p| p.0));
+            let Some(grad) = e.gradient.as_ref().and_then(|g| g(t0, q0, qd0)) else {
+                continue;
+            };
+            for (name, value, _) in grad.params {
+                match read.iter().find(|r| r.0 == name) {
+                    Some((_, first, by)) if first.to_bits() != value.to_bits() => {
+                        return Err(invalid(format!(
+                            "parameter {name:?} is read as {first} by {by} and as {value} by \
+                             event {:?}; one name stands for one value: read both as the same \
+                             value, or give them different names",
+                            e.name
+                        )));
+                    }
+                    Some(_) => {}
+                    None => read.push((name, value, format!("event {:?}", e.name))),
+                }
             }
         }
+        let known: Vec<String> = read.into_iter().map(|r| r.0).collect();
         // A model with branches may read a parameter only on a branch not taken at the start.
         let branches = compiled.branches() > 0;
         for seed in seeds.iter().filter(|_| !branches) {
@@ -612,7 +633,7 @@ impl Variational {
             let dp: f64 = grad
                 .params
                 .iter()
-                .map(|(name, d)| d * seed.rate(name))
+                .map(|(name, _, d)| d * seed.rate(name))
                 .sum();
             let dt = -(dot(&grad.q, &sj[..n]) + dot(&grad.qd, &sj[n..]) + dp) / rate;
             out.t.push(dt);

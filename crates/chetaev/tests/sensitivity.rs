@@ -586,3 +586,50 @@ fn a_name_read_with_two_values_is_a_typed_error() -> Result<(), Error> {
     assert!(solve(&problem, Dop853::default(), &Options::until(1.0))?.is_success());
     Ok(())
 }
+
+/// An event that reads the spring's parameter `k`, with its own value of it: `g = x − k/10`.
+struct ReadsK {
+    k: f64,
+}
+impl EventFunction for ReadsK {
+    fn value<R: Real>(&self, _t: R, q: &[R], _qd: &[R]) -> R {
+        q[0] - R::parameter("k", self.k) * 0.1
+    }
+}
+
+#[test]
+fn one_parameter_name_read_with_two_values_by_the_model_and_an_event_is_refused(
+) -> Result<(), Error> {
+    let problem = Problem::dynamic(Spring { k: 1.0 }, 0.0, vec![0.0], vec![1.0])?;
+    let options = |event_k: f64| {
+        Options::until(2.0)
+            .tolerances(1e-10, 1e-10)
+            .event(Event::smooth("at k/10", ReadsK { k: event_k }))
+            .sensitivity(Seed::parameter("k"))
+    };
+    match solve(&problem, Dop853::default(), &options(0.3)) {
+        Err(Error::Sensitivity { what }) => {
+            assert!(
+                what.contains("\"k\"") && what.contains("the model") && what.contains("at k/10"),
+                "{what}"
+            );
+        }
+        other => panic!("expected a refusal, got {:?}", other.map(|s| s.status)),
+    }
+    // The same value in both places is one parameter: x = sin t reaches k/10 = 0.1 at
+    // T = asin 0.1, and ∂T/∂k = (1/10 − ∂x/∂k)/ẋ with ∂x/∂k(t) = (t cos t − sin t)/2 at k = 1.
+    let sol = solve(&problem, Dop853::default(), &options(1.0))?;
+    assert!(sol.is_success(), "{:?}", sol.status);
+    let t = 0.1f64.asin();
+    assert!((sol.events[0].t - t).abs() < 1e-9);
+    let s = sol.sensitivities.as_ref().expect("recorded");
+    let hit = s.events[0].as_ref().expect("smooth event");
+    let dx_dk = (t * t.cos() - t.sin()) / 2.0;
+    let expected = (0.1 - dx_dk) / t.cos();
+    assert!(
+        (hit.t[0] - expected).abs() < 1e-8 * expected.abs(),
+        "{} against {expected}",
+        hit.t[0]
+    );
+    Ok(())
+}
