@@ -882,3 +882,107 @@ fn constraints_that_share_no_velocity_leave_the_jacobian_sparse() {
     compare_routes(paired_chain);
     compare_motion(&paired_chain(), Rodas4, 1.0);
 }
+
+/// A particle on the unit sphere of velocities in a potential with a kink at `x = 0`: `0.3 |x|`,
+/// or `0.3 x |x|`, with a metric that varies with `q`.
+#[derive(Clone)]
+struct KinkAtZero {
+    cube: bool,
+}
+impl DynModel for KinkAtZero {
+    fn sizes(&self) -> (usize, usize) {
+        (3, 1)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        let (x, y) = (q[0], q[1]);
+        let potential = if self.cube {
+            x.abs() * x * 0.3
+        } else {
+            x.abs() * 0.3
+        };
+        let m = (x * x + y * y + 1.0).sqrt();
+        m * (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5 + qd[2] * qd[2] * 0.5 - potential
+    }
+    fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+        f[0] = qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2] - 1.0;
+    }
+}
+
+#[test]
+fn at_a_coordinate_of_minus_zero_every_route_takes_the_same_side_of_a_kink() {
+    // At x = −0.0 the slope of |x| is −1 for num-dual, for f64::signum and so for the machine
+    // code: the interpreted equations' Jacobian must take the same side, as their own q̈ does.
+    let y = [-0.0, 0.3, 0.2, 0.6, 0.1, 0.8];
+    for cube in [false, true] {
+        let make = || {
+            Problem::dynamic(
+                KinkAtZero { cube },
+                0.0,
+                vec![0.2, 0.3, 0.2],
+                vec![0.6, 0.0, 0.8],
+            )
+            .expect("consistent")
+        };
+        let interpreted = make();
+        assert!(interpreted.compiled().is_some());
+        let machine = make();
+        let has_machine_code = machine
+            .compiled()
+            .and_then(|c| c.native_operations())
+            .is_some();
+        let dual = make().with_route(Route::Dual);
+        let (ja, ta) = jacobian_with(&interpreted, false, 0.0, &y);
+        let (jd, td) = jacobian_with(&dual, false, 0.0, &y);
+        let what = format!("cube {cube}");
+        agree(
+            &[ja.clone(), ta.clone()].concat(),
+            &[jd, td].concat(),
+            1e-12,
+            &what,
+        );
+        if has_machine_code {
+            let (jm, tm) = jacobian_with(&machine, false, 0.0, &y);
+            agree(&[ja, ta].concat(), &[jm, tm].concat(), 1e-12, &what);
+        }
+    }
+}
+
+/// `L = ½ ẋ² − x^3.5/10`: smooth at `x = 0` to second order, but num-dual forms `x^p` from
+/// `x^(p−3)·x³`, which is `∞·0` there for the `x^2.5` and `x^1.5` of the derivatives.
+#[derive(Clone)]
+struct Power;
+impl DynModel for Power {
+    fn sizes(&self) -> (usize, usize) {
+        (1, 0)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        qd[0] * qd[0] * 0.5 - q[0].powf(3.5) * 0.1
+    }
+}
+
+#[test]
+fn a_fractional_power_at_exactly_zero_has_its_jacobian_and_the_implicit_methods_pass_it() {
+    let problem = Problem::dynamic(Power, 0.0, vec![0.0], vec![1.0]).expect("finite at the start");
+    // ẍ = −0.35 x^2.5, so ∂(ẋ, ẍ)/∂(x, ẋ) = ((0, 1), (−0.875 x^1.5, 0)) = ((0, 1), (0, 0)) at 0.
+    let (jac, dfdt) = jacobian_with(&problem, false, 0.0, &[0.0, 1.0]);
+    assert_eq!(jac, [0.0, 1.0, 0.0, 0.0]);
+    assert_eq!(dfdt, [0.0, 0.0]);
+    // The energy ½ ẋ² + x^3.5/10 = ½ is kept, by every method.
+    for method in [
+        AnyMethod::Rodas4(Rodas4),
+        AnyMethod::Rodas5P(Rodas5P),
+        AnyMethod::Dop853(Dop853::default()),
+    ] {
+        let sol = solve(
+            &problem,
+            method,
+            &Options::until(1.0).tolerances(1e-10, 1e-10),
+        )
+        .expect("valid options");
+        assert!(sol.is_success(), "{}: {:?}", sol.method, sol.status);
+        let (_, q, qd) = sol.last().expect("recorded");
+        let (x, v) = (q[0], qd[0]);
+        let energy = 0.5 * v * v + 0.1 * x.powf(3.5);
+        assert!((energy - 0.5).abs() < 1e-8, "{}: E = {energy}", sol.method);
+    }
+}

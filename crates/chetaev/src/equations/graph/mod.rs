@@ -94,7 +94,9 @@ impl Fun {
             Fun::Acosh => x.acosh(),
             Fun::Atanh => x.atanh(),
             Fun::Abs => x.abs(),
-            Fun::Signum => x.signum(),
+            // `f64::signum` of the value for every scalar, the slope zero: the rule the graph
+            // differentiates `abs` by (num-dual's own `signum` of a dual number is 0 at `-0.0`).
+            Fun::Signum => T::from(x.re().signum()),
             Fun::Recip => x.recip(),
         }
     }
@@ -149,6 +151,18 @@ pub enum Node {
     Fun(Fun, u32),
 }
 
+/// `x^p` for any scalar. num-dual forms `x^p` and its derivatives from `x^(p−3)·x³`, which is
+/// `∞·0 = NaN` at `x = 0` for `p < 3`, even where every derivative it carries is `0` (`p` above
+/// their highest order): there the value and those derivatives are returned as the zeros they are.
+#[inline]
+fn powf<T: Real>(x: T, p: f64) -> T {
+    if x.re() == 0.0 && p > f64::from(T::NDERIV as u32) {
+        T::zero()
+    } else {
+        x.powf(p)
+    }
+}
+
 impl Node {
     /// The value of this node from its operands' values `v`.
     #[inline]
@@ -162,7 +176,7 @@ impl Node {
             Node::Div(a, b) => v(a) / v(b),
             Node::Neg(a) => -v(a),
             Node::Powi(a, n) => v(a).powi(n),
-            Node::Powf(a, p) => v(a).powf(p),
+            Node::Powf(a, p) => powf(v(a), p),
             Node::Atan2(a, b) => v(a).atan2(v(b)),
             Node::Fun(f, a) => f.apply(v(a)),
         }
