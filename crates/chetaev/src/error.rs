@@ -155,7 +155,9 @@ pub enum Error {
     /// The Lagrangian, the constraints or their derivatives gave NaN or infinity.
     #[error(
         "the model evaluated to a non-finite number at t = {t} with q = {q:?}, q̇ = {qd:?} (a square root or \
-         logarithm of a negative number, a division by zero, or an overflow); check the model's domain, or, \
+         logarithm of a negative number, a division by zero, an overflow, or a power at x = 0 exactly: √x, \
+         or x.powf(p) with p < 3, whose derivatives dual numbers form as 0·∞ even where they are 0); \
+         check the model's domain (start such a power a hair away from 0, as at 1e-100), or, \
          where the state is huge, whether the motion grows without bound (a fixed step beyond the \
          method's stability boundary: halve the step, or use Rodas4)",
         t = Num(*.t)
