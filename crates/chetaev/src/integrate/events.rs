@@ -148,8 +148,35 @@ pub struct EventHit {
     pub qd: Vec<f64>,
 }
 
+/// The position of `x` in the order of the finite `f64`s: consecutive numbers differ by 1, and
+/// `-0.0` and `+0.0` are both 0.
+fn ordinal(x: f64) -> i64 {
+    let magnitude = (x.abs().to_bits() & !(1u64 << 63)) as i64;
+    if x < 0.0 {
+        -magnitude
+    } else {
+        magnitude
+    }
+}
+
+/// The number halfway between `a` and `b` in the order of the `f64`s ([`ordinal`]): a bisection
+/// by it finds any `f64` in at most 64 halvings, however many orders of magnitude apart `a` and
+/// `b` are (a root at `1e-151` in a step `[0, 4e-7]`).
+fn ordinal_midpoint(a: f64, b: f64) -> f64 {
+    let mid = (i128::from(ordinal(a)) + i128::from(ordinal(b))).div_euclid(2);
+    let magnitude = f64::from_bits(mid.unsigned_abs() as u64);
+    if mid < 0 {
+        -magnitude
+    } else {
+        magnitude
+    }
+}
+
 /// Finds a root of `g` in `[a, b]` (either order) given `g(a) = ga`, `g(b) = gb` of opposite signs
-/// (or `gb = 0`), by the Illinois variant of regula falsi, to within a few ulps of `t`.
+/// (or `gb = 0`), by the Illinois variant of regula falsi, to within a few ulps of `t`. Where three
+/// steps of it have not halved the bracket, counted in `f64`s between its ends, the next is a
+/// bisection by [`ordinal_midpoint`], so a root many orders of magnitude from the bracket's size
+/// is found in a bounded number of evaluations.
 /// Returns the root and the number of evaluations.
 pub(crate) fn locate_root(
     mut g: impl FnMut(f64) -> f64,
@@ -163,17 +190,32 @@ pub(crate) fn locate_root(
         return (b, evals);
     }
     let mut side = 0i8;
+    let span = |a: f64, b: f64| (i128::from(ordinal(a)) - i128::from(ordinal(b))).unsigned_abs();
+    // The bracket's span when last halved, and the steps since.
+    let (mut mark, mut since) = (span(a, b), 0);
     for _ in 0..200 {
         let tol = 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
         if (b - a).abs() <= tol {
             break;
         }
+        let width = span(a, b);
+        if width <= mark / 2 {
+            (mark, since) = (width, 0);
+        }
         let mut c = (a * gb - b * ga) / (gb - ga);
-        // Keep c strictly inside; fall back to bisection if the secant leaves the bracket.
+        // Keep c strictly inside; bisect where the secant leaves the bracket or has stalled.
         let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-        if !(c > lo && c < hi) {
+        if since >= 3 {
+            c = ordinal_midpoint(a, b);
+            since = 0;
+            mark = width;
+        } else if !(c > lo && c < hi) {
             c = 0.5 * (a + b);
         }
+        if !(c > lo && c < hi) {
+            break;
+        }
+        since += 1;
         let gc = g(c);
         evals += 1;
         if gc == 0.0 || !gc.is_finite() {
@@ -212,6 +254,33 @@ mod tests {
             "{r}"
         );
         assert!(n < 20, "{n}");
+    }
+
+    #[test]
+    fn finds_a_root_far_smaller_than_its_bracket() {
+        // y = h − g t²/2 with h = 0.1, g = 1e300: the root 4.47e-151 in [0, 4e-7], where g(b) is
+        // 1e288 times g(a) and regula falsi alone creeps from b.
+        let g = |t: f64| 0.1 - 0.5e300 * t * t;
+        let root = (2.0 * 0.1 / 1e300f64).sqrt();
+        let (r, n) = locate_root(g, 0.0, g(0.0), 4e-7, g(4e-7));
+        assert!(
+            (r - root).abs() <= 8.0 * f64::EPSILON * root,
+            "{r} against {root}"
+        );
+        assert!(n < 200, "{n}");
+        // And backward, over a bracket of either sign.
+        let (r, _) = locate_root(|t| t + 1e-200, 1.0, 1.0, -1.0, -1.0 + 1e-200);
+        assert!((r + 1e-200).abs() <= 8.0 * f64::EPSILON * 1e-200, "{r}");
+    }
+
+    #[test]
+    fn the_midpoint_in_the_order_of_the_floats() {
+        assert_eq!(ordinal_midpoint(1.0, 1.0), 1.0);
+        assert_eq!(ordinal(-0.0), ordinal(0.0));
+        let m = ordinal_midpoint(0.0, 4e-7);
+        assert!(m > 1e-170 && m < 1e-150, "{m}");
+        assert_eq!(ordinal_midpoint(-2.0, 2.0), 0.0);
+        assert!(ordinal_midpoint(1.0, 2.0) > 1.0 && ordinal_midpoint(1.0, 2.0) < 2.0);
     }
 
     #[test]
