@@ -2259,3 +2259,47 @@ fn every_adaptive_method_crosses_a_tiny_interval_in_a_step_or_two() {
         }
     }
 }
+
+/// The classical projectile, `L = ½|q̇|² − g y`.
+struct Falling {
+    g: f64,
+}
+impl Lagrangian<2> for Falling {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5 - q[1] * self.g
+    }
+}
+
+#[test]
+fn a_rate_beyond_the_range_of_its_tolerance_still_gets_a_first_step_of_its_own_scale() {
+    // g = 1e300 from h = 0.1 at v0 = 0.1: ÿ/atol = 1e311 overflows the first-step guess's norm.
+    // Its fallback, 1e-6 of the interval, was a step of 1e144 impacts: a parabola has no error
+    // estimate to shorten it, and the impact fell below the dense output's resolution, at the
+    // step's end (t = 4e-7 for 4.5e-151). The guess is now formed from the norms' logarithms.
+    let (g, h, v0) = (1e300, 0.1, 0.1);
+    let problem = Problem::unconstrained(Falling { g }, 0.0, [0.0, h].into(), [v0, 0.0].into())
+        .expect("finite");
+    let t_impact = (2.0 * h / g).sqrt();
+    let ground = Event::new("ground", |_t, q, _qd| q[1]).falling().terminal();
+    for method in AnyMethod::all(1e-3)
+        .into_iter()
+        .filter(|m| m.info().fixed_step.is_none())
+    {
+        let name = method.info().name;
+        let options = Options::until(1.0)
+            .tolerances(1e-10, 1e-11)
+            .event(ground.clone());
+        let sol = solve(&problem, method, &options).expect("valid");
+        assert!(sol.is_success(), "{name}: {:?}", sol.status);
+        let hit = &sol.events[0];
+        assert!(
+            (hit.t - t_impact).abs() < 1e-9 * t_impact,
+            "{name}: impact at {:e} for {t_impact:e}",
+            hit.t
+        );
+        assert!(
+            (hit.q[0] - v0 * t_impact).abs() < 1e-9 * v0 * t_impact,
+            "{name}"
+        );
+    }
+}

@@ -1019,10 +1019,28 @@ fn initial_step<S: OdeSystem>(
         let s: f64 = (0..norm.len()).map(|i| (ratio(i) / largest).powi(2)).sum();
         largest * (s / n).sqrt()
     };
+    // `log2` of the same norm, finite where the norm itself overflows but every `v(i)` is finite
+    // (a rate of 1e300 against a tolerance of 1e-11): `v` is scaled by a power of two first.
+    let rms_log2 = |v: &dyn Fn(usize) -> f64| {
+        let largest = (0..norm.len()).fold(0.0f64, |m, i| m.max(v(i).abs()));
+        if !largest.is_finite() || largest == 0.0 {
+            return largest.log2();
+        }
+        let e = largest.log2().floor();
+        // 2^−e in two factors, each within the range of f64.
+        let (a, b) = ((-0.5 * e).floor().exp2(), (-e - (-0.5 * e).floor()).exp2());
+        let scaled = rms(&|i| v(i) * a * b);
+        e + scaled.log2()
+    };
     let d0 = rms(&|i| y0[i]);
     let d1 = rms(&|i| f0[i]);
+    // Where a norm overflows, the quotients below are formed from the norms' logarithms.
+    let overflow = !(d0.is_finite() && d1.is_finite());
+    let (l0, l1) = (rms_log2(&|i| y0[i]), rms_log2(&|i| f0[i]));
     let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
         1e-6
+    } else if overflow {
+        0.01 * (l0 - l1).exp2()
     } else {
         0.01 * d0 / d1
     };
@@ -1054,6 +1072,9 @@ fn initial_step<S: OdeSystem>(
     let d2 = rms(&|i| f1[i] - f0[i]) / h0;
     let h1 = if d1.max(d2) <= 1e-15 {
         (h0 * 1e-3).max(1e-6)
+    } else if overflow || !d2.is_finite() {
+        let l2 = rms_log2(&|i| f1[i] - f0[i]) - h0.log2();
+        ((0.01f64.log2() - l1.max(l2)) / p).exp2()
     } else {
         (0.01 / d1.max(d2)).powf(1.0 / p)
     };
