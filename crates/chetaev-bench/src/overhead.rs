@@ -128,7 +128,7 @@ pub fn constraint_overhead<Me: Method + Copy>(
     let held = steady_horizontal_problem(p)?;
     Ok(compare_runs(
         "K = 0 (Problem::unconstrained) → K = 1 (ẋ − v0 = 0, same motion)",
-        format!("{} at {tol:.0e}", method.name()),
+        format!("{} at {tol:e}", method.name()),
         budget,
         || solve(&free, method, &options),
         || solve(&held, method, &options),
@@ -150,7 +150,7 @@ pub fn diagnostics_overhead<Me: Method + Copy>(
     let problem = uniform_problem(p)?;
     Ok(compare_runs(
         "diagnostics off (Record::State, output_final) → on (Record::Energy, every step)",
-        format!("{} at {tol:.0e}", method.name()),
+        format!("{} at {tol:e}", method.name()),
         budget,
         || solve(&problem, method, &off),
         || solve(&problem, method, &on),

@@ -111,7 +111,7 @@ pub fn points_markdown(points: &[Point]) -> String {
                 format!("h = {:.2e}", p.step)
             }
         } else {
-            format!("{:.0e}", p.tolerance)
+            format!("{:e}", p.tolerance)
         };
         let note = match &p.outcome {
             PointOutcome::Measured => String::new(),
@@ -198,7 +198,7 @@ pub fn ratio_at_tolerance_markdown(points: &[Point], pairs: &[(&str, &str)]) -> 
     }
     let mut out = String::from("| time ratio at equal tolerance |");
     for t in &tolerances {
-        let _ = write!(out, " {t:.0e} |");
+        let _ = write!(out, " {t:e} |");
     }
     out.push_str("\n|---|");
     out.push_str(&"---|".repeat(tolerances.len()));

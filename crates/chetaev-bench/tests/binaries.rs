@@ -357,7 +357,15 @@ fn an_argument_that_makes_no_sense_is_refused_with_status_2_before_any_output() 
         (ENSEMBLE, vec!["--n", "1"], "--n 1"),
         (ENSEMBLE, vec!["--threads", "0"], "--threads 0"),
         (ENSEMBLE, vec!["--g", "nan"], "--g NaN"),
-        (ENSEMBLE, vec!["--tol", "0"], "--tol 0"),
+        (ENSEMBLE, vec!["--tol", "0"], "--tol 0e0"),
+        (ENSEMBLE, vec!["--tol", "10"], "--tol 1e1"),
+        (ENSEMBLE, vec!["--threads", "1"], "--threads 1"),
+        (ENSEMBLE, vec!["--g", "-9.81"], "--g -9.81"),
+        (
+            WORK_PRECISION,
+            vec!["--tolerances", "-1e-3"],
+            "between 0 and 1",
+        ),
         (WORK_PRECISION, vec!["--tolerances", "10"], "--tolerances"),
         (
             WORK_PRECISION,

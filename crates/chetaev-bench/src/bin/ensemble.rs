@@ -37,7 +37,12 @@ use serde_json::{json, Value};
 
 /// The range ratio R_uniform / R_classical over a grid of (v0, h0), solved in parallel.
 #[derive(Parser, Debug)]
-#[command(name = "ensemble", version, args_conflicts_with_subcommands = true)]
+#[command(
+    name = "ensemble",
+    version,
+    args_conflicts_with_subcommands = true,
+    allow_negative_numbers = true
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -57,16 +62,16 @@ struct RunArgs {
     #[arg(long, default_value_t = 100)]
     n: usize,
     /// Smallest v0 and h0.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
     lo: f64,
     /// Largest v0 and h0.
-    #[arg(long, default_value_t = 100.0)]
+    #[arg(long, default_value_t = 100.0, allow_hyphen_values = true)]
     hi: f64,
     /// Gravitational acceleration.
-    #[arg(long, default_value_t = 9.81)]
+    #[arg(long, default_value_t = 9.81, allow_hyphen_values = true)]
     g: f64,
     /// Relative tolerance (absolute tolerances scaled to each point's motion).
-    #[arg(long, default_value = "1e-10")]
+    #[arg(long, default_value = "1e-10", allow_hyphen_values = true)]
     tol: f64,
     /// Threads of the parallel run (compared with one thread).
     #[arg(long, default_value_t = 2)]
@@ -186,9 +191,10 @@ fn check_arguments(args: &RunArgs) -> Result<(), String> {
             args.n
         ));
     }
-    if !(1..=MAX_THREADS).contains(&args.threads) {
+    if !(2..=MAX_THREADS).contains(&args.threads) {
         return Err(format!(
-            "--threads {}: need 1 ≤ threads ≤ {MAX_THREADS}, such as the number of cores",
+            "--threads {}: need 2 ≤ threads ≤ {MAX_THREADS}, such as the number of cores (the \
+             sweep is timed on one thread and on this many)",
             args.threads
         ));
     }
@@ -200,16 +206,16 @@ fn check_arguments(args: &RunArgs) -> Result<(), String> {
     }
     // Every point's tolerances are `tol` and atol scaled from it: a `tol` the library refuses
     // would give a sweep of failures, so it is refused here, with the library's reason.
-    if args.tol.is_nan() || args.tol <= 0.0 {
+    if !(args.tol > 0.0 && args.tol < 1.0) {
         return Err(format!(
-            "--tol {}: need a relative tolerance > 0, such as 1e-10",
+            "--tol {:e}: need a relative tolerance between 0 and 1, such as 1e-10",
             args.tol
         ));
     }
     Options::until(1.0)
         .tolerances(args.tol, args.tol)
         .validate(0.0, 2)
-        .map_err(|e| format!("--tol {}: {e}", args.tol))
+        .map_err(|e| format!("--tol {:e}: {e}", args.tol))
 }
 
 /// Solves the sweep (or one shard of it), with arguments that passed [`check_arguments`]; writes
@@ -383,9 +389,17 @@ fn report(
     let failures: Vec<&SweepPoint> = solved.iter().filter(|p| p.failure.is_some()).collect();
     let ok: Vec<&SweepPoint> = solved.iter().filter(|p| p.failure.is_none()).collect();
     let max_of = |f: &dyn Fn(&SweepPoint) -> f64| ok.iter().map(|p| f(p)).fold(0.0f64, f64::max);
-    let ratio_err = max_of(&|p| p.ratio_error());
-    let u_err = max_of(&|p| p.uniform_error);
-    let c_err = max_of(&|p| p.classical_error);
+    // The largest error over the solved points; with none solved, there is none to state.
+    let largest = |f: &dyn Fn(&SweepPoint) -> f64| {
+        if ok.is_empty() {
+            "— (no point solved)".to_string()
+        } else {
+            format!("{:.1e}", max_of(f))
+        }
+    };
+    let ratio_err = largest(&|p| p.ratio_error());
+    let u_err = largest(&|p| p.uniform_error);
+    let c_err = largest(&|p| p.classical_error);
     let rodas = ok.iter().filter(|p| p.method == "Rodas4").count();
     let steps: usize = ok.iter().map(|p| p.steps).sum();
 
@@ -456,7 +470,7 @@ fn report(
     let _ = writeln!(
         md,
         "## Ensemble: the range ratio over {} points\n\n\
-         `v0`, `h0` log-spaced over [{}, {}] ({} × {}), `g = {}`, rtol = {:.0e} with absolute \
+         `v0`, `h0` log-spaced over [{}, {}] ({} × {}), `g = {}`, rtol = {:e} with absolute \
          tolerances scaled to each motion (`scaled_atol`), every point solved to the impact (uniform \
          by Dop853, and by Rodas4 where Dop853 reports stiffness; classical by Dop853).\n\n\
          | | |\n|---|---|\n\
@@ -466,8 +480,8 @@ fn report(
          | points solved / failed | {} / {} |\n\
          | uniform motions that needed Rodas4 | {rodas} |\n\
          | steps, all uniform motions | {steps} |\n\
-         | largest relative error of the ratio | {ratio_err:.1e} |\n\
-         | largest relative error of R_uniform / R_classical | {u_err:.1e} / {c_err:.1e} |\n\n\
+         | largest relative error of the ratio | {ratio_err} |\n\
+         | largest relative error of R_uniform / R_classical | {u_err} / {c_err} |\n\n\
          ![range ratio](ensemble-ratio.svg)\n\n![error](ensemble-error.svg)\n",
         solved.len(),
         args.lo,
@@ -506,7 +520,7 @@ fn report(
         summary,
         "speed-up {speedup:.2}{rounds} on {threads} threads; {} solved, {} failed, {rodas} by \
          Rodas4; \
-         largest ratio error {ratio_err:.1e}",
+         largest ratio error {ratio_err}",
         ok.len(),
         failures.len(),
     );

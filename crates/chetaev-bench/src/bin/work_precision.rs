@@ -81,7 +81,12 @@ struct RunArgs {
     shard: Option<Shard>,
     /// Tolerances of the adaptive methods, comma-separated (replacing 1e-3 … 1e-14, or the four
     /// of --quick).
-    #[arg(long, value_delimiter = ',', value_name = "TOL,...")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "TOL,...",
+        allow_hyphen_values = true
+    )]
     tolerances: Option<Vec<f64>>,
     /// Step counts of Rk4, comma-separated (replacing 8, 16, …, 32768, or the four of --quick).
     #[arg(long, value_delimiter = ',', value_name = "N,...")]
@@ -305,7 +310,7 @@ enum Setting {
 impl std::fmt::Display for Setting {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Self::Tolerance(t) => write!(f, "tolerance {t:.0e}"),
+            Self::Tolerance(t) => write!(f, "tolerance {t:e}"),
             Self::Steps(n) => write!(f, "{n} fixed steps"),
             Self::StepsRefused => f.write_str("fixed steps (refused)"),
         }
@@ -654,7 +659,7 @@ fn report(study: &Study, whole: &Part, out: &Path) -> Result<String, Box<dyn Err
         config
             .tolerances
             .iter()
-            .map(|t| format!("{t:.0e}"))
+            .map(|t| format!("{t:e}"))
             .collect::<Vec<_>>()
             .join(", "),
         config.budget.min_repeats,
