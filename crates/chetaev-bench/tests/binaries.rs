@@ -373,6 +373,11 @@ fn an_argument_that_makes_no_sense_is_refused_with_status_2_before_any_output() 
             "--tolerances",
         ),
         (WORK_PRECISION, vec!["--rk4-steps", "0"], "--rk4-steps"),
+        (
+            WORK_PRECISION,
+            vec!["--rk4-steps", "16,1000000000"],
+            "--rk4-steps",
+        ),
         (WORK_PRECISION, vec!["--max-steps", "0"], "--max-steps"),
         // Cannot be read at all: refused by the parser, with the same status.
         (ENSEMBLE, vec!["--n", "two"], "--n"),
