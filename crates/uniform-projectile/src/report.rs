@@ -542,7 +542,13 @@ fn motion_errors(p: &Params, sol: &Solution, k: &Kinematics, uniform_motion: boo
         e.yd = e.yd.max((qd[1] - v[1]).abs() / k.impact_speed);
         e.xdd = e.xdd.max((qdd[0] - a[0]).abs() / p.g);
         e.ydd = e.ydd.max((qdd[1] - a[1]).abs() / p.g);
-        let kn = (qd[0] * qdd[1] - qdd[0] * qd[1]).abs() / norm(qd).powi(3);
+        let speed = norm(qd);
+        let kn = if speed.powi(3).is_finite() {
+            (qd[0] * qdd[1] - qdd[0] * qd[1]).abs() / speed.powi(3)
+        } else {
+            // |q̇|³ overflows (v0 near 1e103): the same quotient with q̇ scaled by its norm.
+            (qd[0] / speed * qdd[1] - qdd[0] * (qd[1] / speed)).abs() / speed / speed
+        };
         e.curvature = e.curvature.max((kn - kappa).abs() / (p.g / (p.v0 * p.v0)));
         e.energy_balance = e.energy_balance.max(bal.abs() / e_scale);
         if uniform_motion {

@@ -372,3 +372,25 @@ fn a_stiff_case_verifies_with_an_implicit_method() {
         assert_eq!(runs, 11, "{name}");
     }
 }
+
+#[test]
+fn a_speed_whose_cube_overflows_verifies_and_a_failure_outside_the_checked_range_says_so() {
+    // |q̇|³ = 1e309 overflowed the numerical curvature to 0, an error of 1 blamed on chetaev.
+    let o = run(&["--v0", "1e103"]);
+    assert!(o.status.success(), "{}", stdout(&o));
+    assert!(stdout(&o).starts_with("VERIFIED"));
+    // At g = 1e-200 the closed form's own ∂T/∂g is NaN: not verified, with a note after the
+    // verdict that the reference is outside the range it is checked over.
+    let o = run(&["--g", "1e-200"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stdout(&o).starts_with("NOT VERIFIED"));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("outside the range over which the closed forms"),
+        "{err}"
+    );
+    // Inside it, a failure carries no such note.
+    let o = run(&["--limit", "1e-16"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("outside the range"));
+}
