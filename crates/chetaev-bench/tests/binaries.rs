@@ -346,6 +346,21 @@ fn bench_report_reads_criterion_under_cargo_target_dir() {
     let rhs = std::fs::read_to_string(dir.join("chetaev-bench-out/bench-report/rhs-cost.csv"))
         .expect("rhs-cost.csv");
     assert!(rhs.contains("static,4,0,400,400,400"), "{rhs}");
+    // Two sizes below 6: the fit over n ≥ 6 has no points, and says so rather than NaN.
+    let summary = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        !md.contains("NaN") && !summary.contains("NaN"),
+        "{md}\n{summary}"
+    );
+    assert!(md.contains("| static | k = 0 | 2.00 | – |"), "{md}");
+    // Without results nothing is written, not even the output folder.
+    let out = Command::new(BENCH_REPORT)
+        .args(["--criterion", "nowhere", "--out", "empty"])
+        .current_dir(&dir)
+        .output()
+        .expect("starts");
+    assert!(!out.status.success());
+    assert!(!dir.join("empty").exists());
 }
 
 #[test]

@@ -58,9 +58,6 @@ fn ns(e: &Estimate) -> String {
 fn run() -> Result<(), Box<dyn Error>> {
     let args = Args::parse();
     let criterion = args.criterion.unwrap_or_else(default_criterion_dir);
-    let out = output_dir(args.out, "bench-report")?;
-    let mut md = String::new();
-
     let stat = read_group(&criterion, "rhs_cost")?;
     if stat.is_empty() {
         return Err(format!(
@@ -70,6 +67,9 @@ fn run() -> Result<(), Box<dyn Error>> {
         )
         .into());
     }
+    // Made only once there is something to write into it.
+    let out = output_dir(args.out, "bench-report")?;
+    let mut md = String::new();
     let dynamic = read_group(&criterion, "rhs_cost_dyn")?;
     let groups = [("static", &stat), ("run-time", &dynamic)];
     let sized = |group: &[Estimate]| -> Vec<(usize, usize, Estimate)> {
@@ -132,8 +132,17 @@ fn run() -> Result<(), Box<dyn Error>> {
                 continue;
             }
             let large: Vec<(f64, f64)> = pts.iter().copied().filter(|p| p.0 >= 6.0).collect();
-            let (all, big) = (log_slope(&pts), log_slope(&large));
-            let _ = writeln!(md, "| {label} | {name} | {all:.2} | {big:.2} |");
+            // "–" where too few sizes were measured for a fit (a filtered `cargo bench`).
+            let slope = |p: &[(f64, f64)]| {
+                let s = log_slope(p);
+                if s.is_finite() {
+                    format!("{s:.2}")
+                } else {
+                    "–".to_string()
+                }
+            };
+            let (all, big) = (slope(&pts), slope(&large));
+            let _ = writeln!(md, "| {label} | {name} | {all} | {big} |");
             exponents.push((format!("{label}, {name}"), all, big));
             fig = fig.line_styled(
                 &format!("{label}, {name}"),
@@ -212,7 +221,7 @@ fn run() -> Result<(), Box<dyn Error>> {
     for (name, all, big) in exponents {
         writeln!(
             stdout,
-            "growth exponent, {name}: {all:.2} (all n), {big:.2} (n ≥ 6)"
+            "growth exponent, {name}: {all} (all n), {big} (n ≥ 6)"
         )?;
     }
     writeln!(stdout, "written to {}", out.join("benchmarks.md").display())?;
