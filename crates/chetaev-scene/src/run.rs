@@ -104,7 +104,9 @@ impl Scene {
         if latex.is_empty() {
             return Ok("% the model could not be recorded as expressions".to_string());
         }
-        Ok(format!("% coordinates q = ({names})\n{latex}"))
+        Ok(format!(
+            "% coordinates q = ({names}); r = dL/dq - g + Q, the right side of W qdd - J^T mu = r\n{latex}"
+        ))
     }
 
     /// Integrates the scene, recording only what its tables and pictures need. A problem found

@@ -35,6 +35,15 @@ pub(super) struct Builder {
     pub(super) file: SourceFile,
 }
 
+/// "1 value", "3 values".
+fn values(n: usize) -> String {
+    if n == 1 {
+        "1 value".to_string()
+    } else {
+        format!("{n} values")
+    }
+}
+
 fn is_identifier(s: &str) -> bool {
     let mut c = s.chars();
     c.next()
@@ -91,7 +100,7 @@ impl Builder {
             return Err(self.err(
                 name.span(),
                 format!(
-                    "'{n}' is not a valid {what} name: use ASCII letters, digits and '_', starting with a letter"
+                    "'{n}' is not a valid {what} name: use ASCII letters, digits and '_', starting with a letter or '_'"
                 ),
             ));
         }
@@ -496,8 +505,8 @@ impl Builder {
             return Err(self.err(
                 list.span(),
                 format!(
-                    "initial.{what} has {} values; expected {n}, one for each of {}",
-                    list.get_ref().len(),
+                    "initial.{what} has {}; expected {n}, one for each of {}",
+                    values(list.get_ref().len()),
                     names.join(", ")
                 ),
             ));
@@ -640,8 +649,8 @@ impl Builder {
                             return Err(self.err(
                                 a.span(),
                                 format!(
-                                    "atol has {} values; a list needs {} (one per coordinate, then one per velocity), or give one number",
-                                    v.len(),
+                                    "atol has {}; a list needs {} (one per coordinate, then one per velocity), or give one number",
+                                    values(v.len()),
                                     2 * n
                                 ),
                             ));
@@ -761,9 +770,17 @@ impl Builder {
                 return Err(self.err(
                     name.span(),
                     format!(
-                        "'{}' is not a valid quantity name: use ASCII letters, digits and '_'",
+                        "'{}' is not a valid quantity name: use ASCII letters, digits and '_', \
+                         starting with a letter or '_'",
                         name.get_ref()
                     ),
+                ));
+            }
+            if name.get_ref() == "t" {
+                return Err(self.err(
+                    name.span(),
+                    "'t' names the time column of quantities.csv already; choose another \
+                     quantity name, such as 'time'",
                 ));
             }
             quantities.push((name.get_ref().clone(), self.expr(value, motion)?));
@@ -1207,4 +1224,29 @@ fn method_names(keep: impl Fn(&chetaev::integrate::AnyMethod) -> bool) -> String
         .map(|m| m.info().name.to_lowercase())
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::Scene;
+
+    fn with_quantity(name: &str) -> String {
+        format!(
+            "[model]\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2\"\n[initial]\nq = [0.0]\n\
+             q_dot = [1.0]\n[solve]\nt_end = 1.0\n[output.quantities]\n{name} = \"2*x\"\n"
+        )
+    }
+
+    #[test]
+    fn a_quantity_may_not_take_the_name_of_the_time_column() {
+        let e = Scene::parse(&with_quantity("t"), "q.toml").expect_err("t is the time column");
+        assert!(e.to_string().contains("time column"), "{e}");
+        assert!(Scene::parse(&with_quantity("time"), "q.toml").is_ok());
+        assert!(Scene::parse(&with_quantity("_x"), "q.toml").is_ok());
+        let e = Scene::parse(&with_quantity("\"1x\""), "q.toml").expect_err("not a name");
+        assert!(
+            e.to_string().contains("starting with a letter or '_'"),
+            "{e}"
+        );
+    }
 }

@@ -351,7 +351,8 @@ impl fmt::Display for Description {
         if !self.equations.is_empty() {
             writeln!(
                 f,
-                "  derived    (inputs t, q1…, q̇1…; zero entries left out)"
+                "  derived    (inputs t, q1…, q̇1…; r = ∂L/∂q − g + Q, the right side of W q̈ − Jᵀμ = r; \
+                 zero entries left out)"
             )?;
             for (name, e) in &self.equations {
                 writeln!(f, "    {name:<10} = {e}")?;
