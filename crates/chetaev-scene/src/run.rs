@@ -427,8 +427,23 @@ impl Scene {
                             // If it fails, the recording pass fails at the same place and records
                             // the grid up to there.
                             match first.status {
-                                Status::Terminated { .. } => {
-                                    first.t.last().copied().unwrap_or(t_end)
+                                Status::Terminated { event } => {
+                                    let stop = first.t.last().copied().unwrap_or(t_end);
+                                    // A grid that would begin after the motion has stopped has
+                                    // no time to record.
+                                    if (*from - stop) * (t_end - self.t0) > 0.0 {
+                                        let span = self.spans.events.get(event).cloned();
+                                        return Err(self.error_at(
+                                            span.unwrap_or_else(|| self.spans.solve.clone()),
+                                            format!(
+                                                "the output grid starts at t = {from}, but this \
+                                                 terminal event stops the motion earlier, at \
+                                                 t = {stop}: start [output] times at or before \
+                                                 it, or give a list of times"
+                                            ),
+                                        ));
+                                    }
+                                    stop
                                 }
                                 _ => t_end,
                             }

@@ -580,3 +580,40 @@ fn help_gives_each_command_its_own_description() {
     assert!(describe.contains("Show the equations"), "{help}");
     assert!(!describe.contains("Parse and validate"), "{help}");
 }
+
+#[test]
+fn a_grid_that_starts_after_a_terminal_event_stops_the_motion_is_refused() {
+    // y = 1 − g t²/2 reaches the ground at t = √(2/9.81) ≈ 0.4515, before the grid's start.
+    let dir = tmp("grid-after-stop");
+    let scene = |from: f64| {
+        format!(
+            "[model]\ncoordinates = [\"y\"]\nlagrangian = \"0.5*y_dot^2 - 9.81*y\"\n\
+             [initial]\nq = [1.0]\nq_dot = [0.0]\n[solve]\nt_end = 3.0\n\
+             [[events]]\nname = \"ground\"\nexpression = \"y\"\ndirection = \"falling\"\n\
+             terminal = true\n[output]\ntimes = {{ from = {from:?}, count = 3 }}\n\
+             tables = [\"state\"]\n"
+        )
+    };
+    let path = write_scene(&dir, "late.toml", &scene(1.0));
+    let out = dir.join("out");
+    let o = chetaev(&["run", &path, "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stdout));
+    assert!(
+        text(&o.stderr).contains("stops the motion earlier, at t = 0.45"),
+        "{}",
+        text(&o.stderr)
+    );
+    // Starting before the stop, the grid runs to it: three rows, the last at the event.
+    let path = write_scene(&dir, "early.toml", &scene(0.1));
+    let o = chetaev(&["run", &path, "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("state.csv")).expect("state.csv");
+    let last: f64 = csv
+        .lines()
+        .last()
+        .and_then(|l| l.split(',').next())
+        .expect("a row")
+        .parse()
+        .expect("t");
+    assert!((last - (2.0 / 9.81f64).sqrt()).abs() < 1e-9, "{csv}");
+}
