@@ -132,7 +132,11 @@ impl Builder {
                                         .iter()
                                         .map(|(k, _)| (k.get_ref().clone(), 0.0))
                                         .collect(),
-                                    coordinates: Vec::new(),
+                                    // Named, so that a coordinate is called one.
+                                    coordinates: coordinates
+                                        .iter()
+                                        .map(|c| c.get_ref().clone())
+                                        .collect(),
                                     varying: BTreeMap::new(),
                                     motion: false,
                                 });

@@ -136,7 +136,19 @@ impl Builder {
         )?;
         let parameters = resolved.values.clone();
         let param_map: BTreeMap<String, f64> = parameters.iter().cloned().collect();
-        let constants = Symbols::constants(&param_map);
+        // The coordinates are named only so that one used in a constant (`t_end = "x"`) is
+        // called a coordinate, not an unknown name.
+        let constants = Symbols {
+            coordinates: raw
+                .model
+                .get_ref()
+                .coordinates
+                .get_ref()
+                .iter()
+                .map(|c| c.get_ref().clone())
+                .collect(),
+            ..Symbols::constants(&param_map)
+        };
         // Where sensitivities are asked for, the parameters that move with them are kept as
         // parameter nodes; every expression is also resolved without them first, so that it is
         // checked (folded parts finite, divisions by a zero parameter) exactly as without.
@@ -1235,6 +1247,21 @@ mod tests {
             "[model]\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2\"\n[initial]\nq = [0.0]\n\
              q_dot = [1.0]\n[solve]\nt_end = 1.0\n[output.quantities]\n{name} = \"2*x\"\n"
         )
+    }
+
+    #[test]
+    fn a_coordinate_in_a_constant_is_called_a_coordinate() {
+        for (from, to) in [
+            ("t_end = 1.0", "t_end = \"x\""),
+            ("q = [0.0]", "q = [\"x_dot\"]"),
+        ] {
+            let text = with_quantity("time").replace(from, to);
+            let e = Scene::parse(&text, "c.toml").expect_err("no value there");
+            assert!(e.to_string().contains("which has no value here"), "{e}");
+        }
+        let text = format!("[parameters]\na = \"x\"\n{}", with_quantity("time"));
+        let e = Scene::parse(&text, "c.toml").expect_err("no value there");
+        assert!(e.to_string().contains("'x' is a coordinate"), "{e}");
     }
 
     #[test]
