@@ -617,3 +617,22 @@ fn a_grid_that_starts_after_a_terminal_event_stops_the_motion_is_refused() {
         .expect("t");
     assert!((last - (2.0 / 9.81f64).sqrt()).abs() < 1e-9, "{csv}");
 }
+
+#[test]
+fn a_scene_that_is_not_utf8_is_refused_at_its_line_and_column() {
+    let dir = tmp("latin1");
+    let path = dir.join("latin1.toml");
+    // "é" in Latin-1, one byte 0xE9, in a comment on line 2.
+    let mut bytes = b"[model]\n# caf".to_vec();
+    bytes.push(0xE9);
+    bytes.extend_from_slice(b"\ncoordinates = [\"x\"]\n");
+    std::fs::write(&path, bytes).expect("writable");
+    let o = chetaev(&["check", path.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("latin1.toml:2:6: this byte is not UTF-8"),
+        "{err}"
+    );
+    assert!(err.contains("save it as UTF-8"), "{err}");
+}

@@ -136,7 +136,11 @@ fn only_what_is_asked_for_is_recorded() {
         "base.toml",
     )
     .expect_err("not a constant");
-    assert!(e.to_string().contains("'x' is a coordinate, which has no value here"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("'x' is a coordinate, which has no value here"),
+        "{e}"
+    );
 
     // An explicit grid to a time: one integration.
     let o = with_output("tables = [\"state\"]\ntimes = { from = 0.0, to = 0.4, count = 5 }")

@@ -60,13 +60,18 @@ impl Scene {
             });
         }
         let text = String::from_utf8(bytes).map_err(|e| {
-            read_error(std::io::Error::new(
-                std::io::ErrorKind::InvalidData,
-                format!(
-                    "byte {} is not UTF-8 text; a scene file is TOML, which is UTF-8",
-                    e.utf8_error().valid_up_to()
-                ),
-            ))
+            // Located in the text read so far, as a scene error is.
+            let at = e.utf8_error().valid_up_to();
+            let shown = String::from_utf8_lossy(e.as_bytes());
+            let file = SourceFile {
+                path: name.clone(),
+                text: Arc::from(shown.as_ref()),
+            };
+            file.error(
+                at..at + 1,
+                "this byte is not UTF-8 text; a scene file is TOML, which is UTF-8: save it as \
+                 UTF-8 (most editors offer it under the file's encoding)",
+            )
         })?;
         Self::parse(&text, &name)
     }
