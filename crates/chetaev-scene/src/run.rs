@@ -183,7 +183,7 @@ impl Scene {
                 s.q_dot.clone(),
                 format!(
                     "the initial velocity violates {} differentiated in time: ḣ = ∂h/∂q·q̇ + ∂h/∂t \
-                     = {residual:e} at t = {t} (allowed {tolerance:.2e}), so the motion would leave \
+                     = {residual:.3e} at t = {t} (allowed {tolerance:.2e}), so the motion would leave \
                      h = 0 at once; give a q_dot along the constraint (ḣ = 0), or set \
                      project_velocity = true under [initial] to project it onto ḣ = 0",
                     self.constraint_name(index)
@@ -198,7 +198,7 @@ impl Scene {
             } => self.error_at(
                 s.q_dot.clone(),
                 format!(
-                    "the initial velocity violates {}: f = {residual:e} at t = {t} \
+                    "the initial velocity violates {}: f = {residual:.3e} at t = {t} \
                      (allowed {tolerance:.2e}); give a consistent q_dot, or set project_velocity = true \
                      under [initial] to project it onto f = 0",
                     self.constraint_name(index)
@@ -212,7 +212,7 @@ impl Scene {
             } => self.error_at(
                 s.q.clone(),
                 format!(
-                    "the initial position violates {}: h = {residual:e} at t = {t} (allowed \
+                    "the initial position violates {}: h = {residual:.3e} at t = {t} (allowed \
                      {tolerance:.2e}); give a q on the constraint, or set project_velocity = true \
                      under [initial] to project q onto h = 0 (and then q_dot onto the velocity \
                      constraints; the summary says what changed)",
@@ -269,7 +269,7 @@ impl Scene {
                 s.initial.clone(),
                 format!(
                     "project_velocity = true could not make the initial state consistent: the \
-                     projection onto the constraints left a residual of {residual:e} after \
+                     projection onto the constraints left a residual of {residual:.3e} after \
                      {iterations} iterations; give a q and q_dot closer to the constraints, and \
                      check that they can be met there with a nonzero gradient (a speed \
                      constraint whose prescribed speed is 0 at t0 cannot)"
@@ -291,7 +291,7 @@ impl Scene {
                     span,
                     format!(
                         "moving '{seed}' moves the initial state off {} to first order (residual \
-                         {residual:e}): the initial values that the constraint ties to '{seed}' must \
+                         {residual:.3e}): the initial values that the constraint ties to '{seed}' must \
                          move with it; write them under [initial] as expressions of '{seed}' (for \
                          x_dot^2 + y_dot^2 - v0^2, q_dot = [\"v0\", 0.0])",
                         self.constraint_name(constraint)
