@@ -336,7 +336,10 @@ fn write_text(out: &mut impl Write, r: &Report, s: Sections) -> io::Result<()> {
     writeln!(
         out,
         "Table 42.1 rebuilt: v0 = {} m/s, g = {} m/s², h0 = {} m, m = {} kg;",
-        p.v0, p.g, p.h0, p.m
+        parameter(p.v0),
+        parameter(p.g),
+        parameter(p.h0),
+        parameter(p.m)
     )?;
     writeln!(
         out,
@@ -424,9 +427,33 @@ fn sensitivity_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
 fn row(out: &mut impl Write, name: &str, r: &Row) -> io::Result<()> {
     writeln!(
         out,
-        "  {name:<13} {:>16.12} {:>16.12} {:>16.12} {:>16.12} {:>16.12}",
-        r.t, r.r, r.v_r, r.impact_angle_deg, r.s
+        "  {name:<13} {:>16} {:>16} {:>16} {:>16} {:>16}",
+        cell(r.t),
+        cell(r.r),
+        cell(r.v_r),
+        cell(r.impact_angle_deg),
+        cell(r.s)
     )
+}
+
+/// A value of Table 42.1: twelve decimals where that shows it (from 1e-4 to 1e6, and 0),
+/// otherwise eleven significant digits in exponent form, not 150 digits or a row of zeros.
+fn cell(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e6).contains(&v.abs()) {
+        format!("{v:.12}")
+    } else {
+        format!("{v:.10e}")
+    }
+}
+
+/// A parameter as given where it is of a size to read in full (`10`, `0.5`), else in exponent
+/// form (`1e150`).
+fn parameter(v: f64) -> String {
+    if (1e-4..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
 }
 
 fn motion(out: &mut impl Write, name: &str, t: &TableRow) -> io::Result<()> {
