@@ -48,8 +48,11 @@ pub fn verdict(
 /// bad one is refused with clap's message and exit status 2.
 pub fn positive(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        Ok(v) => Err(format!("must be a finite positive number, got {v}")),
+        Ok(v) if v.is_finite() && v >= f64::MIN_POSITIVE => Ok(v),
+        Ok(v) => Err(format!(
+            "must be a finite positive number, at least {:e} (the smallest normal one), got {v:e}",
+            f64::MIN_POSITIVE
+        )),
         Err(e) => Err(e.to_string()),
     }
 }

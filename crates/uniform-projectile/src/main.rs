@@ -82,10 +82,13 @@ struct Cli {
 /// A finite, strictly positive number.
 fn positive(s: &str) -> Result<f64, String> {
     let v: f64 = s.parse().map_err(|e| format!("{e}"))?;
-    if v.is_finite() && v > 0.0 {
+    if v.is_finite() && v >= f64::MIN_POSITIVE {
         Ok(v)
     } else {
-        Err(format!("must be a finite positive number, got {v}"))
+        Err(format!(
+            "must be a finite positive number, at least {:e} (the smallest normal one), got {v:e}",
+            f64::MIN_POSITIVE
+        ))
     }
 }
 
