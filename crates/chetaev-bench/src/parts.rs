@@ -373,6 +373,10 @@ pub fn merge(parts: Vec<Part>) -> Result<Part, PartError> {
                 });
             }
         }
+        // A shard given twice is named as such, before its first item is found twice.
+        if let Some(run) = part.runs.iter().find(|r| shards[r.shard.k - 1].is_some()) {
+            return Err(PartError::DuplicateShard { shard: run.shard });
+        }
         for (index, result) in part.items {
             if index >= total {
                 return Err(malformed(format!("item {index} of a sweep of {total}")));
@@ -814,7 +818,7 @@ mod tests {
         );
         assert!(matches!(
             merge(vec![part("1/2", 10), part("1/2", 10), part("2/2", 10)]),
-            Err(PartError::DuplicateItem { .. })
+            Err(PartError::DuplicateShard { .. })
         ));
         assert!(matches!(
             merge(vec![part("1/2", 10), part("2/2", 11)]),
