@@ -960,6 +960,31 @@ impl DynModel for Power {
     }
 }
 
+/// Two particles in the potential of [`Power`] each: the powers of the two coordinates are
+/// evaluated side by side, as one run of the tape.
+#[derive(Clone)]
+struct Powers;
+impl DynModel for Powers {
+    fn sizes(&self) -> (usize, usize) {
+        (2, 0)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5 - (q[0].powf(3.5) + q[1].powf(3.5)) * 0.1
+    }
+}
+
+#[test]
+fn fractional_powers_at_exactly_zero_side_by_side_have_their_jacobian() {
+    let problem =
+        Problem::dynamic(Powers, 0.0, vec![0.0, 0.0], vec![1.0, 1.0]).expect("finite at the start");
+    let (jac, dfdt) = jacobian_with(&problem, false, 0.0, &[0.0, 0.0, 1.0, 1.0]);
+    let mut expected = vec![0.0; 16];
+    expected[2] = 1.0;
+    expected[7] = 1.0;
+    assert_eq!(jac, expected);
+    assert_eq!(dfdt, [0.0; 4]);
+}
+
 #[test]
 fn a_fractional_power_at_exactly_zero_has_its_jacobian_and_the_implicit_methods_pass_it() {
     let problem = Problem::dynamic(Power, 0.0, vec![0.0], vec![1.0]).expect("finite at the start");

@@ -155,9 +155,10 @@ pub enum Node {
 /// `∞·0 = NaN` at `x = 0` for `p < 3`, even where every derivative it carries is `0` (`p` above
 /// their highest order): there the value and those derivatives are returned as the zeros they are.
 #[inline]
-fn powf<T: Real>(x: T, p: f64) -> T {
+pub(super) fn powf<T: Real>(x: T, p: f64) -> T {
     if x.re() == 0.0 && p > f64::from(T::NDERIV as u32) {
-        T::zero()
+        // The value as f64 gives it (−0 for `(−0)^3`), the derivatives zero.
+        T::from(x.re().powf(p))
     } else {
         x.powf(p)
     }

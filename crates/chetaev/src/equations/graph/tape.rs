@@ -267,7 +267,7 @@ impl Run {
             Node::Atan2(..) => self.binary(slots, out, (a, da), (b, db), |x, y| x.atan2(y)),
             Node::Neg(_) => self.unary(slots, out, (a, da), |x| -x),
             Node::Powi(_, n) => self.unary(slots, out, (a, da), |x| x.powi(n)),
-            Node::Powf(_, p) => self.unary(slots, out, (a, da), |x| x.powf(p)),
+            Node::Powf(_, p) => self.unary(slots, out, (a, da), |x| super::powf(x, p)),
             Node::Fun(f, _) => self.unary(slots, out, (a, da), |x| f.apply(x)),
             Node::Const(_) | Node::Input(_) => unreachable!("inputs and constants are not run"),
         }
