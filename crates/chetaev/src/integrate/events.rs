@@ -174,9 +174,10 @@ fn ordinal_midpoint(a: f64, b: f64) -> f64 {
 
 /// Finds a root of `g` in `[a, b]` (either order) given `g(a) = ga`, `g(b) = gb` of opposite signs
 /// (or `gb = 0`), by the Illinois variant of regula falsi, to within a few ulps of `t`. Where three
-/// steps of it have not halved the bracket, counted in `f64`s between its ends, the next is a
-/// bisection by [`ordinal_midpoint`], so a root many orders of magnitude from the bracket's size
-/// is found in a bounded number of evaluations.
+/// steps of it have not halved the bracket, counted in `f64`s between its ends, and the values at
+/// its ends differ by more than 1e12 times, the next is a bisection, alternately by
+/// [`ordinal_midpoint`] and in value, so a root many orders of magnitude from the bracket's size
+/// is found in a bounded number of evaluations; an ordinary root costs what regula falsi costs.
 /// Returns the root and the number of evaluations.
 pub(crate) fn locate_root(
     mut g: impl FnMut(f64) -> f64,
@@ -192,7 +193,7 @@ pub(crate) fn locate_root(
     let mut side = 0i8;
     let span = |a: f64, b: f64| (i128::from(ordinal(a)) - i128::from(ordinal(b))).unsigned_abs();
     // The bracket's span when last halved, and the steps since.
-    let (mut mark, mut since) = (span(a, b), 0);
+    let (mut mark, mut since, mut forced) = (span(a, b), 0, 0u32);
     for _ in 0..200 {
         let tol = 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
         if (b - a).abs() <= tol {
@@ -205,8 +206,18 @@ pub(crate) fn locate_root(
         let mut c = (a * gb - b * ga) / (gb - ga);
         // Keep c strictly inside; bisect where the secant leaves the bracket or has stalled.
         let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-        if since >= 3 {
-            c = ordinal_midpoint(a, b);
+        // Stalled with ends of values so far apart that a secant step barely moves (|g| of 0.1
+        // against 1e287): regula falsi would need a halving of the weight per factor of 2.
+        let lopsided = (ga / gb).abs().max((gb / ga).abs()) > 1e12;
+        if since >= 3 && lopsided {
+            // Alternately in the order of the floats (a root many orders of magnitude inside)
+            // and in value (a root of ordinary size, where the secant crept from one end).
+            c = if forced % 2 == 0 {
+                ordinal_midpoint(a, b)
+            } else {
+                0.5 * (a + b)
+            };
+            forced += 1;
             since = 0;
             mark = width;
         } else if !(c > lo && c < hi) {
@@ -268,9 +279,29 @@ mod tests {
             "{r} against {root}"
         );
         assert!(n < 200, "{n}");
-        // And backward, over a bracket of either sign.
-        let (r, _) = locate_root(|t| t + 1e-200, 1.0, 1.0, -1.0, -1.0 + 1e-200);
-        assert!((r + 1e-200).abs() <= 8.0 * f64::EPSILON * 1e-200, "{r}");
+        // And backward, the bracket given from its far end.
+        let (r, n) = locate_root(g, 4e-7, g(4e-7), 0.0, g(0.0));
+        assert!(
+            (r - root).abs() <= 8.0 * f64::EPSILON * root,
+            "{r} against {root}"
+        );
+        assert!(n < 200, "{n}");
+    }
+
+    #[test]
+    fn an_ordinary_root_costs_what_regula_falsi_costs() {
+        // A root where the secant creeps from one end: the forced bisections must not send the
+        // search to the tiny floats near 0 over and over.
+        for shift in [0.0, 100.0] {
+            let g = |t: f64| (t - shift - 0.7).powi(3) + 0.1 * (t - shift - 0.7);
+            let (a, b) = (shift, shift + 1.0);
+            let (r, n) = locate_root(g, a, g(a), b, g(b));
+            assert!(
+                (r - shift - 0.7).abs() <= 8.0 * f64::EPSILON * (shift + 1.0),
+                "{r}"
+            );
+            assert!(n <= 25, "{n} evaluations from {a}");
+        }
     }
 
     #[test]
