@@ -105,7 +105,7 @@ impl Scene {
             return Ok("% the model could not be recorded as expressions".to_string());
         }
         Ok(format!(
-            "% coordinates q = ({names}); r = dL/dq - g + Q, the right side of W qdd - J^T mu = r\n{latex}"
+            "% coordinates q = ({names}); r = dL/dq - g + Q (Q with -dD/dqdot), the right side of W qdd - J^T mu = r\n{latex}"
         ))
     }
 
@@ -431,7 +431,8 @@ impl Scene {
                                     let stop = first.t.last().copied().unwrap_or(t_end);
                                     // A grid that would begin after the motion has stopped has
                                     // no time to record.
-                                    if (*from - stop) * (t_end - self.t0) > 0.0 {
+                                    let dir = (t_end - self.t0).signum();
+                                    if dir * (*from - stop) > 0.0 {
                                         let span = self.spans.events.get(event).cloned();
                                         return Err(self.error_at(
                                             span.unwrap_or_else(|| self.spans.solve.clone()),

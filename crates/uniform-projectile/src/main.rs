@@ -278,26 +278,32 @@ fn tolerances(r: &Report) -> String {
     }
 }
 
-/// The one-line verdict.
 /// A note for parameters outside the range over which the closed forms themselves are checked
 /// (`tests/extreme.rs`): there a failed verdict may be the reference's, which overflows or
 /// underflows in places (∂T/∂g at `g = 1e-200`), rather than chetaev's.
 fn outside_checked_range(p: &Params) -> Option<String> {
     let inside = |x: f64, lo: f64, hi: f64| (lo..=hi).contains(&x);
-    if inside(p.v0, 1e-6, 1e6) && inside(p.h0, 1e-6, 1e6) && inside(p.z(), 1e-8, 1e6) {
+    if inside(p.v0, 1e-6, 1e6)
+        && inside(p.h0, 1e-6, 1e6)
+        && inside(p.z(), 1e-8, 1e6)
+        && inside(p.g, 1.0, 100.0)
+    {
         return None;
     }
     Some(format!(
-        "note: v0 = {:e}, h0 = {:e}, z = g h0/v0² = {:e} lie outside the range over which the \
-         closed forms themselves are checked (v0 and h0 within 1e-6 … 1e6, z within 1e-8 … 1e6): \
+        "note: v0 = {:e}, h0 = {:e}, g = {:e}, z = g h0/v0² = {:e} lie outside the range over \
+         which the closed forms themselves are checked (g from 1 to 100, v0 and h0 within \
+         1e-6 … 1e6, z within 1e-8 … 1e6): \
          here the reference, evaluated in floating point, may fail as well as chetaev; compare \
          with --errors",
         p.v0,
         p.h0,
+        p.g,
         p.z()
     ))
 }
 
+/// The one-line verdict.
 fn verdict_line(r: &Report) -> String {
     let v = &r.verdict;
     let limit = if v.limit == LIMIT_PER_TOLERANCE * r.tolerance {

@@ -543,10 +543,11 @@ fn motion_errors(p: &Params, sol: &Solution, k: &Kinematics, uniform_motion: boo
         e.xdd = e.xdd.max((qdd[0] - a[0]).abs() / p.g);
         e.ydd = e.ydd.max((qdd[1] - a[1]).abs() / p.g);
         let speed = norm(qd);
-        let kn = if speed.powi(3).is_finite() {
+        let kn = if speed.powi(3).is_normal() {
             (qd[0] * qdd[1] - qdd[0] * qd[1]).abs() / speed.powi(3)
         } else {
-            // |q̇|³ overflows (v0 near 1e103): the same quotient with q̇ scaled by its norm.
+            // |q̇|³ overflows (v0 near 1e103) or underflows (v0 below 1e-102): the same quotient
+            // with q̇ scaled by its norm.
             (qd[0] / speed * qdd[1] - qdd[0] * (qd[1] / speed)).abs() / speed / speed
         };
         e.curvature = e.curvature.max((kn - kappa).abs() / (p.g / (p.v0 * p.v0)));

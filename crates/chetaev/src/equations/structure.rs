@@ -351,7 +351,7 @@ impl fmt::Display for Description {
         if !self.equations.is_empty() {
             writeln!(
                 f,
-                "  derived    (inputs t, q1…, q̇1…; r = ∂L/∂q − g + Q, the right side of W q̈ − Jᵀμ = r; \
+                "  derived    (inputs t, q1…, q̇1…; r = ∂L/∂q − g + Q (Q with −∂D/∂q̇), the right side of W q̈ − Jᵀμ = r; \
                  zero entries left out)"
             )?;
             for (name, e) in &self.equations {
