@@ -1034,13 +1034,13 @@ fn initial_step<S: OdeSystem>(
     };
     let d0 = rms(&|i| y0[i]);
     let d1 = rms(&|i| f0[i]);
-    // Where a norm overflows, the quotients below are formed from the norms' logarithms.
+    // Where a norm overflows, the quotients below are formed from the norms' logarithms, computed
+    // only then.
     let overflow = !(d0.is_finite() && d1.is_finite());
-    let (l0, l1) = (rms_log2(&|i| y0[i]), rms_log2(&|i| f0[i]));
     let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
         1e-6
     } else if overflow {
-        0.01 * (l0 - l1).exp2()
+        0.01 * (rms_log2(&|i| y0[i]) - rms_log2(&|i| f0[i])).exp2()
     } else {
         0.01 * d0 / d1
     };
@@ -1074,7 +1074,7 @@ fn initial_step<S: OdeSystem>(
         (h0 * 1e-3).max(1e-6)
     } else if overflow || !d2.is_finite() {
         let l2 = rms_log2(&|i| f1[i] - f0[i]) - h0.log2();
-        ((0.01f64.log2() - l1.max(l2)) / p).exp2()
+        ((0.01f64.log2() - rms_log2(&|i| f0[i]).max(l2)) / p).exp2()
     } else {
         (0.01 / d1.max(d2)).powf(1.0 / p)
     };
