@@ -263,7 +263,7 @@ pub enum Error {
     /// A recorded quantity is not finite.
     #[error(
         "{quantity} is not finite at t = {t} (the model's value leaves its domain there while the motion goes \
-         on); the motion before t is kept",
+         on, or overflows the floating-point range); the motion before t is kept",
         t = Num(*.t)
     )]
     NonFiniteSolution {

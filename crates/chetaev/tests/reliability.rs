@@ -483,6 +483,56 @@ fn a_failed_run_keeps_the_last_accepted_state_and_says_where() {
     }
 }
 
+/// A free particle whose Lagrangian has a term in `t` alone, `eᵗ`: it moves nothing, and its
+/// energy `½ẋ² − eᵗ` overflows beyond `t = ln f64::MAX ≈ 709.78`.
+struct OverflowingEnergy;
+impl Lagrangian<1> for OverflowingEnergy {
+    fn lagrangian<R: Real>(&self, t: R, _q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+        qd[0] * qd[0] * 0.5 + t.exp()
+    }
+}
+
+#[test]
+fn a_failed_run_whose_last_state_cannot_be_recorded_says_so() {
+    // The steps grow tenfold from t0 = 709 (the motion is exact), past the overflow of the
+    // energy, and run out after 40, far before t_end. Recording every step stops at the first
+    // one beyond it; recording the end only finds it at the last accepted state. Either way the
+    // error names that state, after every point kept.
+    let problem = Problem::unconstrained(
+        OverflowingEnergy,
+        709.0,
+        SVector::from([0.0]),
+        SVector::from([1.0]),
+    )
+    .expect("valid");
+    for output in [Output::Final, Output::Times(vec![709.5]), Output::Steps] {
+        // The energy without its quadratures, whose integrand `eᵗ` would overflow the state.
+        let mut o = Options::until(1e300).max_steps(40).record(Record::Dynamics);
+        o.output = output.clone();
+        let sol = solve(&problem, Dop853::default(), &o).expect("valid");
+        // The energy's evaluation fails there, and its error carries the state it failed at.
+        let Some(Error::NonFiniteEvaluation { t, q, qd }) = sol.error() else {
+            panic!("{output:?}: {:?}", sol.status)
+        };
+        assert!(*t > f64::MAX.ln(), "{output:?}: {t}");
+        assert!(
+            (q[0] - (t - 709.0)).abs() <= 1e-9 * t && qd[0] == 1.0,
+            "{output:?}"
+        );
+        let (t_last, q, qd) = sol.last().expect("the start is kept");
+        assert!(
+            t_last < *t && t_last < f64::MAX.ln(),
+            "{output:?}: {t_last}"
+        );
+        assert!(
+            (q[0] - (t_last - 709.0)).abs() < 1e-9 && qd[0] == 1.0,
+            "{output:?}"
+        );
+        assert!(sol.energy.iter().all(|e| e.is_finite()), "{output:?}");
+        assert!(!sol.energy.is_empty(), "{output:?}");
+    }
+}
+
 #[test]
 fn events_crossing_twice_within_one_step_are_found() {
     // x = sin t crosses 0.999 twice near every maximum, 2·asin... apart by 2·acos(0.999) ≈ 0.089,

@@ -92,11 +92,15 @@ where
         event_evaluations: 0,
     };
     let mut run = Progress::start(t0, y);
-    if let Err(e) = step_loop(&mut sys, &mut hooks, &method, &settings, &mut run) {
-        // Keep the last accepted state, wherever the output was asked for; a failure to record it
-        // (its own evaluation failing) leaves the error as it is.
+    if let Err(mut e) = step_loop(&mut sys, &mut hooks, &method, &settings, &mut run) {
+        // Keep the last accepted state, wherever the output was asked for. Where it cannot be
+        // recorded (a quantity of its own is not finite, such as an energy that overflows), a run
+        // recording every step would have stopped there with that error: it replaces the step's,
+        // so that the error says truly what is kept (the motion before its time).
         if hooks.sol.t.last() != Some(&run.t) {
-            let _ = hooks.record(&mut sys, run.t, &run.y);
+            if let Err(unrecorded) = hooks.record(&mut sys, run.t, &run.y) {
+                e = unrecorded;
+            }
         }
         hooks.sol.status = Status::Failed(e);
     }
