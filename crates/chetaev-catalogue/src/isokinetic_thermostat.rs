@@ -235,11 +235,14 @@ pub fn friction_coefficient<const N: usize>(
 
 /// The closed-form motion under a constant force.
 ///
-/// Evaluated without cancellation or overflow for every finite `t` (except in the representation
-/// `(q̇0 + M⁻¹F s)/ṡ` itself where the velocity is against the field, `β → −1`, see the tests):
-/// `s` and `ṡ` as sums of terms of one sign, scaled by `2 e^(−√b |t|)` beyond `√b |t| = 1`; `ln ṡ`
-/// through `ln1p` for `√b |t| < 1` and as `√b |t| + ln(½ (1 ± β) + ½ (1 ∓ β) e^(−2√b |t|))`
-/// beyond (`β = a/√b`, `1 ± β` formed without cancellation); `G` by [`ClosedForm::g`].
+/// Evaluated without cancellation or overflow for every finite `t`: `s` and `ṡ` as sums of terms
+/// of one sign, scaled by `2 e^(−√b |t|)` beyond `√b |t| = 1`; `ln ṡ` through `ln1p` for
+/// `√b |t| < 1` and as `√b |t| + ln(½ (1 ± β) + ½ (1 ∓ β) e^(−2√b |t|))` beyond (`β = a/√b`,
+/// `1 ± β` formed without cancellation); `G` by [`ClosedForm::g`]. A velocity exactly along or
+/// against the field (`γ = 0`) cannot turn: the motion is uniform, `q = q0 + q̇0 t`, with
+/// `μ = −β √b`, and is given so. Near `β = −1` (`0 < γ ≪ 1`) the representation
+/// `(q̇0 + M⁻¹F s)/ṡ` has the condition `e^(√b t)` of the motion itself, which is unstable there
+/// (any deviation turns the velocity towards the field), see the tests.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ClosedForm<const N: usize> {
     p: Params<N>,
@@ -255,6 +258,12 @@ pub struct ClosedForm<const N: usize> {
     beta: f64,
     one_plus: f64,
     one_minus: f64,
+    /// `u = M⁻¹F/√b`, the field's acceleration scaled to the speed of `q̇0` (`|u|_M = |q̇0|_M`;
+    /// zero without a field).
+    u: SVector<f64, N>,
+    /// `w = q̇0 − β u`, the part of `q̇0` perpendicular to `u` in the metric `M` (`|w|_M = γ |q̇0|_M`),
+    /// formed by projection, so that it is exactly zero where `q̇0` lies along the field.
+    w: SVector<f64, N>,
 }
 
 impl<const N: usize> ClosedForm<N> {
@@ -264,15 +273,25 @@ impl<const N: usize> ClosedForm<N> {
         let k0 = p.kinetic_energy();
         let a = p.force.dot(&p.qd0) / (2.0 * k0);
         let b = p.force.component_div(&p.mass).dot(&p.force) / (2.0 * k0);
-        // γ from the component of M^½ q̇0 perpendicular to M^(−½) F, without cancellation in
-        // 1 − a²/b.
-        let u = SVector::<f64, N>::from_fn(|k, _| p.mass[k].sqrt() * p.qd0[k]);
+        // γ and w from the component of M^½ q̇0 perpendicular to M^(−½) F, without cancellation
+        // in 1 − a²/b.
+        let scaled = SVector::<f64, N>::from_fn(|k, _| p.mass[k].sqrt() * p.qd0[k]);
         let e = SVector::<f64, N>::from_fn(|k, _| p.force[k] / p.mass[k].sqrt());
-        let gamma = if e.norm() > 0.0 {
+        let (gamma, w) = if e.norm() > 0.0 {
             let e = e / e.norm();
-            ((u - e * u.dot(&e)).norm() / u.norm()).min(1.0)
+            // Projected twice: once leaves a part along e of rounding size relative to q̇0, which
+            // matters where γ is small; twice, relative to the part across.
+            let across = scaled - e * scaled.dot(&e);
+            let across = across - e * across.dot(&e);
+            let w = SVector::<f64, N>::from_fn(|k, _| across[k] / p.mass[k].sqrt());
+            ((across.norm() / scaled.norm()).min(1.0), w)
         } else {
-            1.0
+            (1.0, p.qd0)
+        };
+        let u = if b > 0.0 {
+            p.force.component_div(&p.mass) / b.sqrt()
+        } else {
+            SVector::zeros()
         };
         let beta = if b > 0.0 {
             (a / b.sqrt()).clamp(-1.0, 1.0)
@@ -293,6 +312,8 @@ impl<const N: usize> ClosedForm<N> {
             beta,
             one_plus,
             one_minus,
+            u,
+            w,
         })
     }
 
@@ -349,13 +370,62 @@ impl<const N: usize> ClosedForm<N> {
             let sh = (0.5 * x).sinh();
             (2.0 * sh * sh + self.a * t * sinhc(x)).ln_1p()
         } else {
-            // ṡ = ½ e^|x| [(1 ± β) + (1 ∓ β) e^(−2|x|)], upper signs for t > 0.
-            let (ahead, behind) = if t >= 0.0 {
-                (self.one_plus, self.one_minus)
+            // ṡ = ½ e^|x| [(1 ± β) + (1 ∓ β) e^(−2|x|)], upper signs for t > 0: the larger term
+            // taken out, in logarithms, so that neither underflows.
+            let (la, lb, _) = self.ln_ends(t);
+            let y = x.abs();
+            let l = la - lb + 2.0 * y;
+            if l >= 0.0 {
+                y + la - std::f64::consts::LN_2 + (-l).exp().ln_1p()
             } else {
-                (self.one_minus, self.one_plus)
-            };
-            x.abs() + (0.5 * ahead + 0.5 * behind * (-2.0 * x.abs()).exp()).ln()
+                lb - y - std::f64::consts::LN_2 + l.exp().ln_1p()
+            }
+        }
+    }
+
+    /// `(ln A, ln B, ±1)` with `(A, B) = (1 ± β, 1 ∓ β)`, upper signs for `t ≥ 0`: the weights
+    /// of `e^|x|` and `e^(−|x|)` in `2ṡ`, in logarithms from `γ` (`(1 + β)(1 − β) = γ²`), so that
+    /// the smaller of them does not underflow where `γ` is tiny.
+    fn ln_ends(&self, t: f64) -> (f64, f64, f64) {
+        let small = 2.0 * self.gamma.ln();
+        let (ln_plus, ln_minus) = if self.beta >= 0.0 {
+            let big = self.one_plus.ln();
+            (big, small - big)
+        } else {
+            let big = self.one_minus.ln();
+            (small - big, big)
+        };
+        if t >= 0.0 {
+            (ln_plus, ln_minus, 1.0)
+        } else {
+            (ln_minus, ln_plus, -1.0)
+        }
+    }
+
+    /// `(v, g)` such that `q̇ = v u + g w` and `μ = −√b v`, beyond `√b |t| = 1`.
+    ///
+    /// With `y = √b |t|`, `(A, B)` and `σ` as in [`ClosedForm::ln_ends`], and `c = 2 e^(−y)`:
+    /// `c (q̇0 + M⁻¹F s) = σ u (A − B e^(−2y)) + 2 e^(−y) w` and `c ṡ = A + B e^(−2y)`, so
+    /// `v = σ (A − B e^(−2y)) / (A + B e^(−2y))`, `g = 2 e^(−y) / (A + B e^(−2y))`, each divided
+    /// through by its larger term. Since `A B = γ²`, `v² + γ² g² = 1`: the kinetic energy stays
+    /// `K0` to rounding, and nothing cancels (near `β = −1` the textbook form cancels to rounding
+    /// amplified by `e^y`).
+    fn turning(&self, t: f64) -> (f64, f64) {
+        let (la, lb, sign) = self.ln_ends(t);
+        let y = self.b.sqrt() * t.abs();
+        let l = la - lb + 2.0 * y;
+        if l >= 0.0 {
+            let inv = (-l).exp();
+            (
+                sign * (1.0 - inv) / (1.0 + inv),
+                2.0 * (-y - la).exp() / (1.0 + inv),
+            )
+        } else {
+            let rho = l.exp();
+            (
+                sign * (rho - 1.0) / (rho + 1.0),
+                2.0 * (y - lb).exp() / (rho + 1.0),
+            )
         }
     }
 
@@ -381,26 +451,45 @@ impl<const N: usize> ClosedForm<N> {
         t * tanhc(x) / one_plus_beta_w * atanc(self.gamma * z)
     }
 
-    /// `q(t) = q0 + q̇0 G + M⁻¹F (ln ṡ − a G)/b` (`q0 + q̇0 t` without a field).
-    pub fn position(&self, t: f64) -> SVector<f64, N> {
-        let p = &self.p;
-        if self.b == 0.0 {
-            return p.q0 + p.qd0 * t;
-        }
-        let g = self.g(t);
-        let accel = p.force.component_div(&p.mass);
-        p.q0 + p.qd0 * g + accel * ((self.ln_sd(t) - self.a * g) / self.b)
+    /// Whether the motion is uniform, `q = q0 + q̇0 t`: without a field, or with the velocity
+    /// exactly along or against it (`γ = 0`), where it cannot turn. Against the field the general
+    /// forms would cancel to rounding amplified by `e^(√b t)`.
+    fn uniform(&self) -> bool {
+        self.b == 0.0 || self.gamma == 0.0
     }
 
-    /// `q̇(t) = (q̇0 + M⁻¹F s) / ṡ`.
+    /// `q(t) = q0 + q̇0 G + M⁻¹F (ln ṡ − a G)/b = q0 + w G + u ln ṡ / √b` (`q0 + q̇0 t` where the
+    /// motion is uniform): the second form, with nothing to cancel where `G` is large.
+    pub fn position(&self, t: f64) -> SVector<f64, N> {
+        let p = &self.p;
+        if self.uniform() {
+            return p.q0 + p.qd0 * t;
+        }
+        p.q0 + self.w * self.g(t) + self.u * (self.ln_sd(t) / self.b.sqrt())
+    }
+
+    /// `q̇(t) = (q̇0 + M⁻¹F s) / ṡ` (`q̇0` where the motion is uniform).
     pub fn velocity(&self, t: f64) -> SVector<f64, N> {
         let p = &self.p;
+        if self.uniform() {
+            return p.qd0;
+        }
+        if self.b.sqrt() * t.abs() >= 1.0 {
+            let (v, g) = self.turning(t);
+            return self.u * v + self.w * g;
+        }
         let (s, sd, c) = self.s_scaled(t);
         (p.qd0 * c + p.force.component_div(&p.mass) * s) / sd
     }
 
-    /// The multiplier `μ(t) = −α(t) = −(a + b s)/ṡ`.
+    /// The multiplier `μ(t) = −α(t) = −(a + b s)/ṡ` (`−β √b` where the motion is uniform).
     pub fn multiplier(&self, t: f64) -> f64 {
+        if self.uniform() {
+            return -self.beta * self.b.sqrt();
+        }
+        if self.b.sqrt() * t.abs() >= 1.0 {
+            return -self.b.sqrt() * self.turning(t).0;
+        }
         let (s, sd, c) = self.s_scaled(t);
         -(self.a * c + self.b * s) / sd
     }
@@ -490,5 +579,42 @@ mod tests {
         assert!((k - cf.k0).abs() <= 1e-14 * cf.k0, "K = {k}");
         assert!(cf.multiplier(t).is_finite() && cf.position(t).iter().all(|x| x.is_finite()));
         assert!((cf.multiplier(t) + r).abs() <= 1e-14 * r);
+    }
+
+    #[test]
+    fn the_velocity_and_the_multiplier_meet_at_the_switch_and_keep_the_kinetic_energy() {
+        // Generic, and nearly against the field (γ from 1e-3 to 1e-150), where the textbook form
+        // (q̇0 + M⁻¹F s)/ṡ loses K0 to rounding amplified by e^(√b t).
+        let mut cases = vec![Params::four_particles()];
+        for tilt in [1e-3, 1e-9, 1e-150] {
+            let mut p = Params::four_particles();
+            p.qd0 = -p.force.component_div(&p.mass);
+            p.qd0[0] += tilt;
+            cases.push(p);
+        }
+        for p in cases {
+            let cf = ClosedForm::new(&p).expect("valid");
+            let r = cf.b.sqrt();
+            for t in [1.0 / r, -1.0 / r] {
+                let (below, above) = (t * (1.0 - 1e-15), t * (1.0 + 1e-15));
+                let (v0, v1) = (cf.velocity(below), cf.velocity(above));
+                assert!((v0 - v1).norm() <= 1e-13 * v0.norm(), "q̇ at {t}");
+                let (m0, m1) = (cf.multiplier(below), cf.multiplier(above));
+                assert!((m0 - m1).abs() <= 1e-13 * r, "μ at {t}");
+            }
+            for x in [-700.0, -30.0, -3.0, 3.0, 30.0, 300.0, 700.0, 2000.0] {
+                let t = x / r;
+                let v = cf.velocity(t);
+                let k = 0.5 * p.mass.component_mul(&v).dot(&v);
+                assert!(
+                    (k - cf.k0).abs() <= 1e-14 * cf.k0,
+                    "γ = {}, x = {x}: K = {k}",
+                    cf.gamma
+                );
+                let mu = cf.multiplier(t);
+                assert!(mu.abs() <= r * (1.0 + 1e-15), "μ = {mu}");
+                assert!(cf.position(t).iter().all(|q| q.is_finite()), "x = {x}");
+            }
+        }
     }
 }
