@@ -153,7 +153,17 @@ fn nice_steps(start: f64) -> impl Iterator<Item = f64> {
     } else {
         0
     };
-    (k0..k0 + 40).flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k)))
+    (k0..k0 + 40).flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * exp10(k)))
+}
+
+/// `10^k`, also below `1e-308`, where `powi` forms it as `1/10^(−k)`, whose divisor overflows:
+/// there as two factors, the last a subnormal number.
+fn exp10(k: i32) -> f64 {
+    if k >= -300 {
+        10f64.powi(k)
+    } else {
+        10f64.powi(k + 300) * 1e-300
+    }
 }
 
 /// Chooses a linear axis: a 1-2-5 step whose ticks are at least the room's spacing apart, and a
@@ -184,6 +194,11 @@ pub(crate) fn linear(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
                 ((hi / step) - SNAP).ceil() * step,
             )
         };
+        if !(b > a) {
+            // The data snapped to one tick: larger steps only do so again, and an axis of no
+            // length draws nothing.
+            break;
+        }
         let first = (a / step - 1e-9).ceil();
         let last = (b / step + 1e-9).floor();
         let count = last - first + 1.0;
@@ -292,7 +307,7 @@ fn log_narrow(a: f64, b: f64, room: Room) -> Axis {
         for m in [1.0, 2.0, 5.0] {
             let pos = d as f64 + f64::log10(m);
             if pos >= a - 1e-12 && pos <= b + 1e-12 {
-                let value = m * 10f64.powi(d as i32);
+                let value = m * exp10(d as i32);
                 ticks.push(Tick {
                     pos,
                     label: Some(format_single(value, value)),
@@ -363,7 +378,7 @@ pub(crate) fn format_linear(values: &[f64], step: f64) -> Vec<String> {
             if scientific {
                 let e = largest.log10().floor() as i32;
                 let decimals = (e - step_exp).clamp(0, 15) as usize;
-                let m = v / 10f64.powi(e);
+                let m = v / exp10(e);
                 let mantissa = minus(format!("{m:.decimals$}"));
                 format!("{mantissa}×{}", power_of_ten(f64::from(e)))
             } else {

@@ -489,6 +489,36 @@ fn extreme_values_stay_finite() {
     parse(&svg);
 }
 
+#[test]
+fn a_single_point_at_zero_in_a_small_figure_and_subnormal_spans_draw() {
+    // One recorded point at t0 = 0 (a run that failed at its first step) in a figure too small
+    // for any labels, and spans below the smallest normal number: no axis may be empty.
+    let cases: [&[(f64, f64)]; 6] = [
+        &[(0.0, 1.0)],
+        &[(0.0, 0.0)],
+        &[(0.0, -1.0), (0.0, -1.0)],
+        &[(0.0, 0.0), (0.0, 1.0)],
+        &[(0.0, 0.0), (1.0, 1e-315)],
+        &[(0.0, 0.0), (1e-315, 1.0)],
+    ];
+    for pts in cases {
+        for (w, h) in [(150.0, 100.0), (100.0, 100.0), (640.0, 400.0)] {
+            for log_y in [false, true] {
+                let mut f = Figure::new("y").size(w, h);
+                if log_y {
+                    f = f.log_y();
+                }
+                let svg = f.line("y", pts).to_svg();
+                parse(&svg);
+                assert!(
+                    !svg.contains("NaN") && !svg.to_lowercase().contains("inf"),
+                    "{pts:?} at {w}×{h}, log y {log_y}: {svg}"
+                );
+            }
+        }
+    }
+}
+
 /// A number attribute of an element.
 fn attr(n: &roxmltree::Node<'_, '_>, name: &str) -> f64 {
     n.attribute(name)
