@@ -401,6 +401,17 @@ fn bad_seeds_are_typed_errors() -> Result<(), Error> {
         solve(&problem, Dop853::default(), &projected),
         Err(Error::Sensitivity { .. })
     ));
+    // Error control asked of a method that has none; without seeds there is nothing to control.
+    let controlled = base.clone().sensitivity_control(true);
+    let e = solve(
+        &problem,
+        Rk4::new(1e-2),
+        &controlled.clone().sensitivity(Seed::parameter("g")),
+    )
+    .expect_err("no error control");
+    assert!(matches!(e, Error::Sensitivity { .. }), "{e}");
+    assert!(e.to_string().contains("Rk4 takes fixed steps"), "{e}");
+    assert!(solve(&problem, Rk4::new(1e-2), &controlled)?.is_success());
     // An event written as a closure is located, but its motion cannot be differentiated.
     let closure = Options::until(10.0)
         .sensitivity(Seed::parameter("g"))

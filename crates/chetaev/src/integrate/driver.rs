@@ -61,6 +61,16 @@ where
                     .to_string(),
             });
         }
+        if options.sensitivity_control {
+            if let Some(h) = method.info().fixed_step {
+                return Err(Error::Sensitivity {
+                    what: format!(
+                        "{} takes fixed steps (h = {h}) and has no error control to put the                          sensitivities under: leave Options::sensitivity_control off, or use a                          method with error control (Dop853, Rodas4)",
+                        method.info().name
+                    ),
+                });
+            }
+        }
         let variational = Variational::new(
             problem.model(),
             t0,

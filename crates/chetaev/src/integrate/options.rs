@@ -389,7 +389,8 @@ impl Options {
     }
 
     /// Puts the sensitivities under error control (with the state's tolerances; a per-component
-    /// `atol` of length `2n` applies to each seed's `∂q`, `∂q̇` as to `q`, `q̇`).
+    /// `atol` of length `2n` applies to each seed's `∂q`, `∂q̇` as to `q`, `q̇`). A fixed-step
+    /// method ([`Rk4`](crate::integrate::Rk4)) has none: with seeds, `solve` refuses it there.
     pub fn sensitivity_control(mut self, on: bool) -> Self {
         self.sensitivity_control = on;
         self
