@@ -247,7 +247,16 @@ impl ClosedForm {
         let cosh_s0 = 1.0 / (self.one_plus * self.one_minus).sqrt();
         let s0 = 0.5 * (self.one_plus / self.one_minus).ln();
         let tau = self.c * self.v * t;
-        p.theta0 + p.omega0 * cosh_s0 / (self.c * self.v) * (gd(tau + s0) - gd(s0))
+        // gd(τ + s0) − gd(s0) = 2 arctan(sinh(τ/2) / cosh(s0 + τ/2)) (the difference of the
+        // arctangents of tanh((τ + s0)/2) and tanh(s0/2)): no cancellation where τ is small, as
+        // for a small `a`, where the difference of the two values would lose all of θ − θ0 − ω0 t.
+        let (half, mid) = (0.5 * tau, s0 + 0.5 * tau);
+        let turned = if half.abs() < 700.0 && mid.abs() < 700.0 {
+            2.0 * (half.sinh() / mid.cosh()).atan()
+        } else {
+            gd(tau + s0) - gd(s0)
+        };
+        p.theta0 + p.omega0 * cosh_s0 / (self.c * self.v) * turned
     }
 
     /// The body accelerations `(u̇, ω̇) = (a ω², −m a u ω / (I + m a²))` at `t` (the reduced
@@ -354,6 +363,24 @@ mod tests {
                 );
             }
             assert!((cf.forward_speed(0.0) - p.u0).abs() <= 2.0 * f64::EPSILON * v);
+        }
+        // The heading is the integral of the turning rate (by Gauss–Legendre quadrature), also
+        // for a blade offset `a` so small that θ − θ0 − ω0 t is a rounding of θ itself.
+        for a in [0.5, -0.4, 1e-3, 1e-9, 1e-12, -1e-12, 1e-14] {
+            let p = Params {
+                a,
+                theta0: 0.3,
+                ..Params::default()
+            };
+            let cf = ClosedForm::new(&p).expect("valid");
+            for t in [0.5, 10.0, -3.0] {
+                let turned = crate::special::integrate(|s| cf.turning_rate(s), 0.0, t, 1e-15);
+                let th = cf.heading(t) - p.theta0;
+                assert!(
+                    (th - turned).abs() <= 1e-14 * turned.abs(),
+                    "a = {a}, t = {t}: {th} against {turned}"
+                );
+            }
         }
         // Without turning the sleigh moves uniformly.
         let p = Params {
