@@ -539,6 +539,15 @@ fn the_largest_residual_is_none_when_it_was_not_recorded() {
         "{:?}",
         sol.max_residual()
     );
+    // Likewise the energy balance, recorded only with Record::Energy (the default).
+    assert_eq!(sol.max_energy_balance(), None);
+    assert!(sol.energy_balance().is_empty());
+    let sol = solve(&p, Dopri5::default(), &Options::until(0.5)).expect("valid");
+    assert!(
+        sol.max_energy_balance().is_some_and(|b| b < 1e-6),
+        "{:?}",
+        sol.max_energy_balance()
+    );
 }
 
 #[test]

@@ -80,7 +80,7 @@ fn check_all<Me: Method + Copy>(method: Me, tol: f64) {
     assert_relative_eq!(q[1], c / omega * (s - 1.0), max_relative = 100.0 * tol);
     assert_relative_eq!(qd[0], c / s, max_relative = 100.0 * tol);
     // A linear homogeneous constraint does no work: E stays ½C².
-    assert!(sol.energy_balance().iter().all(|b| b.abs() < 100.0 * tol));
+    assert!(sol.max_energy_balance().is_some_and(|b| b < 100.0 * tol));
     assert!(sol.work.iter().all(|w| w.abs() < 100.0 * tol));
 
     let (v0, a) = (2.0, 0.4f64);

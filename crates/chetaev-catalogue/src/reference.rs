@@ -265,13 +265,11 @@ where
 /// The largest `|E(t) − E(t0) − W_Φ(t) + ∫∂L/∂t dt|` over the motion
 /// ([`Solution::energy_balance`]; 0 if the energy was not recorded).
 pub fn max_energy_balance(solution: &Solution) -> f64 {
-    solution.energy_balance().iter().fold(0.0f64, |acc, b| {
-        if b.is_nan() {
-            f64::INFINITY
-        } else {
-            acc.max(b.abs())
-        }
-    })
+    match solution.max_energy_balance() {
+        None => 0.0,
+        Some(b) if b.is_nan() => f64::INFINITY,
+        Some(b) => b,
+    }
 }
 
 /// `∫ |Φ|·|q̇| dt` over the recorded points (trapezoidal rule; 0 if `Φ` was not recorded): the

@@ -501,6 +501,23 @@ impl Solution {
             .collect()
     }
 
+    /// The largest `|b|` of [`Solution::energy_balance`] over the recorded points
+    /// ([`Record::Energy`]; `None` when the energy was not recorded, so that a check of it cannot
+    /// pass on nothing, as `energy_balance().iter().all(..)` does on its empty list). NaN if any
+    /// point's balance is NaN.
+    pub fn max_energy_balance(&self) -> Option<f64> {
+        if self.work.is_empty() {
+            return None;
+        }
+        Some(self.energy_balance().iter().fold(0.0f64, |acc, b| {
+            if b.is_nan() || acc.is_nan() {
+                f64::NAN
+            } else {
+                acc.max(b.abs())
+            }
+        }))
+    }
+
     /// The largest [`Solution::relative_residual`] over the recorded points (`None` when the
     /// residual was not recorded).
     pub fn max_relative_residual(&self) -> Option<f64> {
