@@ -194,7 +194,7 @@ pub(crate) fn linear(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
                 ((hi / step) - SNAP).ceil() * step,
             )
         };
-        if !(b > a) {
+        if b <= a {
             // The data snapped to one tick: larger steps only do so again, and an axis of no
             // length draws nothing.
             break;
