@@ -280,6 +280,7 @@ impl Scene {
                 constraint,
                 holonomic,
                 residual,
+                ..
             } => {
                 // A velocity constraint ties q_dot to the parameter, a holonomic one q and q_dot.
                 let span = if holonomic.is_none() {

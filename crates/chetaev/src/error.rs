@@ -371,8 +371,11 @@ pub enum Error {
          residual is {residual:e}; move the initial state with the parameter, with Seed::with_position and \
          Seed::with_velocity ({example})",
         row = Row(*.constraint, *.holonomic),
-        through = if .holonomic.is_some() { ", through its rate ḣ" } else { "" },
-        example = if .holonomic.is_some() {
+        through = if *.position { ", in position (h itself)" } else if .holonomic.is_some() { ", through its rate ḣ" } else { "" },
+        example = if *.position {
+            "for h = x² + y² − l², seed l with the position that keeps h = 0: \
+             Seed::parameter(\"l\").with_position(i, dq_i/dl), and the velocity that keeps ḣ = 0"
+        } else if .holonomic.is_some() {
             "for h = y − x tan ωt, whose ḣ = ẏ − ẋ tan ωt − ω x sec² ωt depends on ω, seed ω with \
              the velocity that keeps ḣ = 0: Seed::parameter(\"omega\").with_velocity(i, dq̇_i/dω)"
         } else {
@@ -388,8 +391,11 @@ pub enum Error {
         /// For a holonomic constraint, its number among the holonomic ones (from 1); `None` for
         /// a velocity constraint.
         holonomic: Option<usize>,
+        /// Whether the residual is of the holonomic constraint's position, `h_b` itself, rather
+        /// than of its rate `ḣ_b` (or of a velocity constraint).
+        position: bool,
         /// `δf_a = ∂f_a/∂q δq0 + ∂f_a/∂q̇ δq̇0 + ∂f_a/∂p δp` (for a holonomic constraint, the
-        /// same of `ḣ_b`).
+        /// same of `ḣ_b`, or, where `position`, `δh_b = ∂h_b/∂q δq0 + ∂h_b/∂p δp`).
         residual: f64,
     },
 }

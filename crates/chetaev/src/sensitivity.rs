@@ -34,7 +34,7 @@ use crate::equations::{evaluate_compiled, lane, lanes, Dynamics, Lanes, Need, Wo
 use crate::error::Error;
 use crate::integrate::events::{Event, EventFunction};
 use crate::integrate::system::locate;
-use crate::model::{Model, Point};
+use crate::model::{Functions, Model, Point};
 use crate::solution::Series;
 
 /// One direction in which sensitivities are taken: rates of parameters, of initial positions and
@@ -246,6 +246,69 @@ fn invalid(what: String) -> Error {
     Error::Sensitivity { what }
 }
 
+/// The first seed that moves the initial position off a holonomic constraint to first order:
+/// `(seed, b, ∂h_b/∂q δq0 + ∂h_b/∂p δp)` for the seeds' initial `δq0` (in `s0`, `2n` a seed) and
+/// parameter rates, beyond `1e-8` of the seed's and the row's scales (as the velocity-level
+/// check). From `h` recorded with its parameters as inputs and differentiated; `None` also where
+/// the model offers no recording of its functions or a value leaves it (`re()`).
+fn position_off_holonomic<M: Model + ?Sized>(
+    model: &M,
+    (t0, q0, qd0): (f64, &[f64], &[f64]),
+    seeds: &[Seed],
+    s0: &[f64],
+    scales: &[f64],
+) -> Option<(usize, usize, f64)> {
+    let (n, k) = model.sizes();
+    let holonomic = model.holonomic_count();
+    let (mut g, (offered, h, qs), params) = record_with_parameters(|| {
+        let ts = Sym::input(DEP_T, t0);
+        let qs: Vec<Sym> = q0.iter().map(|&v| Sym::input(DEP_Q, v)).collect();
+        let qds: Vec<Sym> = qd0.iter().map(|&v| Sym::input(DEP_QD, v)).collect();
+        let mut out = Functions::<Sym>::new(n, k - holonomic, holonomic);
+        let offered = model.functions(Point::new(ts, &qs, &qds), &mut out);
+        let h: Vec<u32> = out.h.iter().map(|s| s.node()).collect();
+        (
+            offered,
+            h,
+            qs.into_iter().map(Sym::node).collect::<Vec<u32>>(),
+        )
+    })
+    .ok()?;
+    if !offered || g.escaped() {
+        return None;
+    }
+    let wrt: Vec<u32> = qs
+        .iter()
+        .copied()
+        .chain(params.iter().map(|p| p.3))
+        .collect();
+    for (b, &hb) in h.iter().enumerate() {
+        let grad: Vec<f64> = g
+            .gradient(hb, &wrt, DEP_Q | DEP_P)
+            .into_iter()
+            .map(|id| g.value(id))
+            .collect();
+        let size = grad[..n]
+            .iter()
+            .map(|x| x.abs())
+            .sum::<f64>()
+            .max(g.value(hb).abs());
+        for (j, seed) in seeds.iter().enumerate() {
+            let dq = &s0[2 * n * j..2 * n * j + n];
+            let moved = grad[..n].iter().zip(dq).map(|(a, b)| a * b).sum::<f64>()
+                + params
+                    .iter()
+                    .zip(&grad[n..])
+                    .map(|(p, d)| d * seed.rate(&p.0))
+                    .sum::<f64>();
+            if moved.abs() > 1e-8 * scales[j] * size.max(1.0) {
+                return Some((j, b, moved));
+            }
+        }
+    }
+    None
+}
+
 /// The variational equations of a problem's motion for a set of seeds: what the reduced ODE
 /// carries after `(q, q̇)` when sensitivities are asked for.
 pub(crate) struct Variational {
@@ -381,6 +444,19 @@ impl Variational {
                 1.0 + s.iter().chain(&v.dp[j]).map(|x| x.abs()).sum::<f64>()
             })
             .collect();
+        // The position first: a seed that moves it off `h = 0` would be reported, less clearly,
+        // through `ḣ`, or not at all.
+        if let Some((j, b, residual)) =
+            position_off_holonomic(model, (t0, q0, qd0), seeds, &s0, &scales)
+        {
+            return Err(Error::InconsistentSeed {
+                seed: seeds[j].name.clone(),
+                constraint: k - model.holonomic_count() + b + 1,
+                holonomic: Some(b + 1),
+                position: true,
+                residual,
+            });
+        }
         // The rows of `f` are the velocity constraints, then `ḣ` of the holonomic ones.
         let velocity = k - model.holonomic_count();
         for first in (0..seeds.len()).step_by(LANES) {
@@ -395,6 +471,7 @@ impl Variational {
                             seed: seeds[j].name.clone(),
                             constraint: a + 1,
                             holonomic: a.checked_sub(velocity).map(|b| b + 1),
+                            position: false,
                             residual: rate,
                         });
                     }

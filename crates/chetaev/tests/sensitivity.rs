@@ -238,6 +238,37 @@ fn a_holonomic_pendulums_quarter_period_moves_as_the_square_root_of_l_over_g() -
     assert!(text.contains("off holonomic constraint 1"), "{text}");
     assert!(text.contains("through its rate ḣ"), "{text}");
     assert!(!text.contains("|q̇|² − v0²"), "{text}");
+    // ℓ moved without the position that keeps h = x² + y² − ℓ² = 0 (δh = −2ℓ), or x0 moved alone
+    // (δh = 2 x0): refused in position, for static and run-time sizes, where the derivatives
+    // would otherwise be those of a rod whose length does not change.
+    for seed in [Seed::parameter("l"), Seed::position(0)] {
+        let options = Options::until(1.0).sensitivity(seed.clone());
+        for e in [
+            solve(&fixed, Dop853::default(), &options).expect_err("δh ≠ 0"),
+            solve(&dynamic, Dop853::default(), &options).expect_err("δh ≠ 0"),
+        ] {
+            let Error::InconsistentSeed {
+                constraint: 1,
+                holonomic: Some(1),
+                position: true,
+                residual,
+                ..
+            } = e
+            else {
+                panic!("{seed:?}: {e}")
+            };
+            let expected = if seed.name == "l" {
+                -2.0 * l
+            } else {
+                2.0 * q0[0]
+            };
+            assert!(
+                (residual - expected).abs() < 1e-12,
+                "{residual} vs {expected}"
+            );
+            assert!(e.to_string().contains("in position (h itself)"), "{e}");
+        }
+    }
     Ok(())
 }
 
