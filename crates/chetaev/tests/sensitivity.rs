@@ -441,7 +441,13 @@ fn bad_seeds_are_typed_errors() -> Result<(), Error> {
     )
     .expect_err("no error control");
     assert!(matches!(e, Error::Sensitivity { .. }), "{e}");
-    assert!(e.to_string().contains("Rk4 takes fixed steps"), "{e}");
+    assert!(
+        e.to_string().contains(
+            "Rk4 takes fixed steps (h = 0.01) and has no error control to put the sensitivities \
+             under: leave Options::sensitivity_control off"
+        ),
+        "{e}"
+    );
     assert!(solve(&problem, Rk4::new(1e-2), &controlled)?.is_success());
     // An event written as a closure is located, but its motion cannot be differentiated.
     let closure = Options::until(10.0)

@@ -65,7 +65,9 @@ where
             if let Some(h) = method.info().fixed_step {
                 return Err(Error::Sensitivity {
                     what: format!(
-                        "{} takes fixed steps (h = {h}) and has no error control to put the                          sensitivities under: leave Options::sensitivity_control off, or use a                          method with error control (Dop853, Rodas4)",
+                        "{} takes fixed steps (h = {h}) and has no error control to put the \
+                         sensitivities under: leave Options::sensitivity_control off, or use a \
+                         method with error control (Dop853, Rodas4)",
                         method.info().name
                     ),
                 });
