@@ -29,7 +29,7 @@
 use num_dual::HyperDual64;
 
 use crate::equations::compiled::{Compiled, CompiledFailure};
-use crate::equations::graph::{record_with_parameters, Sym, DEP_P, DEP_Q, DEP_QD, DEP_T};
+use crate::equations::graph::{record_with_parameters, Graph, Sym, DEP_P, DEP_Q, DEP_QD, DEP_T};
 use crate::equations::{evaluate_compiled, lane, lanes, Dynamics, Lanes, Need, Workspace, LANES};
 use crate::error::Error;
 use crate::integrate::events::{Event, EventFunction};
@@ -204,22 +204,8 @@ pub(crate) fn event_gradient<F: EventFunction>(
     qd: &[f64],
 ) -> Option<EventGradient> {
     let n = q.len();
-    let (mut g, (value, inputs), params) = record_with_parameters(|| {
-        let ts = Sym::input(DEP_T, t);
-        let qs: Vec<Sym> = q.iter().map(|&v| Sym::input(DEP_Q, v)).collect();
-        let qds: Vec<Sym> = qd.iter().map(|&v| Sym::input(DEP_QD, v)).collect();
-        let value = f.value(ts, &qs, &qds).node();
-        let inputs: Vec<u32> = std::iter::once(ts)
-            .chain(qs)
-            .chain(qds)
-            .map(Sym::node)
-            .collect();
-        (value, inputs)
-    })
-    .ok()?;
-    if g.escaped() {
-        return None;
-    }
+    let (mut g, inputs, value, params) =
+        record_at(t, q, qd, |ts, qs, qds| f.value(ts, qs, qds).node())?;
     let wrt: Vec<u32> = inputs
         .iter()
         .copied()
@@ -242,6 +228,34 @@ pub(crate) fn event_gradient<F: EventFunction>(
     })
 }
 
+/// A parameter as [`record_with_parameters`] lists it: `(name, value, input number, node)`.
+type Read = (String, f64, u32, u32);
+
+/// Records `f` of the inputs `(t, q, q̇)` with every parameter it reads an input too: the graph,
+/// the input nodes (`t`, then `q`, then `q̇`), what `f` returns, and the parameters read; `None`
+/// where a parameter is read with two values or a value leaves the recording (`re()`).
+fn record_at<O>(
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+    f: impl FnOnce(Sym, &[Sym], &[Sym]) -> O,
+) -> Option<(Graph, Vec<u32>, O, Vec<Read>)> {
+    let (g, (inputs, out), params) = record_with_parameters(|| {
+        let ts = Sym::input(DEP_T, t);
+        let qs: Vec<Sym> = q.iter().map(|&v| Sym::input(DEP_Q, v)).collect();
+        let qds: Vec<Sym> = qd.iter().map(|&v| Sym::input(DEP_QD, v)).collect();
+        let out = f(ts, &qs, &qds);
+        let inputs: Vec<u32> = std::iter::once(ts)
+            .chain(qs)
+            .chain(qds)
+            .map(Sym::node)
+            .collect();
+        (inputs, out)
+    })
+    .ok()?;
+    (!g.escaped()).then_some((g, inputs, out, params))
+}
+
 fn invalid(what: String) -> Error {
     Error::Sensitivity { what }
 }
@@ -260,24 +274,21 @@ fn position_off_holonomic<M: Model + ?Sized>(
 ) -> Option<(usize, usize, f64)> {
     let (n, k) = model.sizes();
     let holonomic = model.holonomic_count();
-    let (mut g, (offered, h, qs), params) = record_with_parameters(|| {
-        let ts = Sym::input(DEP_T, t0);
-        let qs: Vec<Sym> = q0.iter().map(|&v| Sym::input(DEP_Q, v)).collect();
-        let qds: Vec<Sym> = qd0.iter().map(|&v| Sym::input(DEP_QD, v)).collect();
-        let mut out = Functions::<Sym>::new(n, k - holonomic, holonomic);
-        let offered = model.functions(Point::new(ts, &qs, &qds), &mut out);
-        let h: Vec<u32> = out.h.iter().map(|s| s.node()).collect();
-        (
-            offered,
-            h,
-            qs.into_iter().map(Sym::node).collect::<Vec<u32>>(),
-        )
-    })
-    .ok()?;
-    if !offered || g.escaped() {
+    if holonomic == 0 {
         return None;
     }
-    let wrt: Vec<u32> = qs
+    let (mut g, inputs, (offered, h), params) = record_at(t0, q0, qd0, |ts, qs, qds| {
+        let mut out = Functions::<Sym>::new(n, k - holonomic, holonomic);
+        let offered = model.functions(Point::new(ts, qs, qds), &mut out);
+        (
+            offered,
+            out.h.iter().map(|s| s.node()).collect::<Vec<u32>>(),
+        )
+    })?;
+    if !offered {
+        return None;
+    }
+    let wrt: Vec<u32> = inputs[1..=n]
         .iter()
         .copied()
         .chain(params.iter().map(|p| p.3))
