@@ -39,7 +39,7 @@ use chetaev::prelude::*;
 
 use crate::error::{check, finite, positive, Error};
 use crate::reference::{works, Check, Entry, Kind, Reference, Source};
-use crate::special::gd;
+use crate::special::turning;
 
 /// Where the reduced equations and their solution come from.
 pub const SOURCES: &[Source] = &[
@@ -164,9 +164,10 @@ pub fn entry(p: &Params) -> Result<Entry<ChaplyginSleigh, ClosedForm, 3, 1>, Err
 
 /// The closed form of the body velocities `u, ω`, the heading `θ` and the multiplier.
 ///
-/// Evaluated without overflow or cancellation: with `β = u0 / V`, `τ = c V t`,
+/// Evaluated without overflow, underflow or cancellation: with `β = u0 / V`, `τ = c V t`,
 /// `cosh τ + β sinh τ = ½ e^|τ| [(1 ± β) + (1 ∓ β) e^(−2|τ|)]` (upper signs for `τ ≥ 0`), and
-/// `1 ± β` formed as `(V ± u0)/V` or `(I + m a²) ω0² / (m V (V ∓ u0))`, whichever does not cancel.
+/// `1 ± β` formed in logarithms as `ln((V ± u0)/V)` or `ln((I + m a²) ω0² / (m V (V ∓ u0)))`,
+/// whichever does not cancel, so that neither underflows where `ω0` is tiny (`1e-160`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ClosedForm {
     p: Params,
@@ -174,30 +175,37 @@ pub struct ClosedForm {
     v: f64,
     /// `c = m a / (I + m a²)`.
     c: f64,
-    /// `1 + β`, `1 − β` with `β = u0 / V`.
-    one_plus: f64,
-    one_minus: f64,
+    /// `ln(1 + β)`, `ln(1 − β)` with `β = u0 / V`.
+    ln_plus: f64,
+    ln_minus: f64,
 }
 
 impl ClosedForm {
     /// The closed form for these parameters.
     pub fn new(p: &Params) -> Result<Self, Error> {
         p.validate()?;
-        let w2 = p.i_contact() * p.omega0 * p.omega0 / p.m;
-        let v = (p.u0 * p.u0 + w2).sqrt();
-        let (one_plus, one_minus) = if v == 0.0 {
-            (1.0, 1.0)
-        } else if p.u0 >= 0.0 {
-            ((v + p.u0) / v, w2 / (v * (v + p.u0)))
+        // √((I + m a²)/m) |ω0|, and V from it without squaring a tiny ω0.
+        let across = p.omega0.abs() * (p.i_contact() / p.m).sqrt();
+        let v = p.u0.hypot(across);
+        let (ln_plus, ln_minus) = if v == 0.0 {
+            (0.0, 0.0)
         } else {
-            (w2 / (v * (v - p.u0)), (v - p.u0) / v)
+            // (1 + β)(1 − β) = (across / V)²: the factor that would cancel is that over the other.
+            let ln_product = 2.0 * (across.ln() - v.ln());
+            if p.u0 >= 0.0 {
+                let ln_plus = (p.u0 / v).ln_1p();
+                (ln_plus, ln_product - ln_plus)
+            } else {
+                let ln_minus = (-p.u0 / v).ln_1p();
+                (ln_product - ln_minus, ln_minus)
+            }
         };
         Ok(Self {
             p: *p,
             v,
             c: p.m * p.a / p.i_contact(),
-            one_plus,
-            one_minus,
+            ln_plus,
+            ln_minus,
         })
     }
 
@@ -206,14 +214,17 @@ impl ClosedForm {
         self.v
     }
 
-    /// `(A, B, τ)` with `cosh τ + β sinh τ = ½ e^|τ| (A + B e^(−2|τ|))`.
-    fn split(&self, t: f64) -> (f64, f64, f64) {
+    /// `(tanh(|τ| ± s0), cosh s0 / cosh(|τ| ± s0), ±1)` with the upper signs for `τ ≥ 0`,
+    /// `τ = c V t`: `u = ±V tanh(|τ| ± s0)` and `ω = ω0 cosh s0 / cosh(τ + s0)`.
+    fn turned(&self, t: f64) -> (f64, f64, f64) {
         let tau = self.c * self.v * t;
-        if tau >= 0.0 {
-            (self.one_plus, self.one_minus, tau)
+        let (la, lb, sign) = if tau >= 0.0 {
+            (self.ln_plus, self.ln_minus, 1.0)
         } else {
-            (self.one_minus, self.one_plus, tau)
-        }
+            (self.ln_minus, self.ln_plus, -1.0)
+        };
+        let (along, rate) = turning(la, lb, tau.abs());
+        (along, rate, sign)
     }
 
     /// The forward speed `u(t) = V tanh(c V t + s0)`.
@@ -221,10 +232,8 @@ impl ClosedForm {
         if self.p.omega0 == 0.0 {
             return self.p.u0;
         }
-        let (a, b, tau) = self.split(t);
-        let e = (-2.0 * tau.abs()).exp();
-        let sign = if tau >= 0.0 { 1.0 } else { -1.0 };
-        sign * self.v * (a - b * e) / (a + b * e)
+        let (along, _, sign) = self.turned(t);
+        sign * self.v * along
     }
 
     /// The turning rate `ω(t) = ω0 / (cosh τ + β sinh τ)`, `τ = c V t`.
@@ -232,9 +241,7 @@ impl ClosedForm {
         if self.p.omega0 == 0.0 {
             return 0.0;
         }
-        let (a, b, tau) = self.split(t);
-        let e = (-tau.abs()).exp();
-        2.0 * self.p.omega0 * e / (a + b * e * e)
+        self.p.omega0 * self.turned(t).1
     }
 
     /// The heading `θ(t) = θ0 + (ω0 cosh s0 / c V) [gd(c V t + s0) − gd(s0)]`.
@@ -243,20 +250,20 @@ impl ClosedForm {
         if p.omega0 == 0.0 {
             return p.theta0;
         }
-        // cosh s0 = 1 / √((1 + β)(1 − β)), s0 = ½ ln((1 + β)/(1 − β)).
-        let cosh_s0 = 1.0 / (self.one_plus * self.one_minus).sqrt();
-        let s0 = 0.5 * (self.one_plus / self.one_minus).ln();
+        // ω0 cosh s0 / V = ±√(m / (I + m a²)) (cosh s0 = V / √(V² − u0²)), and
+        // s0 = ½ ln((1 + β)/(1 − β)).
+        let scale = p.omega0.signum() * (p.m / p.i_contact()).sqrt() / self.c;
+        let s0 = 0.5 * (self.ln_plus - self.ln_minus);
         let tau = self.c * self.v * t;
         // gd(τ + s0) − gd(s0) = 2 arctan(sinh(τ/2) / cosh(s0 + τ/2)) (the difference of the
         // arctangents of tanh((τ + s0)/2) and tanh(s0/2)): no cancellation where τ is small, as
         // for a small `a`, where the difference of the two values would lose all of θ − θ0 − ω0 t.
-        let (half, mid) = (0.5 * tau, s0 + 0.5 * tau);
-        let turned = if half.abs() < 700.0 && mid.abs() < 700.0 {
-            2.0 * (half.sinh() / mid.cosh()).atan()
-        } else {
-            gd(tau + s0) - gd(s0)
-        };
-        p.theta0 + p.omega0 * cosh_s0 / (self.c * self.v) * turned
+        // The quotient as ± e^(|x| − |y|) (1 − e^(−2|x|)) / (1 + e^(−2|y|)), which overflows
+        // nowhere.
+        let (x, y) = (0.5 * tau, s0 + 0.5 * tau);
+        let quotient = x.signum() * (x.abs() - y.abs()).exp() * -(-2.0 * x.abs()).exp_m1()
+            / (1.0 + (-2.0 * y.abs()).exp());
+        p.theta0 + scale * 2.0 * quotient.atan()
     }
 
     /// The body accelerations `(u̇, ω̇) = (a ω², −m a u ω / (I + m a²))` at `t` (the reduced
@@ -366,19 +373,33 @@ mod tests {
         }
         // The heading is the integral of the turning rate (by Gauss–Legendre quadrature), also
         // for a blade offset `a` so small that θ − θ0 − ω0 t is a rounding of θ itself.
-        for a in [0.5, -0.4, 1e-3, 1e-9, 1e-12, -1e-12, 1e-14] {
-            let p = Params {
-                a,
-                theta0: 0.3,
-                ..Params::default()
-            };
+        let tiny = |u0| Params {
+            u0,
+            omega0: 1e-160,
+            ..Params::default()
+        };
+        let cases = [0.5, -0.4, 1e-3, 1e-9, 1e-12, -1e-12, 1e-14].map(|a| Params {
+            a,
+            theta0: 0.3,
+            ..Params::default()
+        });
+        // And a turning rate whose square underflows, from nearly the limit speed ahead or
+        // behind: the turn comes after c V |t| ≈ 368, and θ turns by 3.7 rad.
+        for (p, times) in cases
+            .into_iter()
+            .map(|p| (p, &[0.5, 10.0, -3.0][..]))
+            .chain([
+                (tiny(1.0), &[-300.0, 300.0][..]),
+                (tiny(-1.0), &[300.0, -300.0][..]),
+            ])
+        {
             let cf = ClosedForm::new(&p).expect("valid");
-            for t in [0.5, 10.0, -3.0] {
+            for &t in times {
                 let turned = crate::special::integrate(|s| cf.turning_rate(s), 0.0, t, 1e-15);
                 let th = cf.heading(t) - p.theta0;
                 assert!(
-                    (th - turned).abs() <= 1e-14 * turned.abs(),
-                    "a = {a}, t = {t}: {th} against {turned}"
+                    (th - turned).abs() <= 1e-13 * turned.abs(),
+                    "{p:?}, t = {t}: {th} against {turned}"
                 );
             }
         }

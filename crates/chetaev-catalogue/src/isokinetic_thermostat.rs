@@ -42,7 +42,7 @@ use chetaev::prelude::*;
 
 use crate::error::{finite, positive, Error};
 use crate::reference::{Check, Entry, Kind, Reference, Source};
-use crate::special::{atanc, sinhc, tanhc};
+use crate::special::{atanc, sinhc, tanhc, turning};
 
 /// Where the equations of motion and the closed form come from.
 pub const SOURCES: &[Source] = &[
@@ -423,21 +423,8 @@ impl<const N: usize> ClosedForm<N> {
     /// amplified by `e^y`).
     fn turning(&self, t: f64) -> (f64, f64) {
         let (la, lb, sign) = self.ln_ends(t);
-        let y = self.b.sqrt() * t.abs();
-        let l = la - lb + 2.0 * y;
-        if l >= 0.0 {
-            let inv = (-l).exp();
-            (
-                sign * (1.0 - inv) / (1.0 + inv),
-                2.0 * (-y - la).exp() / (1.0 + inv),
-            )
-        } else {
-            let rho = l.exp();
-            (
-                sign * (rho - 1.0) / (rho + 1.0),
-                2.0 * (y - lb).exp() / (rho + 1.0),
-            )
-        }
+        let (v, g) = turning(la, lb, self.b.sqrt() * t.abs());
+        (sign * v, g)
     }
 
     /// `G(t) = ∫₀ᵗ dτ / ṡ(τ)`. With `r = √b`, `β = a/r`, `γ = √(1 − β²)`, `w = tanh(r t/2)`, the

@@ -59,6 +59,28 @@ pub(crate) fn u_minus_sin_over_u2(u: f64) -> f64 {
     }
 }
 
+/// `((A − B e^(−2y)) / (A + B e^(−2y)), 2 e^(−y) / (A + B e^(−2y)))` from `ln A`, `ln B` and
+/// `y ≥ 0`, each divided through by the larger term of its denominator: neither overflows nor
+/// underflows where `A` or `B` is far below 1 or `e^(−2y)` below the smallest number. These are
+/// `tanh` and `sech` of `y + ½ ln(A/B)`, the latter over `√(A B)`: the turning of a velocity held
+/// at constant speed (the Chaplygin sleigh, the isokinetic thermostat).
+pub(crate) fn turning(ln_a: f64, ln_b: f64, y: f64) -> (f64, f64) {
+    let l = ln_a - ln_b + 2.0 * y;
+    if l >= 0.0 {
+        let inv = (-l).exp();
+        (
+            (1.0 - inv) / (1.0 + inv),
+            2.0 * (-y - ln_a).exp() / (1.0 + inv),
+        )
+    } else {
+        let rho = l.exp();
+        (
+            (rho - 1.0) / (rho + 1.0),
+            2.0 * (y - ln_b).exp() / (rho + 1.0),
+        )
+    }
+}
+
 /// The Gudermannian function `gd x = 2 arctan(tanh(x/2))`, odd, bounded by `π/2`.
 pub(crate) fn gd(x: f64) -> f64 {
     2.0 * (0.5 * x).tanh().atan()
