@@ -21,16 +21,16 @@ use uniform_projectile::model::{impact, scaled_atol, uniform_problem};
 #[derive(Parser)]
 struct Cli {
     /// The distance to land at [m]: any positive distance (R grows from 0 to ∞ with v0).
-    #[arg(long, default_value_t = 12.0, value_parser = positive, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 12.0, value_parser = positive, allow_negative_numbers = true)]
     target: f64,
     /// Gravity [m/s²].
-    #[arg(long, default_value_t = 10.0, value_parser = positive, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 10.0, value_parser = positive, allow_negative_numbers = true)]
     g: f64,
     /// Launch height [m].
-    #[arg(long, default_value_t = 5.0, value_parser = positive, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 5.0, value_parser = positive, allow_negative_numbers = true)]
     h0: f64,
     /// First guess of the speed [m/s].
-    #[arg(long, default_value_t = 10.0, value_parser = positive, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 10.0, value_parser = positive, allow_negative_numbers = true)]
     v0: f64,
 }
 

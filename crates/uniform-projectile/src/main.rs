@@ -34,20 +34,20 @@ use uniform_projectile::report::{
 )]
 struct Cli {
     /// Initial speed v0 [m/s].
-    #[arg(long, default_value_t = 10.0, value_parser = positive, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 10.0, value_parser = positive)]
     v0: f64,
     /// Gravitational acceleration g [m/s²].
-    #[arg(long, default_value_t = 10.0, value_parser = positive, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 10.0, value_parser = positive)]
     g: f64,
     /// Initial height h0 [m].
-    #[arg(long, default_value_t = 5.0, value_parser = positive, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 5.0, value_parser = positive)]
     h0: f64,
     /// Mass m [kg].
-    #[arg(long, default_value_t = 1.0, value_parser = positive, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 1.0, value_parser = positive)]
     m: f64,
     /// Relative and absolute tolerance of the table and error runs (from the library's floor,
     /// 100 ulps ≈ 2.2e-14, to 1e-4).
-    #[arg(long, default_value = "1e-12", value_parser = tolerance, allow_hyphen_values = true)]
+    #[arg(long, default_value = "1e-12", value_parser = tolerance)]
     tol: f64,
     /// The method of the table, error and derivative runs: dopri5, dop853, tsit5, rodas4 or
     /// rodas5p (the orders and timings run every method).
@@ -55,7 +55,7 @@ struct Cli {
     method: AnyMethod,
     /// Largest relative error accepted by the verdict, for the closed forms and the derivatives,
     /// below 1 [default: 100 × tol].
-    #[arg(long, value_parser = limit, allow_hyphen_values = true)]
+    #[arg(long, value_parser = limit)]
     limit: Option<f64>,
     /// Also print the largest errors along both motions, and the impact's derivatives in v0, g,
     /// h0 against the closed form's.

@@ -122,9 +122,6 @@ fn bad_arguments_exit_with_2() {
     for (args, says) in [
         (["--g", "-10"], "must be a finite positive number"),
         (["--h0", "-5"], "got -5e0"),
-        // So is an infinity with its sign, not read as a flag `-i`.
-        (["--v0", "-inf"], "got -inf"),
-        (["--limit", "-inf"], "finite positive number, at least"),
         // A subnormal mass scales nothing out reliably.
         (["--m", "1e-320"], "at least 2.2250738585072014e-308"),
         (
