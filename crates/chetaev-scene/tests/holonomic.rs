@@ -35,6 +35,60 @@ fn the_cartesian_pendulum_scene_has_the_elliptic_period() {
 }
 
 #[test]
+fn a_bead_that_reaches_the_rim_of_its_bowl_stops_there() {
+    // The lower half of the unit circle ends at x = ±1, where its gradient becomes infinite. From
+    // the bottom at speed 5 the bead reaches the rim at t = ∫₀^{π/2} dθ/v(θ), with
+    // v² = 25 − 2g(1 − cos θ); the steps that stayed inside the domain of the square root crept
+    // along x = 1 with the bead falling off the curve, and returned success.
+    let text = r#"
+[model]
+coordinates = ["x", "y"]
+lagrangian = "0.5*(x_dot^2 + y_dot^2) - 9.81*y"
+holonomic = ["y + sqrt(1 - x^2)"]
+
+[initial]
+q = [0.0, -1.0]
+q_dot = [5.0, 0.0]
+
+[solve]
+method = "dopri5"
+t_end = 3.0
+
+[output]
+tables = ["residual"]
+"#;
+    let scene = Scene::parse(text, "bowl.toml").expect("parses");
+    let o = scene.solve().expect("solves");
+    let Some(chetaev::Error::SingularPoint {
+        t,
+        cause: chetaev::Singularity::Unbounded(1),
+        ..
+    }) = o.error()
+    else {
+        panic!("{:?}", o.status);
+    };
+    let steps = 20_000;
+    let h = 0.5 * PI / steps as f64;
+    let rim: f64 = (0..steps)
+        .map(|i| {
+            let theta = (i as f64 + 0.5) * h;
+            h / (25.0 - 2.0 * 9.81 * (1.0 - theta.cos())).sqrt()
+        })
+        .sum();
+    assert!((t - rim).abs() < 1e-4, "stopped at {t}, the rim at {rim}");
+    let f = output::failure(&scene, o.error().expect("failed"));
+    assert!(
+        f.what
+            .contains("holonomic constraint 1 (y + sqrt(1 - x^2)) grew without bound"),
+        "{f:?}"
+    );
+    assert_eq!(o.position_residual.len(), o.len());
+    for (h, t) in o.position_residual.iter().zip(&o.t) {
+        assert!(h[0].abs() < 1e-4, "h = {} at t = {t}", h[0]);
+    }
+}
+
+#[test]
 fn a_holonomic_constraint_on_a_velocity_is_a_located_error() {
     let text = include_str!("../../../scenes/cartesian-pendulum.toml").replace(
         "holonomic = [\"x^2 + y^2 - l^2\"]",

@@ -191,8 +191,9 @@ pub enum Error {
 
     /// The equations became singular along the motion: a constraint's gradient `∂f_a/∂q̇` passed
     /// through zero between two accepted steps, the constraints' gradients became linearly
-    /// dependent there, or the kinetic metric `W = ∂²L/∂q̇²` changed size by many orders of
-    /// magnitude within one step.
+    /// dependent there, the kinetic metric `W = ∂²L/∂q̇²` changed size by many orders of
+    /// magnitude within one step, or a constraint ended at the edge of the model's domain
+    /// ([`Singularity::Unbounded`]).
     #[error(
         "singular point at t = {t} (the last state checked, at or after it: q = {q:?}, q̇ = {qd:?}): {} \
          (a rank loss, such as the speed passing through zero under a constraint on its magnitude, \
@@ -206,13 +207,15 @@ pub enum Error {
             Singularity::DependentGradients => format!("the gradients ∂f/∂q̇ of the constraints become linearly dependent (the frame they span reverses its orientation within one step, each of them leaving that span by at most {ratio:e} of its size)"),
             Singularity::BlockSystem => format!("the block system [W −Jᵀ; J 0] passed through a singular one within one step: its determinant changed sign (the kinetic metric W = ∂²L/∂q̇² on the constraints' tangent space passed through zero; its size changed by a factor {ratio:e})"),
             Singularity::Metric => format!("the kinetic metric ∂²L/∂q̇² changed size by a factor {ratio:e} within one step"),
+            Singularity::Unbounded(a) => format!("the gradient of constraint {a} grew without bound where the motion met the edge of the model's domain, and the velocity left the constraint there, missing it by {ratio:.2} of its terms: the constraint ends there, as the curve y = −√(1 − x²) does at x = ±1"),
         },
         t = Num(*.t)
     )]
     SingularPoint {
         /// Time: for a gradient, where it is smallest between the last two states checked (the
         /// ends of consecutive accepted steps), by linear interpolation (exact where the gradient
-        /// varies linearly, within the step otherwise); for the metric, the end of the step.
+        /// varies linearly, within the step otherwise); for the metric, the end of the step; for
+        /// a constraint that ends, the start of the step (the last state kept).
         t: f64,
         /// What became singular.
         cause: Singularity,
@@ -220,7 +223,8 @@ pub enum Error {
         /// step's ends; for dependent gradients, the largest part of one of them (scaled to unit
         /// size) that left the span they had at the start of the step (0 when `J` is square and
         /// its determinant changed sign); for the metric, its size at the end of the step over
-        /// that at the start.
+        /// that at the start; for a constraint that ends, its relative residual at the end of the
+        /// step.
         ratio: f64,
         /// Position at the last state checked, at or after `t`.
         q: Vec<f64>,
@@ -418,6 +422,11 @@ pub enum Singularity {
     /// its determinant changed (`W` on the constraints' tangent space passing through zero, as
     /// `W = 1 − t` at `t = 1`), however little `W` changed in size.
     BlockSystem,
+    /// The gradient of constraint `a` (numbered as for [`Singularity::Gradient`]) grew without
+    /// bound where the motion met the edge of the model's domain, and the velocity left the
+    /// constraint there: the constraint ends (the curve `y = √(1 − x)` at `x = 1`, whose tangent
+    /// turns across the motion). `ratio` is the relative residual `|f_a|/(Σ_i |J_ai q̇_i| + |f_a|)`.
+    Unbounded(usize),
 }
 
 /// A constraint row in a message: `Row(index, holonomic)` with `index` numbered from 1 over the

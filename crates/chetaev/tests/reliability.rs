@@ -1546,7 +1546,7 @@ impl Constraints<2, 0> for CurveEnd {
 }
 
 #[test]
-fn a_curve_that_ends_stops_the_projected_run_and_shows_in_the_position_residual() {
+fn a_curve_that_ends_stops_the_run_there() {
     // From (0, 1) at speed √1.25 along the curve, the bead reaches its end (1, 0) at
     // t = ∫₀¹ √(1 + 1/(4(1 − x))) dx / √1.25 ≈ 1.3228 (x = 1 − s², the arc length of the
     // parabola x = 1 − y² from y = 1 to 0 is (2√5 + asinh 2)/4).
@@ -1578,27 +1578,136 @@ fn a_curve_that_ends_stops_the_projected_run_and_shows_in_the_position_residual(
             (t - end).abs() < 2e-3,
             "{method:?}: stopped at {t}, the end at {end}"
         );
-        // Without projection a method that goes on does so off the curve, and the position
-        // residual says so.
-        let sol = solve(&problem, method, &Options::until(5.0)).expect("valid");
-        println!(
-            "{}, not projected: {:.6}, {:?}, max |h| {:.2}",
-            method.name(),
-            sol.last().expect("kept").0,
-            sol.status,
-            sol.position_residual
-                .as_flat()
-                .iter()
-                .fold(0.0f64, |m, h| m.max(h.abs()))
-        );
-        if sol.is_success() {
+        // Without projection too: the adaptive methods, whose steps creep along the edge of the
+        // domain while the velocity leaves the curve (they returned `Success` with |h| = 4.1 at
+        // t = 5), stop where the gradient has grown without bound and the velocity left the
+        // curve; Rk4's fixed step lands beyond the end.
+        for tol in [1e-3, 1e-6, 1e-9, 1e-12] {
+            let o = Options::until(5.0).tolerances(tol, tol);
+            let sol = solve(&problem, method, &o).expect("valid");
+            let err = sol.error().expect("the curve ends");
+            let (t, _, _) = sol.last().expect("kept");
             let drift = sol
                 .position_residual
                 .as_flat()
                 .iter()
                 .fold(0.0f64, |m, h| m.max(h.abs()));
-            assert!(drift > 1.0, "{method:?}: |h| ≤ {drift:e}");
+            println!(
+                "{}, not projected, tol {tol:e}: {t:.6}, max |h| {drift:.2e}, {err}",
+                method.name()
+            );
+            if method.name() == "Rk4" {
+                assert!(matches!(err, Error::NonFiniteEvaluation { .. }), "{err}");
+            } else {
+                assert!(
+                    matches!(
+                        err,
+                        Error::SingularPoint {
+                            cause: Singularity::Unbounded(1),
+                            ..
+                        } | Error::NonFiniteEvaluation { .. }
+                    ),
+                    "{method:?} at {tol:e}: {err}"
+                );
+            }
+            // Within about 2 tol of the end in time, at the speed √1.25 (the loosest steps creep
+            // from further back); Rk4 within its step of 1e-3.
+            let near = if method.name() == "Rk4" || tol >= 1e-3 {
+                5e-3
+            } else {
+                1e-4
+            };
+            assert!(
+                (t - end).abs() < near,
+                "{method:?} at {tol:e}: stopped at {t}, the end at {end}"
+            );
+            assert!(drift < 5e-3, "{method:?} at {tol:e}: |h| ≤ {drift:e}");
         }
+    }
+    // The same curve as a velocity constraint, `ẏ + ẋ/(2√(1 − x)) = 0`, ends there as well.
+    let problem = Problem::new(
+        CurveEndVelocity,
+        0.0,
+        SVector::from([0.0, 1.0]),
+        SVector::from([1.0, -0.5]),
+    )
+    .expect("consistent");
+    for tol in [1e-6, 1e-12] {
+        let o = Options::until(5.0).tolerances(tol, tol);
+        let sol = solve(&problem, Dopri5::default(), &o).expect("valid");
+        let err = sol.error().expect("the curve ends");
+        assert!(
+            matches!(
+                err,
+                Error::SingularPoint {
+                    cause: Singularity::Unbounded(1),
+                    ..
+                }
+            ),
+            "{tol:e}: {err}"
+        );
+        let (t, q, _) = sol.last().expect("kept");
+        assert!((t - end).abs() < 1e-4, "{tol:e}: stopped at {t}");
+        assert!((q[1] - (1.0 - q[0]).sqrt()).abs() < 5e-3, "{tol:e}: {q:?}");
+    }
+}
+
+/// The curve of [`CurveEnd`] as a velocity constraint: `ẏ + ẋ/(2√(1 − x)) = 0`.
+struct CurveEndVelocity;
+
+impl Lagrangian<2> for CurveEndVelocity {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5
+    }
+}
+
+impl Constraints<2, 1> for CurveEndVelocity {
+    fn constraints<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        SVector::from([qd[1] + qd[0] / ((R::one() - q[0]).sqrt() * 2.0)])
+    }
+}
+
+/// A pendulum on the unit circle against a wall at `x = 1/2` (the potential `−c ln(1/2 − x)`,
+/// not defined beyond it): trial steps leave the domain at each bounce, where the velocity turns
+/// and misses the circle by up to half of its terms, but the gradient keeps its size.
+struct Walled {
+    c: f64,
+}
+
+impl Lagrangian<2> for Walled {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5 - q[1] * 9.81 + (-q[0] + 0.5).ln() * self.c
+    }
+}
+
+impl Constraints<2, 0> for Walled {
+    fn holonomic_count(&self) -> usize {
+        1
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &SVector<R, 2>, h: &mut [R]) {
+        h[0] = q[0] * q[0] + q[1] * q[1] - 1.0;
+    }
+}
+
+#[test]
+fn a_wall_at_the_edge_of_the_domain_is_not_the_end_of_a_constraint() {
+    let problem = Problem::new(
+        Walled { c: 0.3 },
+        0.0,
+        SVector::from([-1.0, 0.0]),
+        SVector::from([0.0, 0.0]),
+    )
+    .expect("consistent");
+    for method in [
+        AnyMethod::Dopri5(Dopri5::default()),
+        AnyMethod::Tsit5(Tsit5::default()),
+    ] {
+        let o = Options::until(20.0).tolerances(1e-6, 1e-6);
+        let sol = solve(&problem, method, &o).expect("valid");
+        assert!(sol.is_success(), "{method:?}: {:?}", sol.status);
+        // The motion reached the wall: the domain was met there.
+        let x_max = sol.q.component(0).fold(f64::MIN, f64::max);
+        assert!(x_max > 0.4999, "{method:?}: {x_max}");
     }
 }
 

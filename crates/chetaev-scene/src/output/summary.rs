@@ -198,6 +198,13 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
                          the block system changed sign; the metric's size changed by a factor \
                          {ratio:e})"
                     ),
+                    Singularity::Unbounded(a) => format!(
+                        "the derivative of {} grew without bound where the motion met the edge \
+                         of the expressions' domain, and the velocity left the constraint there, \
+                         missing it by {ratio:.2} of its terms: the constraint ends there, as \
+                         the curve y = -sqrt(1 - x^2) does at x = ±1",
+                        scene.constraint_name(*a)
+                    ),
                     other => format!("{other:?}, ratio {ratio:e}"),
                 },
                 state_text(scene, q, qd)

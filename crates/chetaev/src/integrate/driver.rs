@@ -6,7 +6,7 @@ use super::options::{Options, Output, Record};
 use super::projection::{project_positions, project_velocity};
 use super::system::{OdeSystem, ReducedOde, Stats};
 use super::{time_resolution, Controller, ErrorNorm, Method, MethodInfo, Stepper};
-use crate::error::Error;
+use crate::error::{Error, Singularity};
 use crate::model::Model;
 use crate::problem::{check_finite, Problem};
 use crate::sensitivity::{Sensitivities, Variational};
@@ -156,6 +156,11 @@ impl Approach {
     /// method, a second point while one is approached).
     fn found(&mut self, e: Error, t: f64, adaptive: bool) -> Result<(), Error> {
         match e {
+            // A constraint that ends is met at the start of the step, where the run ends.
+            Error::SingularPoint {
+                cause: Singularity::Unbounded(_),
+                ..
+            } => Err(e),
             Error::SingularPoint { t: at, .. } if adaptive && self.point.is_none() && at != t => {
                 self.point = Some((e, at, 0));
                 Ok(())
@@ -687,6 +692,7 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
                 });
             }
             // A trial stage left the model's domain or the floating-point range: retry smaller.
+            sys.left_domain();
             counts.rejected_steps += 1;
             h *= 0.25;
             rejected_last = true;

@@ -89,7 +89,11 @@ pub struct Options {
     /// them leaving the span they had; for as many constraints as coordinates, `det ∂f/∂q̇`
     /// changing sign), or where the size of `W = ∂²L/∂q̇²` changes by more than its inverse within
     /// one step. A gradient or a metric that grows or shrinks steadily is not singular, however
-    /// far it goes, nor are gradients that turn fast. Default `1e-8`; `0` turns the check off.
+    /// far it goes, nor are gradients that turn fast. Also, once a trial step has left the
+    /// model's domain, where a constraint's gradient has grown more than a thousandfold since the
+    /// start and the velocity misses it by a quarter of its terms or more: the constraint ends
+    /// there ([`Singularity::Unbounded`](crate::Singularity::Unbounded), the curve
+    /// `y = −√(1 − x²)` at `x = ±1`). Default `1e-8`; `0` turns the check off.
     pub rank_tolerance: f64,
     /// Step-size controller; the method's own (its [`MethodInfo::controller`]) when `None`.
     ///

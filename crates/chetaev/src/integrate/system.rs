@@ -56,6 +56,8 @@ pub trait OdeSystem {
         let _ = (t, y);
         Ok(())
     }
+    /// A trial step left the model's domain (or the floating-point range) and is retried smaller.
+    fn left_domain(&mut self) {}
 }
 
 /// Counts of the work done, kept where user code is called so that no method can forget one.
@@ -153,6 +155,16 @@ pub(crate) fn locate(e: SaddleFailure, t: f64, q: &[f64], qd: &[f64]) -> Error {
 /// equations' count ([`Compiled::native_after`]).
 const NATIVE_REPORT: usize = 256;
 
+/// How much a constraint's gradient must have grown, once the motion has met the edge of the
+/// model's domain, before the check of [`ReducedOde::check_edge`] looks at its residual: a
+/// gradient of steady size is a wall the motion turns at, not the end of a constraint.
+pub const EDGE_GROWTH: f64 = 1e3;
+
+/// The relative residual `|f_a|/(Σ_i |J_ai q̇_i| + |f_a|)` at which the check of
+/// [`ReducedOde::check_edge`] takes a constraint as left (at most ½ for a row linear in `q̇`, ⅓ for
+/// a speed lost altogether under `|q̇|² = v0²`; of the order of the tolerance on the motion).
+pub const EDGE_RESIDUAL: f64 = 0.25;
+
 /// Whether the right-hand side runs as machine code ([`crate::equations::native`]).
 enum NativeState<'a> {
     /// Not yet.
@@ -224,6 +236,9 @@ pub struct ReducedOde<'a, M: ?Sized> {
     frame: Vec<f64>,
     /// The time of the last evaluation by `rhs`.
     last_t: f64,
+    /// For the check of [`ReducedOde::check_edge`]: `|J_a|²` at the start (with the
+    /// singular-point check), and whether a trial step has left the model's domain since.
+    edge: (Vec<f64>, bool),
     /// The variational equations, when sensitivities are asked for: `S` follows `(q, q̇)`.
     pub(crate) sens: Option<Variational>,
     /// The work done so far.
@@ -352,6 +367,58 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         Ok(())
     }
 
+    /// Where the motion has met the edge of the model's domain (a trial step left it), a
+    /// constraint can end there: the curve `y = √(1 − x)` at `x = 1`, whose gradient grows without
+    /// bound as its tangent turns across the motion. Steps that stay inside the domain then creep
+    /// along its edge, and the velocity leaves the constraint unseen by error control, which the
+    /// gradient's growth makes blind. So, from then on, where a constraint's gradient has grown
+    /// by more than [`EDGE_GROWTH`] over its size at the start of the run, and the velocity
+    /// misses it by at least [`EDGE_RESIDUAL`] of its terms (`|f_a|/(Σ_i |J_ai q̇_i| + |f_a|)`,
+    /// which is at most ½ for a row linear in `q̇`), the run ends there with
+    /// [`Singularity::Unbounded`], at the start of the step.
+    #[cold]
+    fn check_edge(&mut self, t_start: f64, t: f64, y: &[f64]) -> Result<(), Error> {
+        let n = self.n;
+        let before = &self.edge.0;
+        let grown = self
+            .ws
+            .dynamics()
+            .j
+            .chunks(n.max(1))
+            .zip(before)
+            .any(|(ja, &b)| ja.iter().map(|x| x * x).sum::<f64>() > EDGE_GROWTH * EDGE_GROWTH * b);
+        if !grown {
+            return Ok(());
+        }
+        let (q, qd) = y[..2 * n].split_at(n);
+        let before = before.clone();
+        let d = self.evaluate(t, q, qd)?;
+        let worst =
+            d.f.iter()
+                .zip(d.j.chunks(n.max(1)))
+                .zip(&before)
+                .enumerate()
+                .filter(|(_, ((_, ja), &b))| {
+                    ja.iter().map(|x| x * x).sum::<f64>() > EDGE_GROWTH * EDGE_GROWTH * b
+                })
+                .map(|(a, ((fa, ja), _))| {
+                    let terms: f64 = ja.iter().zip(qd).map(|(x, v)| (x * v).abs()).sum();
+                    (a, fa.abs() / (terms + fa.abs()))
+                })
+                .filter(|(_, r)| *r >= EDGE_RESIDUAL)
+                .max_by(|x, y| x.1.total_cmp(&y.1));
+        match worst {
+            Some((a, ratio)) => Err(Error::SingularPoint {
+                t: t_start,
+                cause: Singularity::Unbounded(a + 1),
+                ratio,
+                q: q.to_vec(),
+                qd: qd.to_vec(),
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// Keeps what the singular-point check compares from the first evaluation of a solve, at its
     /// start (every method evaluates there first), so that the first step is checked as every
     /// other one.
@@ -370,6 +437,13 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         self.previous_j.clone_from(&d.j);
         self.previous_w = d.w_scale;
         self.previous_sign = d.det_sign;
+        let n = self.n.max(1);
+        self.edge = (
+            d.j.chunks(n)
+                .map(|ja| ja.iter().map(|x| x * x).sum())
+                .collect(),
+            false,
+        );
     }
 
     /// The reduced equations of `model`; with `energy` the state carries the three quadratures of
@@ -393,6 +467,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             previous_t: f64::NAN,
             frame: Vec::new(),
             last_t: f64::NAN,
+            edge: (Vec::new(), false),
             sens: None,
             stats: Stats::default(),
         }
@@ -586,7 +661,11 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
 }
 
 impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
-    fn accepted(&mut self, _t: f64, y: &[f64]) -> Result<(), Error> {
+    fn left_domain(&mut self) {
+        self.edge.1 = true;
+    }
+
+    fn accepted(&mut self, t_new: f64, y: &[f64]) -> Result<(), Error> {
         if self.rank_tolerance <= 0.0 || self.last_t.is_nan() {
             return Ok(());
         }
@@ -597,7 +676,12 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 native.fill(buf, self.ws.dynamics_mut());
             }
         }
-        self.check_singular(t, &y[..n], &y[n..2 * n])
+        let t_start = self.previous_t;
+        self.check_singular(t, &y[..n], &y[n..2 * n])?;
+        if self.edge.1 {
+            self.check_edge(t_start, t_new, y)?;
+        }
+        Ok(())
     }
 
     fn dim(&self) -> usize {
