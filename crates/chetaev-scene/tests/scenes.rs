@@ -482,6 +482,13 @@ fn a_fixed_step_method_refuses_the_options_it_would_ignore() {
         .solve()
         .expect("solves");
     assert_eq!(o.stats.accepted_steps, 100);
+    // And the summary gives the step taken.
+    let capped = Scene::parse(&capped, "rk4.toml").expect("parses");
+    let summary = output::summary(&capped, &o);
+    assert!(
+        summary.contains("  method   Rk4, max_step = 0.005, below step = 0.01;"),
+        "{summary}"
+    );
     // So are the sensitivities' error control: rk4 has none.
     let control = format!("{rk4}\n[sensitivities]\nparameters = [\"g\"]\ncontrol = true\n");
     let e = Scene::parse(&control, "rk4.toml").expect_err("control with rk4");

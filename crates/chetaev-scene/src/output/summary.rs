@@ -60,6 +60,16 @@ fn time(scene: &Scene, t: f64) -> String {
     with_unit(t, scene.units.time.as_deref())
 }
 
+/// The step a fixed-step method takes, `step = 0.01`, or `max_step = 0.005, below step = 0.01`
+/// where `max_step` caps it; `None` for an adaptive method.
+fn fixed_step_text(scene: &Scene) -> Option<String> {
+    let h = scene.solve.method.info().fixed_step?;
+    Some(match scene.solve.max_step.filter(|&m| m < h) {
+        Some(m) => format!("max_step = {}, below step = {}", num(m), num(h)),
+        None => format!("step = {}", num(h)),
+    })
+}
+
 /// The method key for the advice: `method = "dop853"`.
 fn method_key(scene: &Scene) -> String {
     format!("method = \"{}\"", scene.solve.method.name().to_lowercase())
@@ -93,12 +103,11 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
         E::MaxSteps { t, max_steps, .. } => Failure {
             t: Some(*t),
             what: format!("the step limit of {max_steps} steps was reached"),
-            advice: match scene.solve.method.info().fixed_step {
-                Some(h) => format!(
+            advice: match fixed_step_text(scene) {
+                Some(step) => format!(
                     "raise max_steps under [solve] (now {max_steps}), or take a larger step (now \
-                     step = {}); or choose an adaptive method ({}), which takes the steps the \
+                     {step}); or choose an adaptive method ({}), which takes the steps the \
                      tolerances need",
-                    num(h),
                     crate::scene::adaptive_methods()
                 ),
                 None => format!(
@@ -416,8 +425,8 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         Atol::PerComponent(_) => "atol per component".to_string(),
     };
     let info = scene.solve.method.info();
-    let method = match info.fixed_step {
-        Some(h) => format!("{}, step = {}", info.name, num(h)),
+    let method = match fixed_step_text(scene) {
+        Some(step) => format!("{}, {step}", info.name),
         None => format!("{}, rtol = {:e}, {tol}", info.name, scene.solve.rtol),
     };
     let _ = writeln!(
