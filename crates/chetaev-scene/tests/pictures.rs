@@ -480,3 +480,37 @@ pictures = ["trajectory", "state"]
         "titled as the trajectory"
     );
 }
+
+#[test]
+fn a_residual_that_is_zero_everywhere_says_so_over_the_whole_run() {
+    // `ẋ = 1` holds exactly: every residual is 0, which a log axis cannot show. The picture used
+    // to show an empty frame over t from 0 to 1, for a run to t = 2, with no word of why.
+    let text = r#"
+[model]
+coordinates = ["x", "y"]
+lagrangian = "0.5*(x_dot^2 + y_dot^2) - y"
+constraints = ["x_dot - 1"]
+[initial]
+q = [0.0, 0.0]
+q_dot = [1.0, 0.0]
+[solve]
+t_end = 2.0
+[output]
+times = { count = 5 }
+pictures = ["residual"]
+"#;
+    let s = Scene::parse(text, "zero.toml").expect("parses");
+    let outcome = s.solve().expect("solves");
+    assert!(outcome.residual.iter().all(|f| f[0] == 0.0));
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("pictures")
+        .join("zero-residual");
+    let _ = std::fs::remove_dir_all(&dir);
+    output::write(&s, &outcome, &dir).expect("writes");
+    let svg = std::fs::read_to_string(dir.join("residual.svg")).expect("drawn");
+    assert_eq!(
+        texts(&svg, "note"),
+        ["zero at every recorded point: nothing to draw on a log axis"]
+    );
+    assert!(svg.contains(">2.0</text>"), "{svg}");
+}

@@ -189,6 +189,19 @@ fn against_t(
             .y_label(&group_label(&group, what));
         if log_y {
             f = f.log_y();
+            // Nothing to draw on a log axis: say so, over the time the run covered.
+            let points = group.iter().flat_map(|c| &c.points);
+            if !points.clone().any(|&(_, y)| y > 0.0 && y.is_finite()) {
+                let (lo, hi) = points
+                    .filter(|(t, _)| t.is_finite())
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(t, _)| {
+                        (lo.min(t), hi.max(t))
+                    });
+                f = f.note("zero at every recorded point: nothing to draw on a log axis");
+                if lo < hi {
+                    f = f.x_range(lo, hi);
+                }
+            }
         }
         if group.len() == 1 {
             f = f.legend(Legend::Hidden);
