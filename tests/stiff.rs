@@ -116,6 +116,60 @@ fn the_explicit_methods_detect_the_stiffness_and_suggest_rodas4() {
     }
 }
 
+#[test]
+fn the_step_that_finds_the_stiffness_keeps_its_events_and_output_times() {
+    // The run ends after the step whose stiffness test fires; a crossing or an output time inside
+    // that step was dropped, and a terminal event there became `Failed(Stiff)` with the motion
+    // recorded past it.
+    let problem = uniform_problem(&STIFF).expect("valid");
+    let (v0, g, h0) = (STIFF.v0, STIFF.g, STIFF.h0);
+    for method in AnyMethod::all(1e-3) {
+        let name = method.info().name;
+        if method.clone().stiffness_detection_mut().is_none() {
+            continue;
+        }
+        let o = Options::until(2.0 * h0 / v0);
+        let plain = solve(&problem, method, &o).expect("valid");
+        assert!(
+            matches!(plain.error(), Some(Error::Stiff { .. })),
+            "{name}: {:?}",
+            plain.status
+        );
+        let n = plain.len();
+        let (ta, tb) = (plain.t[n - 2], plain.t[n - 1]);
+        let level = 0.5 * (plain.q[n - 2][1] + plain.q[n - 1][1]);
+        // y = h0 − (v0²/g) ln cosh(g t/v0), where ln cosh u = u − ln 2 to rounding (u ≈ 3000).
+        let crossing = ((h0 - level) * g / (v0 * v0) + std::f64::consts::LN_2) * v0 / g;
+        assert!(
+            ta < crossing && crossing < tb,
+            "{name}: {ta} {crossing} {tb}"
+        );
+        let event = move || Event::new("level", move |_t, q, _qd| q[1] - level).falling();
+        let mid = 0.5 * (ta + tb);
+        let o2 = o.clone().event(event()).output_times(vec![ta, mid]);
+        let sol = solve(&problem, method, &o2).expect("valid");
+        assert!(
+            matches!(sol.error(), Some(Error::Stiff { .. })),
+            "{name}: {:?}",
+            sol.status
+        );
+        assert_eq!(sol.events.len(), 1, "{name}");
+        let hit = sol.events[0].t;
+        // Within 10 atol in height, at the falling speed v0.
+        assert!(
+            (hit - crossing).abs() * v0 < 1e-8,
+            "{name}: {hit} against {crossing}"
+        );
+        assert!(sol.t.contains(&mid), "{name}: {:?}", sol.t);
+        // Terminal: the run ends at the crossing, not past it.
+        let sol = solve(&problem, method, &o.clone().event(event().terminal())).expect("valid");
+        assert_eq!(sol.status, Status::Terminated { event: 0 }, "{name}");
+        let (t, q, _) = sol.last().expect("kept");
+        assert_eq!(t, hit, "{name}");
+        assert!((q[1] - level).abs() < 1e-12, "{name}: {}", q[1] - level);
+    }
+}
+
 /// The explicit method run to the end with its stiffness test off: the step count that the
 /// stiffness test saves (a few million steps; run with `--ignored`, preferably `--release`).
 #[test]

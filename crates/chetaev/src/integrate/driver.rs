@@ -724,16 +724,8 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
             continue;
         }
         let t_new = if last { t_end } else { t + h };
-        if let Some(h_lambda) = stepper.stiffness() {
-            y.copy_from_slice(&y_new);
-            *t_last = t_new;
-            hooks.record(sys, t_new, y)?;
-            return Err(Error::Stiff {
-                t: t_new,
-                h_lambda,
-                suggestion: "Rodas4",
-            });
-        }
+        // Stiffness ends the run after this step, once its events and output times are taken.
+        let stiff = stepper.stiffness();
 
         // Events on the dense output of [t, t_new].
         let terminal = if n_events > 0 {
@@ -797,8 +789,15 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         y.copy_from_slice(&y_new);
         t = t_new;
         *t_last = t;
-        if last || matches!(options.output, Output::Steps) {
+        if last || stiff.is_some() || matches!(options.output, Output::Steps) {
             hooks.record(sys, t, y)?;
+        }
+        if let Some(h_lambda) = stiff {
+            return Err(Error::Stiff {
+                t,
+                h_lambda,
+                suggestion: "Rodas4",
+            });
         }
         if last {
             return Ok(());
