@@ -880,7 +880,13 @@ fn find_events<S: OdeSystem, H: Hooks<S>, St: Stepper>(
 
         for j in start..pts.len() - 1 {
             let ((a, ga), (b, gb)) = (pts[j], pts[j + 1]);
-            if crosses(direction, ga, gb) {
+            // A sample exactly at zero between samples of one sign is a touch, not a crossing.
+            let touch = gb == 0.0
+                && pts[j + 2..]
+                    .iter()
+                    .find(|p| p.1 != 0.0)
+                    .is_some_and(|p| p.1.signum() == ga.signum());
+            if crosses(direction, ga, gb) && !touch {
                 hits.push((i, root(hooks, stepper, buf, &mut value, (a, ga), (b, gb))?));
                 if terminal {
                     break;
@@ -951,7 +957,7 @@ fn root<H, St>(
 /// Golden-section search for a sign change of `g` on `[a, c]`, where `g(b)` (`a < b < c` in the
 /// direction of integration) has the sign of `g` at both ends and the smallest magnitude of the
 /// three: minimises `|g|` along the dip and stops as soon as `g` changes sign. Returns that point
-/// and its value, or `None` when the extremum keeps the sign.
+/// and its value, or `None` when the extremum keeps the sign (or only touches zero).
 fn dip<H, St>(
     hooks: &mut H,
     stepper: &mut St,
@@ -975,7 +981,8 @@ fn dip<H, St>(
             x - R * (x - lo)
         };
         let gu = value(hooks, stepper, buf, u)?;
-        if s * gu <= 0.0 {
+        // Only a change of sign: a zero with the sign kept on both sides is a touch.
+        if s * gu < 0.0 {
             return Ok(Some((u, gu)));
         }
         if s * gu < fx {

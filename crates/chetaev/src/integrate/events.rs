@@ -49,6 +49,10 @@ pub enum Direction {
 /// once, upward as well as downward, unless the event counts only the crossing it wants
 /// ([`Event::falling`] for the landing). Leaving zero in a direction not counted is not a
 /// crossing, and later crossings are counted from the sign taken then.
+///
+/// A function that touches zero and keeps its sign (`g = (t − a)²`) does not cross, also where a
+/// sample or the search between samples lands on the zero exactly; only a zero exactly at the end
+/// of a step, whose next sign is not known yet, counts as a crossing from the side it came from.
 #[derive(Clone)]
 pub struct Event {
     /// A name for reports.
