@@ -590,6 +590,42 @@ fn a_function_that_touches_zero_without_crossing_is_no_event() {
 }
 
 #[test]
+fn with_projection_the_state_of_every_crossing_is_projected() {
+    // The paper's particle at a loose tolerance, whose dense output misses `|q̇| = 10` by more than
+    // the projection's bound: the state of a non-terminal crossing, taken from the dense output,
+    // was not projected (|f| = 5.4e-9 against the bound of 2e-10 at 1e-8), a terminal one was.
+    let problem = Problem::new(
+        Paper { v0: 10.0 },
+        0.0,
+        SVector::from([0.0, 0.0]),
+        SVector::from([10.0, 0.0]),
+    )
+    .expect("consistent");
+    let projection = Projection::default();
+    for method in AnyMethod::all(1e-2) {
+        let mut o = Options::until(2.0)
+            .tolerances(1e-5, 1e-5)
+            .project(projection);
+        for level in 1..=8 {
+            let y = -(level as f64);
+            o = o.event(Event::new("level", move |_t, q, _qd| q[1] - y));
+        }
+        let sol = solve(&problem, method, &o).expect("valid");
+        assert!(sol.is_success(), "{method:?}: {:?}", sol.status);
+        assert!(sol.events.len() >= 4, "{method:?}: {}", sol.events.len());
+        for hit in &sol.events {
+            let speed2 = hit.qd[0] * hit.qd[0] + hit.qd[1] * hit.qd[1];
+            let relative = (speed2 - 100.0).abs() / (2.0 * speed2);
+            assert!(
+                relative <= projection.tol,
+                "{method:?} at t = {}: {relative:e}",
+                hit.t
+            );
+        }
+    }
+}
+
+#[test]
 fn an_event_zero_at_the_start_fires_when_it_leaves_zero_in_its_direction() {
     // x = sin t starts at 0 moving up.
     let rising = Event::new("x", |_t, q, _qd| q[0]).rising().terminal();

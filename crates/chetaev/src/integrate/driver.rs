@@ -925,6 +925,8 @@ fn find_events<S: OdeSystem, H: Hooks<S>, St: Stepper>(
             return Ok(Some((i, ts)));
         }
         stepper.interpolate((ts - t) / h, buf);
+        // As every recorded point, the state of a crossing is projected where projection is on.
+        hooks.project(sys, ts, buf)?;
         hooks.event_hit(sys, i, ts, buf)?;
     }
     Ok(None)

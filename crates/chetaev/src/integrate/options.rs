@@ -74,7 +74,8 @@ pub struct Options {
     pub record: Record,
     /// Event functions.
     pub events: Vec<Event>,
-    /// Projection onto `f = 0` after each accepted step and at every recorded point (off by default).
+    /// Projection onto `f = 0` after each accepted step, at every recorded point and at the state
+    /// of every crossing of an event (off by default).
     pub projection: Option<Projection>,
     /// Interior points of each step at which event functions are sampled on the dense output
     /// (besides the step's end), so that a function crossing zero twice within one step is seen
