@@ -207,7 +207,7 @@ pub enum Error {
             Singularity::DependentGradients => format!("the gradients ∂f/∂q̇ of the constraints become linearly dependent (the frame they span reverses its orientation within one step, each of them leaving that span by at most {ratio:e} of its size)"),
             Singularity::BlockSystem => format!("the block system [W −Jᵀ; J 0] passed through a singular one within one step: its determinant changed sign (the kinetic metric W = ∂²L/∂q̇² on the constraints' tangent space passed through zero; its size changed by a factor {ratio:e})"),
             Singularity::Metric => format!("the kinetic metric ∂²L/∂q̇² changed size by a factor {ratio:e} within one step"),
-            Singularity::Unbounded(a) => format!("the gradient of constraint {a} grew without bound where the motion met the edge of the model's domain, and the velocity left the constraint there, missing it by {ratio:.2} of its terms: the constraint ends there, as the curve y = −√(1 − x²) does at x = ±1"),
+            Singularity::Unbounded(a) => format!("the gradient of constraint {a} grew without bound after the motion met the edge of the model's domain, and the velocity left the constraint there, missing it by {ratio:.2} of its terms: the constraint ends there, as the curve y = −√(1 − x²) does at x = ±1"),
         },
         t = Num(*.t)
     )]
@@ -423,7 +423,7 @@ pub enum Singularity {
     /// `W = 1 − t` at `t = 1`), however little `W` changed in size.
     BlockSystem,
     /// The gradient of constraint `a` (numbered as for [`Singularity::Gradient`]) grew without
-    /// bound where the motion met the edge of the model's domain, and the velocity left the
+    /// bound after the motion met the edge of the model's domain, and the velocity left the
     /// constraint there: the constraint ends (the curve `y = √(1 − x)` at `x = 1`, whose tangent
     /// turns across the motion). `ratio` is the relative residual `|f_a|/(Σ_i |J_ai q̇_i| + |f_a|)`.
     Unbounded(usize),

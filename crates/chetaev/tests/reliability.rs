@@ -1740,11 +1740,77 @@ impl Constraints<2, 1> for CurveEndVelocity {
     }
 }
 
+/// The paper's particle (`m = 1`, `g = 10`, held at speed `v0`) with `x` in units of `ax` metres
+/// and `y` in units of `ay` metres.
+struct Units {
+    v0: f64,
+    ax: f64,
+    ay: f64,
+}
+
+impl Lagrangian<2> for Units {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        let (vx, vy) = (qd[0] * self.ax, qd[1] * self.ay);
+        (vx * vx + vy * vy) * 0.5 - q[1] * (10.0 * self.ay)
+    }
+}
+
+impl Constraints<2, 1> for Units {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        let (vx, vy) = (qd[0] * self.ax, qd[1] * self.ay);
+        SVector::from([vx * vx + vy * vy - self.v0 * self.v0])
+    }
+}
+
+#[test]
+fn coordinates_of_very_different_units_are_not_a_singular_point() {
+    // The constraint's gradient 2(ax² ẋ, ay² ẏ) goes from (2e-5, 0) to about (2e-5, −5e5) in the
+    // first steps with x in µm and y in Mm: its x part shrinks a hair while the other grows, so
+    // its smallest size on the step lies a hair inside it, at the size of the smaller end. That was
+    // read as the gradient passing through zero: `SingularPoint` at t = 1e-26 with every method.
+    let (v0, h0): (f64, f64) = (10.0, 5.0);
+    // The paper's impact time, T = (v0/g) arccosh e^(g h0/v0²).
+    let impact = v0 / 10.0 * (10.0 * h0 / (v0 * v0)).exp().acosh();
+    for (ax, ay) in [(1e-6, 1e6), (1e-12, 1.0), (1.0, 1e12)] {
+        let problem = Problem::new(
+            Units { v0, ax, ay },
+            0.0,
+            SVector::from([0.0, h0 / ay]),
+            SVector::from([v0 / ax, 0.0]),
+        )
+        .expect("consistent");
+        let tol = 1e-10;
+        let o = Options::until(10.0)
+            .tolerances(tol, 0.0)
+            .atol_per_component(&[tol / ax, tol / ay], &[tol / ax, tol / ay])
+            .event(Event::new("impact", |_t, q, _qd| q[1]).falling().terminal());
+        for method in [
+            AnyMethod::Dop853(Dop853::default()),
+            AnyMethod::Rodas4(Rodas4),
+        ] {
+            let sol = solve(&problem, method, &o).expect("valid");
+            assert_eq!(
+                sol.status,
+                Status::Terminated { event: 0 },
+                "{method:?} at ({ax:e}, {ay:e})"
+            );
+            let t = sol.events[0].t;
+            assert!(
+                (t - impact).abs() < 1e-8 * impact,
+                "{method:?} at ({ax:e}, {ay:e}): {t} against {impact}"
+            );
+        }
+    }
+}
+
 /// A pendulum on the unit circle against a wall at `x = 1/2` (the potential `−c ln(1/2 − x)`,
 /// not defined beyond it): trial steps leave the domain at each bounce, where the velocity turns
-/// and misses the circle by up to half of its terms, but the gradient keeps its size.
+/// and misses the circle by up to half of its terms. The circle is written as
+/// `e^(γt)(x² + y² − 1)`: with `γ > 0` its gradient grows without bound in time, as that of a
+/// constraint that ends does.
 struct Walled {
     c: f64,
+    gamma: f64,
 }
 
 impl Lagrangian<2> for Walled {
@@ -1757,30 +1823,44 @@ impl Constraints<2, 0> for Walled {
     fn holonomic_count(&self) -> usize {
         1
     }
-    fn holonomic<R: Real>(&self, _t: R, q: &SVector<R, 2>, h: &mut [R]) {
-        h[0] = q[0] * q[0] + q[1] * q[1] - 1.0;
+    fn holonomic<R: Real>(&self, t: R, q: &SVector<R, 2>, h: &mut [R]) {
+        h[0] = (t * self.gamma).exp() * (q[0] * q[0] + q[1] * q[1] - 1.0);
     }
 }
 
 #[test]
 fn a_wall_at_the_edge_of_the_domain_is_not_the_end_of_a_constraint() {
-    let problem = Problem::new(
-        Walled { c: 0.3 },
-        0.0,
-        SVector::from([-1.0, 0.0]),
-        SVector::from([0.0, 0.0]),
-    )
-    .expect("consistent");
-    for method in [
-        AnyMethod::Dopri5(Dopri5::default()),
-        AnyMethod::Tsit5(Tsit5::default()),
-    ] {
-        let o = Options::until(20.0).tolerances(1e-6, 1e-6);
-        let sol = solve(&problem, method, &o).expect("valid");
-        assert!(sol.is_success(), "{method:?}: {:?}", sol.status);
-        // The motion reached the wall: the domain was met there.
-        let x_max = sol.q.component(0).fold(f64::MIN, f64::max);
-        assert!(x_max > 0.4999, "{method:?}: {x_max}");
+    // With the gradient of steady size the turning points at the wall pass by the size of the
+    // gradient; with it growing as e^(γt) (a thousandfold by t = 14), by their velocity terms
+    // small against those of the motion so far (this stopped at t = 14.6 with `Unbounded`).
+    for gamma in [0.0, 0.5] {
+        let problem = Problem::new(
+            Walled { c: 0.3, gamma },
+            0.0,
+            SVector::from([-1.0, 0.0]),
+            SVector::from([0.0, 0.0]),
+        )
+        .expect("consistent");
+        for method in [
+            AnyMethod::Dopri5(Dopri5::default()),
+            AnyMethod::Tsit5(Tsit5::default()),
+        ] {
+            let o = Options::until(30.0).tolerances(1e-6, 1e-6);
+            let sol = solve(&problem, method, &o).expect("valid");
+            assert!(
+                sol.is_success(),
+                "{method:?}, γ = {gamma}: {:?}",
+                sol.status
+            );
+            // The motion reached the wall: the domain was met there.
+            let x_max = sol.q.component(0).fold(f64::MIN, f64::max);
+            assert!(x_max > 0.4999, "{method:?}: {x_max}");
+            // And it stayed near the circle (drifting by 1e-3 over 30 s without projection).
+            for q in sol.q.iter() {
+                let r = q[0].hypot(q[1]);
+                assert!((r - 1.0).abs() < 1e-2, "{method:?}, γ = {gamma}: r = {r}");
+            }
+        }
     }
 }
 

@@ -208,7 +208,7 @@ pub fn failure(scene: &Scene, e: &chetaev::Error) -> Failure {
                          {ratio:e})"
                     ),
                     Singularity::Unbounded(a) => format!(
-                        "the derivative of {} grew without bound where the motion met the edge \
+                        "the derivative of {} grew without bound after the motion met the edge \
                          of the expressions' domain, and the velocity left the constraint there, \
                          missing it by {ratio:.2} of its terms: the constraint ends there, as \
                          the curve y = -sqrt(1 - x^2) does at x = ±1",

@@ -84,7 +84,8 @@ pub struct Options {
     pub event_samples: usize,
     /// Singular points: the run stops with [`Error::SingularPoint`] where a constraint's gradient
     /// `∂f_a/∂q̇` passes through zero between two accepted steps (taken as varying linearly between
-    /// them, its smallest size falls below this fraction of its size at the step's ends), where
+    /// them, its smallest size falls below this fraction of its larger size at the step's ends,
+    /// and below half its smaller one), where
     /// the gradients of two or more constraints become linearly dependent between two accepted
     /// steps (the orientation of the frame they span reverses, with less than this fraction of
     /// them leaving the span they had; for as many constraints as coordinates, `det ∂f/∂q̇`
@@ -92,7 +93,8 @@ pub struct Options {
     /// one step. A gradient or a metric that grows or shrinks steadily is not singular, however
     /// far it goes, nor are gradients that turn fast. Also, once a trial step has left the
     /// model's domain, where a constraint's gradient has grown more than a thousandfold since the
-    /// start and the velocity misses it by a quarter of its terms or more: the constraint ends
+    /// start and the velocity misses it by a quarter of its terms or more (away from a turning
+    /// point, where those terms are below a thousandth of their largest size): the constraint ends
     /// there ([`Singularity::Unbounded`](crate::Singularity::Unbounded), the curve
     /// `y = −√(1 − x²)` at `x = ±1`). Default `1e-8`; `0` turns the check off.
     pub rank_tolerance: f64,

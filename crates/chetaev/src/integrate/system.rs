@@ -161,9 +161,25 @@ const NATIVE_REPORT: usize = 256;
 pub const EDGE_GROWTH: f64 = 1e3;
 
 /// The relative residual `|f_a|/(Σ_i |J_ai q̇_i| + |f_a|)` at which the check of
-/// [`ReducedOde::check_edge`] takes a constraint as left (at most ½ for a row linear in `q̇`, ⅓ for
-/// a speed lost altogether under `|q̇|² = v0²`; of the order of the tolerance on the motion).
+/// [`ReducedOde::check_edge`] takes a constraint as left: at most ½ for a row `J q̇` with no term
+/// free of `q̇`, ⅓ for a speed lost altogether under `|q̇|² = v0²`, of the order of the tolerance
+/// along a motion that keeps to it.
 pub const EDGE_RESIDUAL: f64 = 0.25;
+
+/// The fraction of their largest size so far below which a constraint's velocity terms
+/// `Σ_i |J_ai q̇_i|` are taken as a turning point by the check of [`ReducedOde::check_edge`],
+/// which passes there.
+pub const EDGE_TERMS: f64 = 1e-3;
+
+/// What the check of [`ReducedOde::check_edge`] compares with: `|J_a|²` at the start, the largest
+/// `Σ_i |J_ai q̇_i|` at the accepted steps so far, and whether a trial step has left the model's
+/// domain.
+#[derive(Clone, Debug, Default)]
+struct Edge {
+    start: Vec<f64>,
+    terms: Vec<f64>,
+    left_domain: bool,
+}
 
 /// Whether the right-hand side runs as machine code ([`crate::equations::native`]).
 enum NativeState<'a> {
@@ -236,9 +252,8 @@ pub struct ReducedOde<'a, M: ?Sized> {
     frame: Vec<f64>,
     /// The time of the last evaluation by `rhs`.
     last_t: f64,
-    /// For the check of [`ReducedOde::check_edge`]: `|J_a|²` at the start (with the
-    /// singular-point check), and whether a trial step has left the model's domain since.
-    edge: (Vec<f64>, bool),
+    /// What the check of [`ReducedOde::check_edge`] compares with.
+    edge: Edge,
     /// The variational equations, when sensitivities are asked for: `S` follows `(q, q̇)`.
     pub(crate) sens: Option<Variational>,
     /// The work done so far.
@@ -249,10 +264,11 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     /// Stops with [`Error::SingularPoint`] where a constraint's gradient `J_a` passes through zero
     /// between two checked states (the ends of consecutive accepted steps): taken as varying
     /// linearly between them, it has a minimum inside the segment, below `tolerance` times the
-    /// larger of its sizes at the two ends. Found so, a zero is seen even when no evaluation lands near it
-    /// (the speed reversing under a constraint on its magnitude). Also where the size of the
-    /// kinetic metric, `max |W_ij|`, changes by more than a factor `1/tolerance` from one checked
-    /// state to the next (a pole of the model crossed within a step). `0` turns the check off.
+    /// larger of its sizes at the two ends and below half the smaller. Found so, a zero is seen
+    /// even when no evaluation lands near it (the speed reversing under a constraint on its
+    /// magnitude). Also where the size of the kinetic metric, `max |W_ij|`, changes by more than a
+    /// factor `1/tolerance` from one checked state to the next (a pole of the model crossed within
+    /// a step). `0` turns the check off.
     ///
     /// Both compare a state with the one before it, not with the start: a gradient or metric
     /// that grows or shrinks steadily (`L = e^(γt) L0`, a prescribed speed decaying
@@ -305,7 +321,10 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
                     .map(|(x, y)| (x + s * (y - x)).powi(2))
                     .sum::<f64>();
                 let ends = pp.max(cc);
-                if closest < tol * tol * ends {
+                // Below both ends, too: a gradient that shrinks a hair and then grows by many
+                // orders within the step (coordinates of very different units) has its minimum
+                // a hair inside the segment, at the size of its smaller end.
+                if closest < tol * tol * ends && closest < 0.25 * pp.min(cc) {
                     let r = (closest / ends).sqrt();
                     culprit = Some((
                         Singularity::Gradient(a + 1),
@@ -374,12 +393,16 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     /// gradient's growth makes blind. So, from then on, where a constraint's gradient has grown
     /// by more than [`EDGE_GROWTH`] over its size at the start of the run, and the velocity
     /// misses it by at least [`EDGE_RESIDUAL`] of its terms (`|f_a|/(Σ_i |J_ai q̇_i| + |f_a|)`,
-    /// which is at most ½ for a row linear in `q̇`), the run ends there with
-    /// [`Singularity::Unbounded`], at the start of the step.
+    /// at most ½ for a row `J q̇` with no term free of `q̇`), the run ends there with
+    /// [`Singularity::Unbounded`], at the start of the step. Unless those terms are below
+    /// [`EDGE_TERMS`] of their largest size so far: near a turning point, where the velocity
+    /// through the constraint passes zero, the residual of any motion is large against them (a
+    /// pendulum against a wall with its circle written as `e^(γt)(x² + y² − 1)`, whose gradient
+    /// grows without bound in time).
     #[cold]
     fn check_edge(&mut self, t_start: f64, t: f64, y: &[f64]) -> Result<(), Error> {
         let n = self.n;
-        let before = &self.edge.0;
+        let before = &self.edge.start;
         let grown = self
             .ws
             .dynamics()
@@ -391,22 +414,28 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             return Ok(());
         }
         let (q, qd) = y[..2 * n].split_at(n);
-        let before = before.clone();
+        let Edge { start, terms, .. } = std::mem::take(&mut self.edge);
         let d = self.evaluate(t, q, qd)?;
         let worst =
             d.f.iter()
                 .zip(d.j.chunks(n.max(1)))
-                .zip(&before)
+                .zip(start.iter().zip(&terms))
                 .enumerate()
-                .filter(|(_, ((_, ja), &b))| {
-                    ja.iter().map(|x| x * x).sum::<f64>() > EDGE_GROWTH * EDGE_GROWTH * b
+                .filter_map(|(a, ((fa, ja), (&b, &largest)))| {
+                    let size = ja.iter().map(|x| x * x).sum::<f64>();
+                    let now: f64 = ja.iter().zip(qd).map(|(x, v)| (x * v).abs()).sum();
+                    let r = fa.abs() / (now + fa.abs());
+                    (size > EDGE_GROWTH * EDGE_GROWTH * b
+                        && now >= EDGE_TERMS * largest
+                        && r >= EDGE_RESIDUAL)
+                        .then_some((a, r))
                 })
-                .map(|(a, ((fa, ja), _))| {
-                    let terms: f64 = ja.iter().zip(qd).map(|(x, v)| (x * v).abs()).sum();
-                    (a, fa.abs() / (terms + fa.abs()))
-                })
-                .filter(|(_, r)| *r >= EDGE_RESIDUAL)
                 .max_by(|x, y| x.1.total_cmp(&y.1));
+        self.edge = Edge {
+            start,
+            terms,
+            left_domain: true,
+        };
         match worst {
             Some((a, ratio)) => Err(Error::SingularPoint {
                 t: t_start,
@@ -438,12 +467,14 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         self.previous_w = d.w_scale;
         self.previous_sign = d.det_sign;
         let n = self.n.max(1);
-        self.edge = (
+        self.edge.start.clear();
+        self.edge.start.extend(
             d.j.chunks(n)
-                .map(|ja| ja.iter().map(|x| x * x).sum())
-                .collect(),
-            false,
+                .map(|ja| ja.iter().map(|x| x * x).sum::<f64>()),
         );
+        self.edge.terms.clear();
+        self.edge.terms.resize(self.edge.start.len(), 0.0);
+        self.edge.left_domain = false;
     }
 
     /// The reduced equations of `model`; with `energy` the state carries the three quadratures of
@@ -467,7 +498,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             previous_t: f64::NAN,
             frame: Vec::new(),
             last_t: f64::NAN,
-            edge: (Vec::new(), false),
+            edge: Edge::default(),
             sens: None,
             stats: Stats::default(),
         }
@@ -662,7 +693,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
 
 impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
     fn left_domain(&mut self) {
-        self.edge.1 = true;
+        self.edge.left_domain = true;
     }
 
     fn accepted(&mut self, t_new: f64, y: &[f64]) -> Result<(), Error> {
@@ -678,7 +709,19 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
         }
         let t_start = self.previous_t;
         self.check_singular(t, &y[..n], &y[n..2 * n])?;
-        if self.edge.1 {
+        // The largest velocity terms of each constraint so far, as the check of `check_edge`
+        // compares with.
+        let qd = &y[n..2 * n];
+        for (largest, ja) in self
+            .edge
+            .terms
+            .iter_mut()
+            .zip(self.ws.dynamics().j.chunks(n.max(1)))
+        {
+            let terms: f64 = ja.iter().zip(qd).map(|(x, v)| (x * v).abs()).sum();
+            *largest = largest.max(terms);
+        }
+        if self.edge.left_domain {
             self.check_edge(t_start, t_new, y)?;
         }
         Ok(())
