@@ -158,18 +158,18 @@ const NATIVE_REPORT: usize = 256;
 /// How much a constraint's gradient must have grown, once the motion has met the edge of the
 /// model's domain, before the check of [`ReducedOde::check_edge`] looks at its residual: a
 /// gradient of steady size is a wall the motion turns at, not the end of a constraint.
-pub const EDGE_GROWTH: f64 = 1e3;
+pub(crate) const EDGE_GROWTH: f64 = 1e3;
 
 /// The relative residual `|f_a|/(Σ_i |J_ai q̇_i| + |f_a|)` at which the check of
 /// [`ReducedOde::check_edge`] takes a constraint as left: at most ½ for a row `J q̇` with no term
 /// free of `q̇`, ⅓ for a speed lost altogether under `|q̇|² = v0²`, of the order of the tolerance
 /// along a motion that keeps to it.
-pub const EDGE_RESIDUAL: f64 = 0.25;
+pub(crate) const EDGE_RESIDUAL: f64 = 0.25;
 
 /// The fraction of their largest size so far below which a constraint's velocity terms
 /// `Σ_i |J_ai q̇_i|` are taken as a turning point by the check of [`ReducedOde::check_edge`],
 /// which passes there.
-pub const EDGE_TERMS: f64 = 1e-3;
+pub(crate) const EDGE_TERMS: f64 = 1e-3;
 
 /// What the check of [`ReducedOde::check_edge`] compares with: `|J_a|²` at the start, the largest
 /// `Σ_i |J_ai q̇_i|` at the accepted steps so far, and whether a trial step has left the model's
