@@ -547,16 +547,24 @@ impl Solution {
 fn relative_residual(f: &[f64], j: &[f64], qd: &[f64]) -> f64 {
     f.iter()
         .zip(j.chunks(qd.len().max(1)))
-        .map(|(fa, ja)| {
-            let terms: f64 = ja.iter().zip(qd).map(|(a, v)| (a * v).abs()).sum();
-            let fa = fa.abs();
-            if fa > 0.0 {
-                fa / (terms + fa)
-            } else {
-                0.0
-            }
-        })
+        .map(|(&fa, ja)| row_residual(fa, velocity_terms(ja, qd)))
         .fold(0.0, f64::max)
+}
+
+/// The size of a constraint's velocity terms, `Σ_i |J_ai q̇_i|`, for its gradient row `ja`.
+pub(crate) fn velocity_terms(ja: &[f64], qd: &[f64]) -> f64 {
+    ja.iter().zip(qd).map(|(a, v)| (a * v).abs()).sum()
+}
+
+/// A constraint's residual `f_a` relative to its velocity terms: `|f_a|/(terms + |f_a|)`, 0 where
+/// `f_a = 0`.
+pub(crate) fn row_residual(fa: f64, terms: f64) -> f64 {
+    let fa = fa.abs();
+    if fa > 0.0 {
+        fa / (terms + fa)
+    } else {
+        0.0
+    }
 }
 
 /// `Err(NonFiniteSolution)` unless every value is finite.

@@ -15,6 +15,7 @@ use crate::equations::{
 use crate::error::{Error, Singularity};
 use crate::model::{Model, Point};
 use crate::sensitivity::Variational;
+use crate::solution::{row_residual, velocity_terms};
 
 /// The Jacobian of a right-hand side `F(t, y)` at one point, as [`OdeSystem::jacobian`] writes it.
 /// An implicit method makes one for its dimension and keeps it across steps, so every call writes
@@ -423,8 +424,8 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
                 .enumerate()
                 .filter_map(|(a, ((fa, ja), (&b, &largest)))| {
                     let size = ja.iter().map(|x| x * x).sum::<f64>();
-                    let now: f64 = ja.iter().zip(qd).map(|(x, v)| (x * v).abs()).sum();
-                    let r = fa.abs() / (now + fa.abs());
+                    let now = velocity_terms(ja, qd);
+                    let r = row_residual(*fa, now);
                     (size > EDGE_GROWTH * EDGE_GROWTH * b
                         && now >= EDGE_TERMS * largest
                         && r >= EDGE_RESIDUAL)
@@ -718,8 +719,7 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
             .iter_mut()
             .zip(self.ws.dynamics().j.chunks(n.max(1)))
         {
-            let terms: f64 = ja.iter().zip(qd).map(|(x, v)| (x * v).abs()).sum();
-            *largest = largest.max(terms);
+            *largest = largest.max(velocity_terms(ja, qd));
         }
         if self.edge.left_domain {
             self.check_edge(t_start, t_new, y)?;
