@@ -1697,6 +1697,25 @@ fn a_curve_that_ends_stops_the_run_there() {
             assert!(drift < 5e-3, "{method:?} at {tol:e}: |h| ≤ {drift:e}");
         }
     }
+    // Not caught where the discrete motion turns back just before the end, with no trial step
+    // beyond it (docs/where-it-breaks.md): printed, not asserted.
+    for (method, tol) in [
+        (AnyMethod::Dopri5(Dopri5::default()), 1e-4),
+        (AnyMethod::Rodas4(Rodas4), 1.778e-5),
+    ] {
+        let sol =
+            solve(&problem, method, &Options::until(5.0).tolerances(tol, tol)).expect("valid");
+        let drift = sol
+            .position_residual
+            .as_flat()
+            .iter()
+            .fold(0.0f64, |m, h| m.max(h.abs()));
+        println!(
+            "{}, not projected, tol {tol:e} (not caught): {:?}, max |h| {drift:.2}",
+            method.name(),
+            sol.status
+        );
+    }
     // The same curve as a velocity constraint, `ẏ + ẋ/(2√(1 − x)) = 0`, ends there as well.
     let problem = Problem::new(
         CurveEndVelocity,
