@@ -9,6 +9,7 @@
 //! |---|---|---|
 //! | parse | [`Scene::load`], [`scene`] | TOML with spans; every mistake located at a line and column |
 //! | expressions | [`expr`] | our parser; parameters folded (except those sensitivities are asked for); evaluated generically over `R: Real` |
+//! | graph | [`graph`] | a model as a straight-line program of operations with shared nodes ([`graph::GraphModel`]): the door for front ends with their own expression trees (the Python package's sympy models) |
 //! | model | `model.rs` | `L` and `f` as expressions implement [`chetaev::model::DynModel`]: any `N ≥ 1`, `0 ≤ K ≤ N` |
 //! | solve | [`Scene::solve`], [`run`] | [`chetaev::solve`] on [`chetaev::Problem::dynamic`]; records only what the tables and pictures need |
 //! | sensitivities | `[sensitivities]`, [`scene::SensitivitySpec`] | derivatives of the motion and the events with respect to parameters, by `chetaev`'s seeds |
@@ -52,6 +53,7 @@
 mod domain;
 pub mod error;
 pub mod expr;
+pub mod graph;
 mod model;
 pub mod output;
 pub mod run;

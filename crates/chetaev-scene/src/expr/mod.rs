@@ -242,7 +242,7 @@ impl<R: Copy> ParameterValues<R> for Slots<'_, R> {
 
 /// A function of one argument.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Func {
+pub(crate) enum Func {
     Sqrt,
     Cbrt,
     Exp,
@@ -305,8 +305,23 @@ fn function_list() -> String {
 }
 
 impl Func {
+    /// The function of this name (`sqrt`, ..., `abs`; not `atan2`).
+    pub(crate) fn from_name(name: &str) -> Option<Func> {
+        FUNCTIONS.iter().find(|(n, _)| *n == name).and_then(|(_, f)| *f)
+    }
+
+    /// The names of the functions of one argument, separated by spaces.
+    pub(crate) fn names() -> String {
+        FUNCTIONS
+            .iter()
+            .filter(|(_, f)| f.is_some())
+            .map(|(n, _)| *n)
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+
     #[inline]
-    fn apply<R: Real>(self, x: R) -> R {
+    pub(crate) fn apply<R: Real>(self, x: R) -> R {
         match self {
             Func::Sqrt => x.sqrt(),
             Func::Cbrt => x.cbrt(),

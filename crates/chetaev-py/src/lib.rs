@@ -1,0 +1,1020 @@
+//! The Python package's native module, `chetaev._chetaev`: a thin layer over the Rust API.
+//!
+//! It converts arguments, releases the GIL, calls [`chetaev::solve`] and converts the result;
+//! every feature is written once, in Rust. The Python side (`python/chetaev`) adds only what is
+//! Pythonic: the conversion of sympy expressions into operations of a
+//! [`chetaev_scene::graph::Graph`] (each distinct subexpression once), numpy arrays, exceptions.
+//!
+//! | Python | Rust |
+//! |---|---|
+//! | `Model(n, ops, lagrangian, ...)`, `Model.from_sympy(...)` | [`GraphModel`] |
+//! | `Problem(model, q0, qd0, t0)` | [`chetaev::Problem::dynamic`] |
+//! | `Scene.load(path)`, `Scene.parse(text)` | [`chetaev_scene::Scene`] |
+//! | `solve(problem, t_end, method=..., ...)` | [`chetaev::solve`] with [`Options`] |
+//! | `Solution` | [`chetaev::Solution`], its series as numpy arrays |
+
+use std::sync::Arc;
+
+use chetaev::integrate::events::{Direction, Event};
+use chetaev::prelude::{AnyMethod, Atol, Options, Output, Projection, Record};
+use chetaev::{Problem as RustProblem, Seed as RustSeed, Solution as RustSolution, Status};
+use chetaev_scene::graph::{Graph, GraphError, GraphExpr, GraphModel, Parts};
+use chetaev_scene::{ExprModel, Scene as RustScene};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+create_exception!(
+    _chetaev,
+    ChetaevError,
+    PyValueError,
+    "Bad input to chetaev: a model, problem or option it cannot use. The message is the library's: what was wrong and what to try."
+);
+create_exception!(
+    _chetaev,
+    SceneError,
+    ChetaevError,
+    "A scene file or text that cannot be read: the message gives the line and column."
+);
+
+fn chetaev_error(e: chetaev::Error) -> PyErr {
+    ChetaevError::new_err(e.to_string())
+}
+
+fn graph_error(e: GraphError) -> PyErr {
+    ChetaevError::new_err(e.message)
+}
+
+fn scene_error(e: chetaev_scene::Error) -> PyErr {
+    match e.snippet() {
+        Some(snippet) => SceneError::new_err(format!("{e}\n{snippet}")),
+        None => SceneError::new_err(e.to_string()),
+    }
+}
+
+/// One operation as Python gives it: `(name, operands, value)`.
+type OpSpec = (String, Vec<u32>, f64);
+
+fn build_graph(n: usize, parameters: Vec<(String, f64)>, ops: &[OpSpec]) -> PyResult<Graph> {
+    let mut g = Graph::new(n, parameters).map_err(graph_error)?;
+    for (name, args, value) in ops {
+        g.push(name, args, *value).map_err(graph_error)?;
+    }
+    Ok(g)
+}
+
+/// A model: a Lagrangian `L(t, q, q̇)`, velocity constraints `f(t, q, q̇) = 0`, holonomic
+/// constraints `h(t, q) = 0`, generalised forces `Q(t, q, q̇)` and a Rayleigh function `D`, as one
+/// expression graph with shared subexpressions.
+///
+/// Made by `Model.from_sympy(...)` (see `chetaev.from_sympy`) or from operations directly.
+#[pyclass(module = "chetaev._chetaev", frozen)]
+struct Model {
+    inner: Arc<GraphModel>,
+    coordinates: Vec<String>,
+    /// The sympy symbols the model was converted with (for events and outputs), or None.
+    symbols: Option<Py<PyAny>>,
+}
+
+#[pymethods]
+impl Model {
+    /// A model on `n` coordinates from operations `ops` (`(name, operands, value)` each, see
+    /// `chetaev_scene::graph`), with the indices of `L`, `f`, `h`, `Q` and `D` among them.
+    #[new]
+    #[pyo3(signature = (n, ops, lagrangian, constraints=vec![], holonomic=vec![], forces=vec![], dissipation=None, parameters=vec![], coordinates=None, symbols=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        n: usize,
+        ops: Vec<OpSpec>,
+        lagrangian: u32,
+        constraints: Vec<u32>,
+        holonomic: Vec<u32>,
+        forces: Vec<u32>,
+        dissipation: Option<u32>,
+        parameters: Vec<(String, f64)>,
+        coordinates: Option<Vec<String>>,
+        symbols: Option<Py<PyAny>>,
+    ) -> PyResult<Self> {
+        let coordinates = coordinates.unwrap_or_else(|| (1..=n).map(|i| format!("q{i}")).collect());
+        if coordinates.len() != n {
+            return Err(ChetaevError::new_err(format!(
+                "{} coordinate names for {n} coordinates",
+                coordinates.len()
+            )));
+        }
+        let graph = build_graph(n, parameters, &ops)?;
+        let parts = Parts {
+            lagrangian,
+            constraints,
+            holonomic,
+            forces,
+            dissipation,
+        };
+        Ok(Self {
+            inner: Arc::new(GraphModel::new(graph, parts).map_err(graph_error)?),
+            coordinates,
+            symbols,
+        })
+    }
+
+    /// The model of a sympy Lagrangian (or of `sympy.physics.mechanics` bodies); see
+    /// `chetaev.from_sympy` for the arguments.
+    #[classmethod]
+    #[pyo3(signature = (*args, **kwargs))]
+    fn from_sympy<'py>(
+        cls: &Bound<'py, pyo3::types::PyType>,
+        args: &Bound<'py, pyo3::types::PyTuple>,
+        kwargs: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let module = cls.py().import("chetaev._sympy")?;
+        module.getattr("from_sympy")?.call(args, kwargs)
+    }
+
+    /// The number of coordinates `n`.
+    #[getter]
+    fn n(&self) -> usize {
+        self.inner.graph().n()
+    }
+
+    /// The number of velocity constraints.
+    #[getter]
+    fn k(&self) -> usize {
+        use chetaev::model::DynModel;
+        self.inner.sizes().1
+    }
+
+    /// The number of holonomic constraints.
+    #[getter]
+    fn holonomic_count(&self) -> usize {
+        use chetaev::model::DynModel;
+        self.inner.holonomic_count()
+    }
+
+    /// The coordinates' names.
+    #[getter]
+    fn coordinates(&self) -> Vec<String> {
+        self.coordinates.clone()
+    }
+
+    /// The parameters and their values.
+    #[getter]
+    fn parameters(&self) -> Vec<(String, f64)> {
+        self.inner
+            .graph()
+            .parameters()
+            .map(|(n, v)| (n.to_string(), v))
+            .collect()
+    }
+
+    /// The number of operations of the graph (shared subexpressions counted once).
+    #[getter]
+    fn operations(&self) -> usize {
+        self.inner.graph().len()
+    }
+
+    /// The sympy symbols the model was converted with, or None.
+    #[getter]
+    fn symbols(&self, py: Python<'_>) -> Option<Py<PyAny>> {
+        self.symbols.as_ref().map(|s| s.clone_ref(py))
+    }
+
+    /// The same model with new parameter values, `{name: value}` (names as strings or sympy
+    /// symbols); the graph is shared, not converted again.
+    fn with_parameters(&self, py: Python<'_>, values: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let mut m = (*self.inner).clone();
+        for (k, v) in values.iter() {
+            let name = k.str()?.to_string();
+            let value: f64 = v.extract()?;
+            m = m.with_parameter(&name, value).map_err(graph_error)?;
+        }
+        Ok(Self {
+            inner: Arc::new(m),
+            coordinates: self.coordinates.clone(),
+            symbols: self.symbols.as_ref().map(|s| s.clone_ref(py)),
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        use chetaev::model::DynModel;
+        let params: Vec<String> = self
+            .inner
+            .graph()
+            .parameters()
+            .map(|(n, v)| format!("{n}={v}"))
+            .collect();
+        format!(
+            "Model(coordinates=[{}], velocity_constraints={}, holonomic={}, parameters={{{}}}, operations={})",
+            self.coordinates.join(", "),
+            self.inner.sizes().1,
+            self.inner.holonomic_count(),
+            params.join(", "),
+            self.inner.graph().len()
+        )
+    }
+}
+
+/// A problem of either kind the package makes.
+#[derive(Clone)]
+enum Inner {
+    Graph(Arc<RustProblem<GraphModel>>),
+    Scene(Arc<RustProblem<ExprModel>>),
+}
+
+macro_rules! with_problem {
+    ($inner:expr, $p:ident => $body:expr) => {
+        match $inner {
+            Inner::Graph($p) => $body,
+            Inner::Scene($p) => $body,
+        }
+    };
+}
+
+/// A model with its initial state `(t0, q0, q̇0)`, checked: finite, the holonomic constraints and
+/// the velocity constraints satisfied (or the velocity projected onto them with
+/// `project_velocity=True`), the block system regular.
+#[pyclass(module = "chetaev._chetaev", frozen)]
+struct Problem {
+    inner: Inner,
+    model: Option<Py<Model>>,
+    coordinates: Vec<String>,
+}
+
+fn route(name: &str) -> PyResult<chetaev::Route> {
+    match name {
+        "graph" => Ok(chetaev::Route::Graph),
+        "dual" => Ok(chetaev::Route::Dual),
+        other => Err(ChetaevError::new_err(format!(
+            "unknown route '{other}'; the routes are 'graph' (the recorded and compiled equations, the default) and 'dual' (dual numbers, the reference)"
+        ))),
+    }
+}
+
+#[pymethods]
+impl Problem {
+    #[new]
+    #[pyo3(signature = (model, q0, qd0, t0=0.0, project_velocity=false, route="graph"))]
+    fn new(
+        py: Python<'_>,
+        model: Py<Model>,
+        q0: Vec<f64>,
+        qd0: Vec<f64>,
+        t0: f64,
+        project_velocity: bool,
+        route: &str,
+    ) -> PyResult<Self> {
+        let route = self::route(route)?;
+        let m = model.get();
+        let graph_model = (*m.inner).clone();
+        let coordinates = m.coordinates.clone();
+        let problem = py
+            .detach(|| {
+                if project_velocity {
+                    RustProblem::dynamic_with_projected_velocity(graph_model, t0, q0, qd0)
+                } else {
+                    RustProblem::dynamic(graph_model, t0, q0, qd0)
+                }
+            })
+            .map_err(chetaev_error)?
+            .with_route(route);
+        Ok(Self {
+            inner: Inner::Graph(Arc::new(problem)),
+            model: Some(model),
+            coordinates,
+        })
+    }
+
+    /// The model (None for a scene's problem).
+    #[getter]
+    fn model(&self, py: Python<'_>) -> Option<Py<Model>> {
+        self.model.as_ref().map(|m| m.clone_ref(py))
+    }
+
+    /// The coordinates' names.
+    #[getter]
+    fn coordinates(&self) -> Vec<String> {
+        self.coordinates.clone()
+    }
+
+    /// The initial time.
+    #[getter]
+    fn t0(&self) -> f64 {
+        with_problem!(&self.inner, p => p.t0())
+    }
+
+    /// The initial position (after projection, if asked for).
+    #[getter]
+    fn q0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        with_problem!(&self.inner, p => PyArray1::from_slice(py, p.q0()))
+    }
+
+    /// The initial velocity (after projection, if asked for).
+    #[getter]
+    fn qd0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        with_problem!(&self.inner, p => PyArray1::from_slice(py, p.qd0()))
+    }
+
+    /// `(n, k)`: coordinates, and multipliers (velocity plus holonomic constraints).
+    #[getter]
+    fn sizes(&self) -> (usize, usize) {
+        with_problem!(&self.inner, p => p.sizes())
+    }
+
+    /// The Chetaev equations solved at a state: a dict of `qdd`, `mu`, `phi` (the Chetaev force
+    /// `Φ = Jᵀμ`), `f` (the residual), `energy`, `pivot_ratio` and `j` (`∂f/∂q̇`, `k × n`).
+    fn equations_at<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        q: Vec<f64>,
+        qd: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let inner = self.inner.clone();
+        let d = py
+            .detach(|| with_problem!(&inner, p => p.equations_at(t, &q, &qd)))
+            .map_err(chetaev_error)?;
+        let out = PyDict::new(py);
+        out.set_item("qdd", PyArray1::from_vec(py, d.qdd))?;
+        out.set_item("mu", PyArray1::from_vec(py, d.mu))?;
+        out.set_item("phi", PyArray1::from_vec(py, d.phi))?;
+        out.set_item("f", PyArray1::from_vec(py, d.f))?;
+        out.set_item("forces", PyArray1::from_vec(py, d.forces))?;
+        out.set_item("energy", d.energy)?;
+        out.set_item("lagrangian", d.l)?;
+        out.set_item("pivot_ratio", d.pivot_ratio)?;
+        let n = q.len();
+        let k = d.j.len() / n.max(1);
+        out.set_item("j", PyArray1::from_vec(py, d.j).reshape([k, n])?)?;
+        Ok(out)
+    }
+
+    /// What the library derived for the model, at a state (the initial one by default): the
+    /// structure of the blocks, the derived expressions (text and LaTeX), the numbers there.
+    #[pyo3(signature = (t=None, q=None, qd=None))]
+    fn describe(
+        &self,
+        py: Python<'_>,
+        t: Option<f64>,
+        q: Option<Vec<f64>>,
+        qd: Option<Vec<f64>>,
+    ) -> PyResult<Description> {
+        let inner = self.inner.clone();
+        let names = self.coordinates.join(", ");
+        let d = py
+            .detach(|| {
+                with_problem!(&inner, p => {
+                    let t = t.unwrap_or(p.t0());
+                    let q = q.unwrap_or_else(|| p.q0().to_vec());
+                    let qd = qd.unwrap_or_else(|| p.qd0().to_vec());
+                    p.describe(t, &q, &qd)
+                })
+            })
+            .map_err(chetaev_error)?;
+        Ok(Description {
+            text: format!("coordinates q = ({names})\n{d}"),
+            latex: d.latex(),
+            coordinates: self.coordinates.clone(),
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        let (n, k) = self.sizes();
+        format!(
+            "Problem(coordinates=[{}], n={n}, multipliers={k}, t0={})",
+            self.coordinates.join(", "),
+            self.t0()
+        )
+    }
+}
+
+/// What the library derived for a model: `str()` gives the text; in Jupyter it renders as LaTeX.
+#[pyclass(module = "chetaev._chetaev", frozen)]
+struct Description {
+    text: String,
+    latex: String,
+    coordinates: Vec<String>,
+}
+
+#[pymethods]
+impl Description {
+    /// The derived equations as one LaTeX `align*` environment (empty where the model could not
+    /// be recorded as expressions).
+    #[getter]
+    fn latex(&self) -> String {
+        self.latex.clone()
+    }
+
+    fn __str__(&self) -> String {
+        self.text.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        self.text.clone()
+    }
+
+    fn _repr_latex_(&self) -> Option<String> {
+        if self.latex.is_empty() {
+            return None;
+        }
+        // Jupyter's MathJax renders one display block.
+        let body = self
+            .latex
+            .trim()
+            .trim_start_matches("\\begin{align*}")
+            .trim_end_matches("\\end{align*}");
+        Some(format!(
+            "$$q = ({})$$\n$$\\begin{{aligned}}{body}\\end{{aligned}}$$",
+            self.coordinates.join(", ")
+        ))
+    }
+}
+
+/// An event: the zeros of `g(t, q, q̇)` are located; `direction` is 'either', 'rising' or
+/// 'falling'; a terminal event ends the run. The expression is converted with the model's
+/// symbols when the problem is solved.
+#[pyclass(module = "chetaev._chetaev", name = "Event", frozen)]
+struct EventSpec {
+    #[pyo3(get)]
+    name: String,
+    #[pyo3(get)]
+    expression: Py<PyAny>,
+    #[pyo3(get)]
+    direction: String,
+    #[pyo3(get)]
+    terminal: bool,
+}
+
+#[pymethods]
+impl EventSpec {
+    #[new]
+    #[pyo3(signature = (name, expression, direction="either", terminal=false))]
+    fn new(name: String, expression: Py<PyAny>, direction: &str, terminal: bool) -> PyResult<Self> {
+        parse_direction(direction)?;
+        Ok(Self {
+            name,
+            expression,
+            direction: direction.to_string(),
+            terminal,
+        })
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        Ok(format!(
+            "Event({:?}, {}, direction={:?}, terminal={})",
+            self.name,
+            self.expression.bind(py).str()?,
+            self.direction,
+            if self.terminal { "True" } else { "False" }
+        ))
+    }
+}
+
+fn parse_direction(d: &str) -> PyResult<Direction> {
+    match d {
+        "either" => Ok(Direction::Either),
+        "rising" => Ok(Direction::Rising),
+        "falling" => Ok(Direction::Falling),
+        other => Err(ChetaevError::new_err(format!(
+            "unknown event direction '{other}'; write 'either', 'rising' or 'falling'"
+        ))),
+    }
+}
+
+/// A scene: a model, its initial state and its solve options as a TOML text (docs/scenes.md).
+#[pyclass(module = "chetaev._chetaev", frozen)]
+struct Scene {
+    inner: Arc<RustScene>,
+}
+
+#[pymethods]
+impl Scene {
+    /// Reads a scene file.
+    #[staticmethod]
+    fn load(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
+        let scene = py.detach(|| RustScene::load(&path)).map_err(scene_error)?;
+        Ok(Self {
+            inner: Arc::new(scene),
+        })
+    }
+
+    /// Reads a scene from its text; `name` is used in error messages.
+    #[staticmethod]
+    #[pyo3(signature = (text, name="<scene>"))]
+    fn parse(text: &str, name: &str) -> PyResult<Self> {
+        Ok(Self {
+            inner: Arc::new(RustScene::parse(text, name).map_err(scene_error)?),
+        })
+    }
+
+    /// Solves the scene with its own options; the solution's `event_names` are the scene's.
+    fn solve(&self, py: Python<'_>) -> PyResult<Solution> {
+        let scene = Arc::clone(&self.inner);
+        let outcome = py.detach(|| scene.solve()).map_err(scene_error)?;
+        let names = outcome.event_names.clone();
+        Solution::new(py, outcome.solution, names)
+    }
+
+    /// The scene's problem, to solve with other options.
+    fn problem(&self, py: Python<'_>) -> PyResult<Problem> {
+        let scene = Arc::clone(&self.inner);
+        let p = py.detach(|| scene.problem()).map_err(scene_error)?;
+        Ok(Problem {
+            inner: Inner::Scene(Arc::new(p)),
+            model: None,
+            coordinates: self.inner.coordinates.clone(),
+        })
+    }
+
+    /// What the library derived for the scene's model, as text (`latex=True`: LaTeX).
+    #[pyo3(signature = (latex=false))]
+    fn describe(&self, py: Python<'_>, latex: bool) -> PyResult<String> {
+        let scene = Arc::clone(&self.inner);
+        py.detach(|| {
+            if latex {
+                scene.describe_latex()
+            } else {
+                scene.describe()
+            }
+        })
+        .map_err(scene_error)
+    }
+
+    /// The coordinates' names.
+    #[getter]
+    fn coordinates(&self) -> Vec<String> {
+        self.inner.coordinates.clone()
+    }
+}
+
+/// A seed for sensitivities: the derivative of the motion with respect to a direction in the
+/// parameters and initial values.
+#[pyclass(module = "chetaev._chetaev", frozen)]
+#[derive(Clone)]
+struct Seed {
+    inner: RustSeed,
+}
+
+#[pymethods]
+impl Seed {
+    /// A seed named `name`: `parameters={name: rate}`, `positions={i: rate}` and
+    /// `velocities={i: rate}` (coordinate indices from 0) give its direction.
+    #[new]
+    #[pyo3(signature = (name, parameters=None, positions=None, velocities=None))]
+    fn new(
+        name: String,
+        parameters: Option<&Bound<'_, PyDict>>,
+        positions: Option<Vec<(usize, f64)>>,
+        velocities: Option<Vec<(usize, f64)>>,
+    ) -> PyResult<Self> {
+        let mut s = RustSeed::new(name);
+        if let Some(p) = parameters {
+            for (k, v) in p.iter() {
+                s = s.with_parameter(&k.str()?.to_string(), v.extract()?);
+            }
+        }
+        for (i, r) in positions.unwrap_or_default() {
+            s = s.with_position(i, r);
+        }
+        for (i, r) in velocities.unwrap_or_default() {
+            s = s.with_velocity(i, r);
+        }
+        Ok(Self { inner: s })
+    }
+
+    /// The derivative with respect to one parameter (a name or a sympy symbol).
+    #[staticmethod]
+    fn parameter(name: &Bound<'_, PyAny>) -> PyResult<Self> {
+        Ok(Self {
+            inner: RustSeed::parameter(&name.str()?.to_string()),
+        })
+    }
+
+    /// The derivative with respect to the initial position `q0[i]`.
+    #[staticmethod]
+    fn position(i: usize) -> Self {
+        Self {
+            inner: RustSeed::position(i),
+        }
+    }
+
+    /// The derivative with respect to the initial velocity `q̇0[i]`.
+    #[staticmethod]
+    fn velocity(i: usize) -> Self {
+        Self {
+            inner: RustSeed::velocity(i),
+        }
+    }
+
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.name.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Seed({:?})", self.inner.name)
+    }
+}
+
+fn record(name: &str) -> PyResult<Record> {
+    match name {
+        "state" => Ok(Record::State),
+        "dynamics" => Ok(Record::Dynamics),
+        "energy" => Ok(Record::Energy),
+        other => Err(ChetaevError::new_err(format!(
+            "unknown record level '{other}'; write 'state' (t, q, q̇), 'dynamics' (also q̈, μ, Φ, f) or 'energy' (also E and the work, the default)"
+        ))),
+    }
+}
+
+/// The options, from the keyword arguments of `solve`.
+struct Asked<'py> {
+    t_end: f64,
+    rtol: Option<f64>,
+    atol: Option<Bound<'py, PyAny>>,
+    output: Option<Bound<'py, PyAny>>,
+    record: &'py str,
+    events: Vec<Py<EventSpec>>,
+    project: Option<Bound<'py, PyAny>>,
+    max_step: Option<f64>,
+    initial_step: Option<f64>,
+    max_steps: Option<usize>,
+    event_samples: Option<usize>,
+    sensitivities: Vec<Bound<'py, PyAny>>,
+    sensitivity_control: bool,
+}
+
+fn options(py: Python<'_>, problem: &Problem, a: Asked<'_>) -> PyResult<(Options, Vec<String>)> {
+    let mut o = Options::until(a.t_end);
+    if let Some(r) = a.rtol {
+        o.rtol = r;
+    }
+    if let Some(atol) = a.atol {
+        o.atol = match atol.extract::<f64>() {
+            Ok(x) => Atol::Scalar(x),
+            Err(_) => Atol::PerComponent(atol.extract::<Vec<f64>>().map_err(|_| {
+                ChetaevError::new_err(
+                    "atol must be a number or a sequence of 2n numbers (the n positions, then the n velocities)",
+                )
+            })?),
+        };
+    }
+    if let Some(out) = a.output {
+        o.output = if let Ok(s) = out.extract::<String>() {
+            match s.as_str() {
+                "steps" => Output::Steps,
+                "final" => Output::Final,
+                other => {
+                    return Err(ChetaevError::new_err(format!(
+                        "unknown output '{other}'; write 'steps' (every accepted step, the default), 'final', or give the times as a sequence"
+                    )))
+                }
+            }
+        } else {
+            Output::Times(out.extract::<Vec<f64>>().map_err(|_| {
+                ChetaevError::new_err(
+                    "output must be 'steps', 'final' or a sequence of times (a numpy array will do)",
+                )
+            })?)
+        };
+    }
+    o.record = record(a.record)?;
+    if let Some(h) = a.max_step {
+        o.max_step = Some(h);
+    }
+    if let Some(h) = a.initial_step {
+        o.initial_step = Some(h);
+    }
+    if let Some(m) = a.max_steps {
+        o.max_steps = m;
+    }
+    if let Some(s) = a.event_samples {
+        o.event_samples = s;
+    }
+    if let Some(p) = a.project {
+        if let Ok(on) = p.extract::<bool>() {
+            if on {
+                o.projection = Some(Projection::default());
+            }
+        } else if let Ok(tol) = p.extract::<f64>() {
+            o.projection = Some(Projection {
+                tol,
+                ..Projection::default()
+            });
+        } else {
+            return Err(ChetaevError::new_err(
+                "project must be True, False or the relative residual to hold (a number such as 1e-12)",
+            ));
+        }
+    }
+    for s in a.sensitivities {
+        let seed = if let Ok(seed) = s.cast::<Seed>() {
+            seed.get().inner.clone()
+        } else {
+            RustSeed::parameter(&s.str()?.to_string())
+        };
+        o.sensitivities.push(seed);
+    }
+    o.sensitivity_control = a.sensitivity_control;
+    let mut names = Vec::new();
+    for e in a.events {
+        let e = e.get();
+        let model = problem.model.as_ref().ok_or_else(|| {
+            ChetaevError::new_err(
+                "events on a scene's problem are declared in the scene file ([[events]]); solve it with scene.solve(), or build the model with Model.from_sympy",
+            )
+        })?;
+        let g = event_expression(py, model, e)?;
+        let mut event = Event::smooth(e.name.clone(), g);
+        event.direction = parse_direction(&e.direction)?;
+        event.terminal = e.terminal;
+        names.push(e.name.clone());
+        o.events.push(event);
+    }
+    Ok((o, names))
+}
+
+/// The event's expression as operations on the model's graph, converted by the Python side.
+fn event_expression(py: Python<'_>, model: &Py<Model>, e: &EventSpec) -> PyResult<GraphExpr> {
+    let converted = py
+        .import("chetaev._sympy")?
+        .getattr("expression_ops")?
+        .call1((model.bind(py), e.expression.bind(py)))?;
+    let (ops, root): (Vec<OpSpec>, u32) = converted.extract()?;
+    let m = model.get();
+    m.inner
+        .expression(|g| {
+            for (name, args, value) in &ops {
+                g.push(name, args, *value)?;
+            }
+            Ok(root)
+        })
+        .map_err(|err| {
+            ChetaevError::new_err(format!("event '{}': {}", e.name, err.message))
+        })
+}
+
+/// Solves a problem: see the Python docstring of `chetaev.solve`.
+#[pyfunction]
+#[pyo3(signature = (problem, t_end, method="dop853", rtol=None, atol=None, step=None, output=None, record="energy", events=vec![], project=None, max_step=None, initial_step=None, max_steps=None, event_samples=None, sensitivities=vec![], sensitivity_control=false))]
+#[allow(clippy::too_many_arguments)]
+fn solve<'py>(
+    py: Python<'py>,
+    problem: &Problem,
+    t_end: f64,
+    method: &str,
+    rtol: Option<f64>,
+    atol: Option<Bound<'py, PyAny>>,
+    step: Option<f64>,
+    output: Option<Bound<'py, PyAny>>,
+    record: &'py str,
+    events: Vec<Py<EventSpec>>,
+    project: Option<Bound<'py, PyAny>>,
+    max_step: Option<f64>,
+    initial_step: Option<f64>,
+    max_steps: Option<usize>,
+    event_samples: Option<usize>,
+    sensitivities: Vec<Bound<'py, PyAny>>,
+    sensitivity_control: bool,
+) -> PyResult<Solution> {
+    let method = AnyMethod::from_name(method, step).map_err(chetaev_error)?;
+    let asked = Asked {
+        t_end,
+        rtol,
+        atol,
+        output,
+        record,
+        events,
+        project,
+        max_step,
+        initial_step,
+        max_steps,
+        event_samples,
+        sensitivities,
+        sensitivity_control,
+    };
+    let (options, names) = options(py, problem, asked)?;
+    let inner = problem.inner.clone();
+    let solution = py
+        .detach(|| with_problem!(&inner, p => chetaev::solve(&**p, method, &options)))
+        .map_err(chetaev_error)?;
+    Solution::new(py, solution, names)
+}
+
+/// The located crossing of an event.
+#[pyclass(module = "chetaev._chetaev", frozen, get_all)]
+struct EventHit {
+    /// The event's index in `events`.
+    index: usize,
+    /// Its name.
+    name: String,
+    /// The time of the crossing.
+    t: f64,
+    /// `q` there.
+    q: Py<PyAny>,
+    /// `q̇` there.
+    qd: Py<PyAny>,
+    /// `∂t/∂θ` for each seed (an empty dict without sensitivities, or where the crossing is
+    /// tangential).
+    dt: Py<PyAny>,
+}
+
+#[pymethods]
+impl EventHit {
+    fn __repr__(&self) -> String {
+        format!("EventHit({:?}, t={})", self.name, self.t)
+    }
+}
+
+/// The motion and everything recorded along it: numpy arrays with one row per recorded point.
+#[pyclass(module = "chetaev._chetaev", frozen, get_all)]
+struct Solution {
+    /// The method's name.
+    method: String,
+    /// `t`, shape `(m,)`.
+    t: Py<PyAny>,
+    /// `q`, shape `(m, n)`.
+    q: Py<PyAny>,
+    /// `q̇`, shape `(m, n)`.
+    qd: Py<PyAny>,
+    /// `q̈`, shape `(m, n)` (empty rows below record='dynamics').
+    qdd: Py<PyAny>,
+    /// The multipliers `μ`, shape `(m, k)`, Newton form: `d/dt ∂L/∂q̇ − ∂L/∂q = Jᵀμ`.
+    mu: Py<PyAny>,
+    /// The Chetaev force `Φ = Σ_a μ_a ∂f_a/∂q̇`, shape `(m, n)`.
+    phi: Py<PyAny>,
+    /// The residual `f` of the velocity (and `ḣ` of the holonomic) constraints, shape `(m, k)`.
+    residual: Py<PyAny>,
+    /// `max_a |f_a| / (|J_a|·|q̇|)` at each point, shape `(m,)`.
+    relative_residual: Py<PyAny>,
+    /// `h(t, q)` of the holonomic constraints, shape `(m, kh)`.
+    position_residual: Py<PyAny>,
+    /// The energy `E = q̇·∂L/∂q̇ − L`, shape `(m,)`.
+    energy: Py<PyAny>,
+    /// The work of the Chetaev force `W_Φ = ∫ q̇·Φ dt`, shape `(m,)`.
+    work: Py<PyAny>,
+    /// `∫ ∂L/∂t dt`, shape `(m,)`.
+    dl_dt_integral: Py<PyAny>,
+    /// The work of the forces not derivable from `L`, shape `(m,)`.
+    work_forces: Py<PyAny>,
+    /// `E − E(t0) − W_Φ − W_Q + ∫∂L/∂t dt`: zero along an exact motion, shape `(m,)`.
+    energy_balance: Py<PyAny>,
+    /// The located events, in order.
+    events: Py<PyAny>,
+    /// The sensitivities: a dict from seed name to `{"q": (m, n), "qd": (m, n)}`, or None.
+    sensitivities: Py<PyAny>,
+    /// Counts: right-hand sides, steps, Jacobians, projections, ...
+    stats: Py<PyAny>,
+    /// 'success', 'terminated' (a terminal event) or 'failed'.
+    status: String,
+    /// The index of the terminal event that ended the run, or None.
+    terminated_by: Option<usize>,
+    /// Why the run failed (the library's message, with advice), or None.
+    message: Option<String>,
+    /// Whether the end time or a terminal event was reached.
+    success: bool,
+}
+
+fn series<'py>(py: Python<'py>, s: &chetaev::prelude::Series) -> PyResult<Py<PyAny>> {
+    Ok(PyArray1::from_slice(py, s.as_flat())
+        .reshape([s.len(), s.width()])?
+        .into_any()
+        .unbind())
+}
+
+fn vector(py: Python<'_>, v: &[f64]) -> Py<PyAny> {
+    PyArray1::from_slice(py, v).into_any().unbind()
+}
+
+impl Solution {
+    fn new(py: Python<'_>, s: RustSolution, names: Vec<String>) -> PyResult<Self> {
+        let balance = s.energy_balance();
+        let events = PyList::empty(py);
+        for (i, e) in s.events.iter().enumerate() {
+            let dt = PyDict::new(py);
+            if let Some(sens) = &s.sensitivities {
+                if let Some(Some(es)) = sens.events.get(i) {
+                    for (name, d) in sens.names.iter().zip(&es.t) {
+                        dt.set_item(name, d)?;
+                    }
+                }
+            }
+            events.append(EventHit {
+                index: e.index,
+                name: names.get(e.index).cloned().unwrap_or_default(),
+                t: e.t,
+                q: vector(py, &e.q),
+                qd: vector(py, &e.qd),
+                dt: dt.into_any().unbind(),
+            })?;
+        }
+        let sensitivities = match &s.sensitivities {
+            None => py.None(),
+            Some(sens) => {
+                let d = PyDict::new(py);
+                let (m, n) = (s.t.len(), s.n());
+                for (j, name) in sens.names.iter().enumerate() {
+                    let (mut dq, mut dqd) = (Vec::with_capacity(m * n), Vec::with_capacity(m * n));
+                    for i in 0..sens.values.len() {
+                        dq.extend_from_slice(sens.q(i, j));
+                        dqd.extend_from_slice(sens.qd(i, j));
+                    }
+                    let rows = sens.values.len();
+                    let entry = PyDict::new(py);
+                    entry.set_item("q", PyArray1::from_vec(py, dq).reshape([rows, n])?)?;
+                    entry.set_item("qd", PyArray1::from_vec(py, dqd).reshape([rows, n])?)?;
+                    d.set_item(name, entry)?;
+                }
+                d.into_any().unbind()
+            }
+        };
+        let st = &s.stats;
+        let stats = PyDict::new(py);
+        for (k, v) in [
+            ("rhs_evaluations", st.rhs_evaluations),
+            ("jacobian_evaluations", st.jacobian_evaluations),
+            ("lu_decompositions", st.lu_decompositions),
+            ("output_evaluations", st.output_evaluations),
+            ("accepted_steps", st.accepted_steps),
+            ("rejected_steps", st.rejected_steps),
+            ("projections", st.projections),
+            ("projection_iterations", st.projection_iterations),
+            ("event_evaluations", st.event_evaluations),
+            ("graph_fallbacks", st.graph_fallbacks),
+        ] {
+            stats.set_item(k, v)?;
+        }
+        let (status, terminated_by, message) = match &s.status {
+            Status::Success => ("success", None, None),
+            Status::Terminated { event } => ("terminated", Some(*event), None),
+            Status::Failed(e) => ("failed", None, Some(e.to_string())),
+        };
+        Ok(Self {
+            method: s.method.to_string(),
+            t: vector(py, &s.t),
+            q: series(py, &s.q)?,
+            qd: series(py, &s.qd)?,
+            qdd: series(py, &s.qdd)?,
+            mu: series(py, &s.mu)?,
+            phi: series(py, &s.phi)?,
+            residual: series(py, &s.residual)?,
+            relative_residual: vector(py, &s.relative_residual),
+            position_residual: series(py, &s.position_residual)?,
+            energy: vector(py, &s.energy),
+            work: vector(py, &s.work),
+            dl_dt_integral: vector(py, &s.dl_dt_integral),
+            work_forces: vector(py, &s.work_forces),
+            energy_balance: vector(py, &balance),
+            events: events.into_any().unbind(),
+            sensitivities,
+            stats: stats.into_any().unbind(),
+            status: status.to_string(),
+            terminated_by,
+            message,
+            success: !matches!(s.status, Status::Failed(_)),
+        })
+    }
+}
+
+#[pymethods]
+impl Solution {
+    fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
+        self.t.bind(py).len()
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let len = self.t.bind(py).len()?;
+        let tail = match &self.message {
+            Some(m) => format!(", message={m:?}"),
+            None => String::new(),
+        };
+        Ok(format!(
+            "Solution(method={:?}, status={:?}, points={len}{tail})",
+            self.method, self.status
+        ))
+    }
+}
+
+/// The names of the methods, for `solve(method=...)`.
+#[pyfunction]
+fn methods() -> Vec<String> {
+    AnyMethod::NAMES.iter().map(|n| n.to_lowercase()).collect()
+}
+
+#[pymodule]
+fn _chetaev(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Model>()?;
+    m.add_class::<Problem>()?;
+    m.add_class::<Description>()?;
+    m.add_class::<EventSpec>()?;
+    m.add_class::<EventHit>()?;
+    m.add_class::<Scene>()?;
+    m.add_class::<Seed>()?;
+    m.add_class::<Solution>()?;
+    m.add_function(wrap_pyfunction!(solve, m)?)?;
+    m.add_function(wrap_pyfunction!(methods, m)?)?;
+    m.add("ChetaevError", m.py().get_type::<ChetaevError>())?;
+    m.add("SceneError", m.py().get_type::<SceneError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
