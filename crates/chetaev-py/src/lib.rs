@@ -40,7 +40,30 @@ create_exception!(
 );
 
 fn chetaev_error(e: chetaev::Error) -> PyErr {
-    ChetaevError::new_err(e.to_string())
+    ChetaevError::new_err(pythonic(&e.to_string()))
+}
+
+/// The library's message with the Rust names of options spelled as Python calls them:
+/// `Options::max_steps` is `solve(..., max_steps=...)`, `Problem::with_projected_velocity` is
+/// `Problem(..., project_velocity=True)`.
+fn pythonic(message: &str) -> String {
+    let mut out = message.replace(
+        "Problem::with_projected_velocity",
+        "Problem(..., project_velocity=True)",
+    );
+    while let Some(at) = out.find("Options::") {
+        let rest = &out[at + "Options::".len()..];
+        let len = rest
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(rest.len());
+        let name = &rest[..len];
+        let python = match name {
+            "project" => "solve(..., project=True)".to_string(),
+            _ => format!("solve(..., {name}=...)"),
+        };
+        out.replace_range(at..at + "Options::".len() + len, &python);
+    }
+    out
 }
 
 fn graph_error(e: GraphError) -> PyErr {
@@ -749,12 +772,37 @@ fn event_expression(py: Python<'_>, model: &Py<Model>, e: &EventSpec) -> PyResul
             }
             Ok(root)
         })
-        .map_err(|err| {
-            ChetaevError::new_err(format!("event '{}': {}", e.name, err.message))
-        })
+        .map_err(|err| ChetaevError::new_err(format!("event '{}': {}", e.name, err.message)))
 }
 
-/// Solves a problem: see the Python docstring of `chetaev.solve`.
+/// Solves a problem from its initial state to `t_end`: Chetaev's equations in Newton form,
+///
+///     d/dt ∂L/∂q̇ − ∂L/∂q = Σ_a μ_a ∂f_a/∂q̇ + Q,   f(t, q, q̇) = 0,   h(t, q) = 0,
+///
+/// reduced by eliminating the multipliers μ (a pivoted block solve) and integrated.
+///
+/// Arguments:
+///     problem: a `Problem` (or `scene.problem()`).
+///     t_end: the end time (earlier than t0 integrates backward).
+///     method: 'dop853' (default), 'dopri5', 'tsit5', 'rk4' (fixed `step`), 'rodas4' or
+///         'rodas5p' (implicit, for stiff problems); `chetaev.methods()` lists them.
+///     rtol, atol: tolerances (default 1e-6 and 1e-9); `atol` may be 2n numbers (positions,
+///         then velocities).
+///     step: the fixed step of 'rk4'.
+///     output: 'steps' (every accepted step, default), 'final', or a sequence of times.
+///     record: 'state' (t, q, q̇), 'dynamics' (also q̈, μ, Φ, f) or 'energy' (also E, the work
+///         of Φ and the energy balance; the default).
+///     events: `Event`s (sympy expressions or strings on the coordinates, `x_dot` for ẋ).
+///     project: True (or a relative residual such as 1e-12) to project the state back onto
+///         the constraints after each step.
+///     max_step, initial_step, max_steps, event_samples: step control.
+///     sensitivities: parameter symbols or names, or `Seed`s: the derivatives of the motion and
+///         of the events with respect to them; `sensitivity_control` puts them under error
+///         control.
+///
+/// Returns a `Solution`. A run that fails returns the motion up to the failure, with
+/// `status == 'failed'` and the reason in `message`; input that cannot be used raises
+/// `ChetaevError`. The GIL is released while the problem is solved.
 #[pyfunction]
 #[pyo3(signature = (problem, t_end, method="dop853", rtol=None, atol=None, step=None, output=None, record="energy", events=vec![], project=None, max_step=None, initial_step=None, max_steps=None, event_samples=None, sensitivities=vec![], sensitivity_control=false))]
 #[allow(clippy::too_many_arguments)]
@@ -947,7 +995,7 @@ impl Solution {
         let (status, terminated_by, message) = match &s.status {
             Status::Success => ("success", None, None),
             Status::Terminated { event } => ("terminated", Some(*event), None),
-            Status::Failed(e) => ("failed", None, Some(e.to_string())),
+            Status::Failed(e) => ("failed", None, Some(pythonic(&e.to_string()))),
         };
         Ok(Self {
             method: s.method.to_string(),

@@ -307,7 +307,10 @@ fn function_list() -> String {
 impl Func {
     /// The function of this name (`sqrt`, ..., `abs`; not `atan2`).
     pub(crate) fn from_name(name: &str) -> Option<Func> {
-        FUNCTIONS.iter().find(|(n, _)| *n == name).and_then(|(_, f)| *f)
+        FUNCTIONS
+            .iter()
+            .find(|(n, _)| *n == name)
+            .and_then(|(_, f)| *f)
     }
 
     /// The names of the functions of one argument, separated by spaces.

@@ -1,0 +1,215 @@
+"""Types of the native module: the Rust API of chetaev, as the Python package sees it.
+
+Conventions (docs/conventions.md): Chetaev's equations in Newton form,
+``d/dt ∂L/∂q̇ − ∂L/∂q = Σ_a μ_a ∂f_a/∂q̇ + Q``; the Chetaev force ``Φ = Σ_a μ_a ∂f_a/∂q̇``; the
+energy ``E = q̇·∂L/∂q̇ − L`` with ``dE/dt = q̇·Φ + q̇·Q − ∂L/∂t``.
+"""
+
+from os import PathLike
+from typing import Any, Literal, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+Array = npt.NDArray[np.float64]
+Direction = Literal["either", "rising", "falling"]
+
+class ChetaevError(ValueError):
+    """Bad input: a model, problem or option chetaev cannot use; the message says what to try."""
+
+class SceneError(ChetaevError):
+    """A scene that cannot be read; the message gives the line and column."""
+
+class Model:
+    """``L(t, q, q̇)``, velocity constraints ``f``, holonomic constraints ``h``, forces ``Q`` and a
+    Rayleigh function ``D`` as one expression graph with shared subexpressions."""
+
+    def __init__(
+        self,
+        n: int,
+        ops: Sequence[tuple[str, Sequence[int], float]],
+        lagrangian: int,
+        constraints: Sequence[int] = ...,
+        holonomic: Sequence[int] = ...,
+        forces: Sequence[int] = ...,
+        dissipation: Optional[int] = None,
+        parameters: Sequence[tuple[str, float]] = ...,
+        coordinates: Optional[Sequence[str]] = None,
+        symbols: Any = None,
+    ) -> None: ...
+    @classmethod
+    def from_sympy(
+        cls,
+        lagrangian: Any = None,
+        q: Sequence[Any] = (),
+        *,
+        constraints: Sequence[Any] = (),
+        holonomic: Sequence[Any] = (),
+        forces: Optional[Sequence[Any]] = None,
+        loads: Optional[Sequence[tuple[Any, Any]]] = None,
+        frame: Any = None,
+        bodies: Optional[Sequence[Any]] = None,
+        rayleigh: Any = None,
+        parameters: Optional[Mapping[Any, float]] = None,
+        t: Any = None,
+    ) -> "Model": ...
+    @property
+    def n(self) -> int: ...
+    @property
+    def k(self) -> int:
+        """The number of velocity constraints."""
+    @property
+    def holonomic_count(self) -> int: ...
+    @property
+    def coordinates(self) -> list[str]: ...
+    @property
+    def parameters(self) -> list[tuple[str, float]]: ...
+    @property
+    def operations(self) -> int: ...
+    @property
+    def symbols(self) -> Any: ...
+    def with_parameters(self, values: Mapping[Any, float]) -> "Model": ...
+
+class Description:
+    """What the library derived; ``str()`` is text, Jupyter renders ``_repr_latex_``."""
+
+    @property
+    def latex(self) -> str: ...
+    def _repr_latex_(self) -> Optional[str]: ...
+
+class Problem:
+    """A model with a checked initial state ``(t0, q0, q̇0)``."""
+
+    def __init__(
+        self,
+        model: Model,
+        q0: Union[Sequence[float], Array],
+        qd0: Union[Sequence[float], Array],
+        t0: float = 0.0,
+        project_velocity: bool = False,
+        route: Literal["graph", "dual"] = "graph",
+    ) -> None: ...
+    @property
+    def model(self) -> Optional[Model]: ...
+    @property
+    def coordinates(self) -> list[str]: ...
+    @property
+    def t0(self) -> float: ...
+    @property
+    def q0(self) -> Array: ...
+    @property
+    def qd0(self) -> Array: ...
+    @property
+    def sizes(self) -> tuple[int, int]:
+        """``(n, k)``: coordinates, multipliers (velocity plus holonomic constraints)."""
+    def equations_at(
+        self, t: float, q: Sequence[float], qd: Sequence[float]
+    ) -> dict[str, Any]: ...
+    def describe(
+        self,
+        t: Optional[float] = None,
+        q: Optional[Sequence[float]] = None,
+        qd: Optional[Sequence[float]] = None,
+    ) -> Description: ...
+
+class Event:
+    """The zeros of ``g(t, q, q̇)`` (a sympy expression, or a string in the coordinates' names with
+    ``x_dot`` for ẋ), counted in ``direction``; a terminal event ends the run."""
+
+    name: str
+    expression: Any
+    direction: Direction
+    terminal: bool
+    def __init__(
+        self, name: str, expression: Any, direction: Direction = "either", terminal: bool = False
+    ) -> None: ...
+
+class EventHit:
+    index: int
+    name: str
+    t: float
+    q: Array
+    qd: Array
+    dt: dict[str, float]
+    """``∂t/∂θ`` for each seed."""
+
+class Seed:
+    """A direction in the parameters and initial values for sensitivities."""
+
+    def __init__(
+        self,
+        name: str,
+        parameters: Optional[Mapping[Any, float]] = None,
+        positions: Optional[Sequence[tuple[int, float]]] = None,
+        velocities: Optional[Sequence[tuple[int, float]]] = None,
+    ) -> None: ...
+    @staticmethod
+    def parameter(name: Any) -> "Seed": ...
+    @staticmethod
+    def position(i: int) -> "Seed": ...
+    @staticmethod
+    def velocity(i: int) -> "Seed": ...
+    @property
+    def name(self) -> str: ...
+
+class Solution:
+    """The motion and what was recorded along it, one row per recorded point."""
+
+    method: str
+    t: Array
+    q: Array
+    qd: Array
+    qdd: Array
+    mu: Array
+    phi: Array
+    residual: Array
+    relative_residual: Array
+    position_residual: Array
+    energy: Array
+    work: Array
+    dl_dt_integral: Array
+    work_forces: Array
+    energy_balance: Array
+    events: list[EventHit]
+    sensitivities: Optional[dict[str, dict[str, Array]]]
+    stats: dict[str, int]
+    status: Literal["success", "terminated", "failed"]
+    terminated_by: Optional[int]
+    message: Optional[str]
+    success: bool
+    def __len__(self) -> int: ...
+
+class Scene:
+    """A scene file (docs/scenes.md)."""
+
+    @staticmethod
+    def load(path: Union[str, PathLike[str]]) -> "Scene": ...
+    @staticmethod
+    def parse(text: str, name: str = "<scene>") -> "Scene": ...
+    def solve(self) -> Solution: ...
+    def problem(self) -> Problem: ...
+    def describe(self, latex: bool = False) -> str: ...
+    @property
+    def coordinates(self) -> list[str]: ...
+
+def solve(
+    problem: Problem,
+    t_end: float,
+    method: str = "dop853",
+    rtol: Optional[float] = None,
+    atol: Union[None, float, Sequence[float]] = None,
+    step: Optional[float] = None,
+    output: Union[None, Literal["steps", "final"], Sequence[float], Array] = None,
+    record: Literal["state", "dynamics", "energy"] = "energy",
+    events: Sequence[Event] = (),
+    project: Union[None, bool, float] = None,
+    max_step: Optional[float] = None,
+    initial_step: Optional[float] = None,
+    max_steps: Optional[int] = None,
+    event_samples: Optional[int] = None,
+    sensitivities: Sequence[Union[str, Any, Seed]] = (),
+    sensitivity_control: bool = False,
+) -> Solution: ...
+def methods() -> list[str]: ...

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# The tests, Rust and Python: `cargo test --workspace`, then the Python package built from this
+# checkout into a fresh virtual environment (maturin, through pip) and its pytest suite.
+#
+# Needs a Rust toolchain, Python 3.10 or newer with pip and venv (PYTHON names another than
+# python3), and the package registries. The environment is made in target/python-venv, or in
+# CHETAEV_VENV; nothing is installed outside it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+cargo test --workspace
+
+python=${PYTHON:-python3}
+venv=${CHETAEV_VENV:-target/python-venv}
+rm -rf "$venv"
+"$python" -m venv "$venv"
+"$venv/bin/python" -m pip install --quiet --upgrade pip
+# The package and its test extras (pytest, matplotlib), as a user installs it.
+"$venv/bin/python" -m pip install --quiet "./crates/chetaev-py[test]"
+# From the tests' folder, so that `import chetaev` finds the installed package, not the sources.
+cd crates/chetaev-py
+"../../$venv/bin/python" -m pytest -q -p no:cacheprovider tests
