@@ -13,7 +13,7 @@
 //! | `solve(problem, t_end, method=..., ...)` | [`chetaev::solve`] with [`Options`] |
 //! | `Solution` | [`chetaev::Solution`], its series as numpy arrays |
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use chetaev::integrate::events::{Direction, Event};
 use chetaev::prelude::{AnyMethod, Atol, Options, Output, Projection, Record};
@@ -47,10 +47,49 @@ fn chetaev_error(e: chetaev::Error) -> PyErr {
 /// `Options::max_steps` is `solve(..., max_steps=...)`, `Problem::with_projected_velocity` is
 /// `Problem(..., project_velocity=True)`.
 fn pythonic(message: &str) -> String {
-    let mut out = message.replace(
-        "Problem::with_projected_velocity",
-        "Problem(..., project_velocity=True)",
-    );
+    let mut out = message
+        .replace(
+            "Problem::with_projected_velocity",
+            "Problem(..., project_velocity=True)",
+        )
+        .replace(
+            "with Seed::with_position and Seed::with_velocity",
+            "with Seed(name, parameters={...}, positions=[(i, rate)], velocities=[(i, rate)])",
+        );
+    // `Seed::parameter("l").with_position(i, rate)` is `Seed("l", parameters={l: 1}, positions=[(i, rate)])`.
+    while let Some(at) = out.find("Seed::parameter(\"") {
+        let rest = &out[at + "Seed::parameter(\"".len()..];
+        let Some(name_end) = rest.find('"') else {
+            break;
+        };
+        let name = rest[..name_end].to_string();
+        let after = &rest[name_end..];
+        let (kind, tail) = if let Some(t) = after.strip_prefix("\").with_position(") {
+            ("positions", t)
+        } else if let Some(t) = after.strip_prefix("\").with_velocity(") {
+            ("velocities", t)
+        } else {
+            ("", after.strip_prefix("\")").unwrap_or(after))
+        };
+        let (args, tail) = match tail.find(')') {
+            Some(close) if !kind.is_empty() => (&tail[..close], &tail[close + 1..]),
+            _ => ("", tail),
+        };
+        let python = if kind.is_empty() {
+            format!("Seed.parameter({name:?})")
+        } else {
+            format!("Seed({name:?}, parameters={{{name}: 1}}, {kind}=[({args})])")
+        };
+        let end = out.len() - tail.len();
+        out.replace_range(at..end, &python);
+    }
+    // A parameter the model does not read: in Python, a symbol given a value in `parameters`.
+    if let Some(at) = out.find("; read it as R::parameter(") {
+        out.truncate(at);
+        out.push_str(
+            "; name a parameter given in from_sympy(..., parameters={...}) and used by the model",
+        );
+    }
     while let Some(at) = out.find("Options::") {
         let rest = &out[at + "Options::".len()..];
         let len = rest
@@ -466,6 +505,9 @@ struct EventSpec {
     direction: String,
     #[pyo3(get)]
     terminal: bool,
+    /// The expression converted for the last model it was solved with (held, so that its
+    /// address identifies it), so that a solve repeated on one model converts it once.
+    converted: std::sync::Mutex<Option<(Arc<GraphModel>, GraphExpr)>>,
 }
 
 #[pymethods]
@@ -479,6 +521,7 @@ impl EventSpec {
             expression,
             direction: direction.to_string(),
             terminal,
+            converted: std::sync::Mutex::new(None),
         })
     }
 
@@ -635,7 +678,10 @@ impl Seed {
     }
 
     fn __repr__(&self) -> String {
-        format!("Seed({:?})", self.inner.name)
+        format!(
+            "Seed('{}')",
+            self.inner.name.replace('\\', "\\\\").replace('\'', "\\'")
+        )
     }
 }
 
@@ -757,22 +803,35 @@ fn options(py: Python<'_>, problem: &Problem, a: Asked<'_>) -> PyResult<(Options
     Ok((o, names))
 }
 
-/// The event's expression as operations on the model's graph, converted by the Python side.
+/// The event's expression as operations on the model's graph, converted by the Python side once
+/// per model.
 fn event_expression(py: Python<'_>, model: &Py<Model>, e: &EventSpec) -> PyResult<GraphExpr> {
+    let m = model.get();
+    if let Ok(cache) = e.converted.lock() {
+        if let Some((held, g)) = cache.as_ref() {
+            if Arc::ptr_eq(held, &m.inner) {
+                return Ok(g.clone());
+            }
+        }
+    }
     let converted = py
         .import("chetaev._sympy")?
         .getattr("expression_ops")?
         .call1((model.bind(py), e.expression.bind(py)))?;
     let (ops, root): (Vec<OpSpec>, u32) = converted.extract()?;
-    let m = model.get();
-    m.inner
+    let g = m
+        .inner
         .expression(|g| {
             for (name, args, value) in &ops {
                 g.push(name, args, *value)?;
             }
             Ok(root)
         })
-        .map_err(|err| ChetaevError::new_err(format!("event '{}': {}", e.name, err.message)))
+        .map_err(|err| ChetaevError::new_err(format!("event '{}': {}", e.name, err.message)))?;
+    if let Ok(mut cache) = e.converted.lock() {
+        *cache = Some((Arc::clone(&m.inner), g.clone()));
+    }
+    Ok(g)
 }
 
 /// Solves a problem from its initial state to `t_end`: Chetaev's equations in Newton form,
@@ -825,6 +884,17 @@ fn solve<'py>(
     sensitivities: Vec<Bound<'py, PyAny>>,
     sensitivity_control: bool,
 ) -> PyResult<Solution> {
+    let fixed = method.eq_ignore_ascii_case("rk4");
+    if step.is_some() && !fixed {
+        return Err(ChetaevError::new_err(format!(
+            "step= is the fixed step of 'rk4'; '{method}' chooses its own steps by rtol and atol (bound them with max_step= or initial_step=)"
+        )));
+    }
+    if fixed && (rtol.is_some() || atol.is_some()) {
+        return Err(ChetaevError::new_err(
+            "'rk4' takes fixed steps (step=) and has no error control, so rtol and atol would be ignored; leave them out, or choose an adaptive method such as 'dop853'",
+        ));
+    }
     let method = AnyMethod::from_name(method, step).map_err(chetaev_error)?;
     let asked = Asked {
         t_end,
@@ -849,83 +919,166 @@ fn solve<'py>(
     Solution::new(py, solution, names)
 }
 
+/// The seconds each of `repeats` solves takes inside Rust, timed there: the same problem, method
+/// and options as `solve` with these arguments, without the Python call and the conversion of the
+/// solution. For the benchmark of the bindings' overhead (bench/python/overhead.py).
+#[pyfunction]
+#[pyo3(signature = (problem, t_end, repeats, method="dop853", rtol=None, atol=None, output=None, record="energy", events=vec![]))]
+#[allow(clippy::too_many_arguments)]
+fn _solve_seconds<'py>(
+    py: Python<'py>,
+    problem: &Problem,
+    t_end: f64,
+    repeats: usize,
+    method: &str,
+    rtol: Option<f64>,
+    atol: Option<Bound<'py, PyAny>>,
+    output: Option<Bound<'py, PyAny>>,
+    record: &'py str,
+    events: Vec<Py<EventSpec>>,
+) -> PyResult<Vec<f64>> {
+    let method = AnyMethod::from_name(method, None).map_err(chetaev_error)?;
+    let asked = Asked {
+        t_end,
+        rtol,
+        atol,
+        output,
+        record,
+        events,
+        project: None,
+        max_step: None,
+        initial_step: None,
+        max_steps: None,
+        event_samples: None,
+        sensitivities: Vec::new(),
+        sensitivity_control: false,
+    };
+    let (options, _) = options(py, problem, asked)?;
+    let inner = problem.inner.clone();
+    py.detach(|| {
+        (0..repeats)
+            .map(|_| {
+                let start = std::time::Instant::now();
+                let s = with_problem!(&inner, p => chetaev::solve(&**p, method.clone(), &options))?;
+                let elapsed = start.elapsed().as_secs_f64();
+                drop(std::hint::black_box(s));
+                Ok(elapsed)
+            })
+            .collect::<Result<Vec<f64>, chetaev::Error>>()
+    })
+    .map_err(chetaev_error)
+}
+
 /// The located crossing of an event.
-#[pyclass(module = "chetaev._chetaev", frozen, get_all)]
+#[pyclass(module = "chetaev._chetaev", frozen)]
 struct EventHit {
-    /// The event's index in `events`.
     index: usize,
-    /// Its name.
     name: String,
-    /// The time of the crossing.
     t: f64,
-    /// `q` there.
-    q: Py<PyAny>,
-    /// `q̇` there.
-    qd: Py<PyAny>,
-    /// `∂t/∂θ` for each seed (an empty dict without sensitivities, or where the crossing is
-    /// tangential).
-    dt: Py<PyAny>,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    dt: Vec<(String, f64)>,
 }
 
 #[pymethods]
 impl EventHit {
+    /// The event's index in `events`.
+    #[getter]
+    fn index(&self) -> usize {
+        self.index
+    }
+
+    /// Its name.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The time of the crossing.
+    #[getter]
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    /// `q` there.
+    #[getter]
+    fn q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.q)
+    }
+
+    /// `q̇` there.
+    #[getter]
+    fn qd<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.qd)
+    }
+
+    /// `∂t/∂θ` for each seed (empty without sensitivities, or where the crossing is tangential).
+    #[getter]
+    fn dt<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (k, v) in &self.dt {
+            d.set_item(k, v)?;
+        }
+        Ok(d)
+    }
+
     fn __repr__(&self) -> String {
         format!("EventHit({:?}, t={})", self.name, self.t)
     }
 }
 
-/// The motion and everything recorded along it: numpy arrays with one row per recorded point.
-#[pyclass(module = "chetaev._chetaev", frozen, get_all)]
+/// The motion and everything recorded along it: numpy arrays with one row per recorded point,
+/// made from the Rust solution on first access (and kept).
+#[pyclass(module = "chetaev._chetaev", frozen)]
 struct Solution {
-    /// The method's name.
-    method: String,
-    /// `t`, shape `(m,)`.
-    t: Py<PyAny>,
-    /// `q`, shape `(m, n)`.
-    q: Py<PyAny>,
-    /// `q̇`, shape `(m, n)`.
-    qd: Py<PyAny>,
-    /// `q̈`, shape `(m, n)` (empty rows below record='dynamics').
-    qdd: Py<PyAny>,
-    /// The multipliers `μ`, shape `(m, k)`, Newton form: `d/dt ∂L/∂q̇ − ∂L/∂q = Jᵀμ`.
-    mu: Py<PyAny>,
-    /// The Chetaev force `Φ = Σ_a μ_a ∂f_a/∂q̇`, shape `(m, n)`.
-    phi: Py<PyAny>,
-    /// The residual `f` of the velocity (and `ḣ` of the holonomic) constraints, shape `(m, k)`.
-    residual: Py<PyAny>,
-    /// `max_a |f_a| / (|J_a|·|q̇|)` at each point, shape `(m,)`.
-    relative_residual: Py<PyAny>,
-    /// `h(t, q)` of the holonomic constraints, shape `(m, kh)`.
-    position_residual: Py<PyAny>,
-    /// The energy `E = q̇·∂L/∂q̇ − L`, shape `(m,)`.
-    energy: Py<PyAny>,
-    /// The work of the Chetaev force `W_Φ = ∫ q̇·Φ dt`, shape `(m,)`.
-    work: Py<PyAny>,
-    /// `∫ ∂L/∂t dt`, shape `(m,)`.
-    dl_dt_integral: Py<PyAny>,
-    /// The work of the forces not derivable from `L`, shape `(m,)`.
-    work_forces: Py<PyAny>,
-    /// `E − E(t0) − W_Φ − W_Q + ∫∂L/∂t dt`: zero along an exact motion, shape `(m,)`.
-    energy_balance: Py<PyAny>,
-    /// The located events, in order.
-    events: Py<PyAny>,
-    /// The sensitivities: a dict from seed name to `{"q": (m, n), "qd": (m, n)}`, or None.
-    sensitivities: Py<PyAny>,
-    /// Counts: right-hand sides, steps, Jacobians, projections, ...
-    stats: Py<PyAny>,
-    /// 'success', 'terminated' (a terminal event) or 'failed'.
-    status: String,
-    /// The index of the terminal event that ended the run, or None.
-    terminated_by: Option<usize>,
-    /// Why the run failed (the library's message, with advice), or None.
-    message: Option<String>,
-    /// Whether the end time or a terminal event was reached.
-    success: bool,
+    inner: RustSolution,
+    names: Vec<String>,
+    cache: Cache,
 }
 
-fn series<'py>(py: Python<'py>, s: &chetaev::prelude::Series) -> PyResult<Py<PyAny>> {
+/// The arrays made so far, one cell per attribute.
+#[derive(Default)]
+struct Cache {
+    t: OnceLock<Py<PyAny>>,
+    q: OnceLock<Py<PyAny>>,
+    qd: OnceLock<Py<PyAny>>,
+    qdd: OnceLock<Py<PyAny>>,
+    mu: OnceLock<Py<PyAny>>,
+    phi: OnceLock<Py<PyAny>>,
+    residual: OnceLock<Py<PyAny>>,
+    relative_residual: OnceLock<Py<PyAny>>,
+    position_residual: OnceLock<Py<PyAny>>,
+    energy: OnceLock<Py<PyAny>>,
+    work: OnceLock<Py<PyAny>>,
+    dl_dt_integral: OnceLock<Py<PyAny>>,
+    work_forces: OnceLock<Py<PyAny>>,
+    energy_balance: OnceLock<Py<PyAny>>,
+    events: OnceLock<Py<PyAny>>,
+    sensitivities: OnceLock<Py<PyAny>>,
+    stats: OnceLock<Py<PyAny>>,
+}
+
+/// The value in `cell`, made by `make` on first use.
+fn cached(
+    py: Python<'_>,
+    cell: &OnceLock<Py<PyAny>>,
+    make: impl FnOnce() -> PyResult<Py<PyAny>>,
+) -> PyResult<Py<PyAny>> {
+    if let Some(v) = cell.get() {
+        return Ok(v.clone_ref(py));
+    }
+    let v = make()?;
+    // Another thread may have made it meanwhile: either value is the same array.
+    let _ = cell.set(v.clone_ref(py));
+    Ok(v)
+}
+
+/// A series as an `(m, width)` array; a series of width 0 (no constraints of its kind) has one
+/// empty row per recorded point, `rows`.
+fn series(py: Python<'_>, s: &chetaev::prelude::Series, rows: usize) -> PyResult<Py<PyAny>> {
+    let rows = if s.width() == 0 { rows } else { s.len() };
     Ok(PyArray1::from_slice(py, s.as_flat())
-        .reshape([s.len(), s.width()])?
+        .reshape([rows, s.width()])?
         .into_any()
         .unbind())
 }
@@ -935,111 +1088,275 @@ fn vector(py: Python<'_>, v: &[f64]) -> Py<PyAny> {
 }
 
 impl Solution {
-    fn new(py: Python<'_>, s: RustSolution, names: Vec<String>) -> PyResult<Self> {
-        let balance = s.energy_balance();
-        let events = PyList::empty(py);
-        for (i, e) in s.events.iter().enumerate() {
-            let dt = PyDict::new(py);
-            if let Some(sens) = &s.sensitivities {
-                if let Some(Some(es)) = sens.events.get(i) {
-                    for (name, d) in sens.names.iter().zip(&es.t) {
-                        dt.set_item(name, d)?;
-                    }
-                }
-            }
-            events.append(EventHit {
-                index: e.index,
-                name: names.get(e.index).cloned().unwrap_or_default(),
-                t: e.t,
-                q: vector(py, &e.q),
-                qd: vector(py, &e.qd),
-                dt: dt.into_any().unbind(),
-            })?;
-        }
-        let sensitivities = match &s.sensitivities {
-            None => py.None(),
-            Some(sens) => {
-                let d = PyDict::new(py);
-                let (m, n) = (s.t.len(), s.n());
-                for (j, name) in sens.names.iter().enumerate() {
-                    let (mut dq, mut dqd) = (Vec::with_capacity(m * n), Vec::with_capacity(m * n));
-                    for i in 0..sens.values.len() {
-                        dq.extend_from_slice(sens.q(i, j));
-                        dqd.extend_from_slice(sens.qd(i, j));
-                    }
-                    let rows = sens.values.len();
-                    let entry = PyDict::new(py);
-                    entry.set_item("q", PyArray1::from_vec(py, dq).reshape([rows, n])?)?;
-                    entry.set_item("qd", PyArray1::from_vec(py, dqd).reshape([rows, n])?)?;
-                    d.set_item(name, entry)?;
-                }
-                d.into_any().unbind()
-            }
-        };
-        let st = &s.stats;
-        let stats = PyDict::new(py);
-        for (k, v) in [
-            ("rhs_evaluations", st.rhs_evaluations),
-            ("jacobian_evaluations", st.jacobian_evaluations),
-            ("lu_decompositions", st.lu_decompositions),
-            ("output_evaluations", st.output_evaluations),
-            ("accepted_steps", st.accepted_steps),
-            ("rejected_steps", st.rejected_steps),
-            ("projections", st.projections),
-            ("projection_iterations", st.projection_iterations),
-            ("event_evaluations", st.event_evaluations),
-            ("graph_fallbacks", st.graph_fallbacks),
-        ] {
-            stats.set_item(k, v)?;
-        }
-        let (status, terminated_by, message) = match &s.status {
-            Status::Success => ("success", None, None),
-            Status::Terminated { event } => ("terminated", Some(*event), None),
-            Status::Failed(e) => ("failed", None, Some(pythonic(&e.to_string()))),
-        };
+    fn new(_py: Python<'_>, inner: RustSolution, names: Vec<String>) -> PyResult<Self> {
         Ok(Self {
-            method: s.method.to_string(),
-            t: vector(py, &s.t),
-            q: series(py, &s.q)?,
-            qd: series(py, &s.qd)?,
-            qdd: series(py, &s.qdd)?,
-            mu: series(py, &s.mu)?,
-            phi: series(py, &s.phi)?,
-            residual: series(py, &s.residual)?,
-            relative_residual: vector(py, &s.relative_residual),
-            position_residual: series(py, &s.position_residual)?,
-            energy: vector(py, &s.energy),
-            work: vector(py, &s.work),
-            dl_dt_integral: vector(py, &s.dl_dt_integral),
-            work_forces: vector(py, &s.work_forces),
-            energy_balance: vector(py, &balance),
-            events: events.into_any().unbind(),
-            sensitivities,
-            stats: stats.into_any().unbind(),
-            status: status.to_string(),
-            terminated_by,
-            message,
-            success: !matches!(s.status, Status::Failed(_)),
+            inner,
+            names,
+            cache: Cache::default(),
         })
     }
 }
 
 #[pymethods]
 impl Solution {
-    fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
-        self.t.bind(py).len()
+    /// `q`, shape `(m, n)`.
+    #[getter]
+    fn q(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.q, || {
+            series(py, &self.inner.q, self.inner.t.len())
+        })
     }
 
-    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-        let len = self.t.bind(py).len()?;
-        let tail = match &self.message {
+    /// `q̇`, shape `(m, n)`.
+    #[getter]
+    fn qd(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.qd, || {
+            series(py, &self.inner.qd, self.inner.t.len())
+        })
+    }
+
+    /// `q̈`, shape `(m, n)` (no columns below record='dynamics').
+    #[getter]
+    fn qdd(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.qdd, || {
+            series(py, &self.inner.qdd, self.inner.t.len())
+        })
+    }
+
+    /// The multipliers `μ`, shape `(m, k)`, Newton form: `d/dt ∂L/∂q̇ − ∂L/∂q = Jᵀμ + Q`.
+    #[getter]
+    fn mu(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.mu, || {
+            series(py, &self.inner.mu, self.inner.t.len())
+        })
+    }
+
+    /// The Chetaev force `Φ = Σ_a μ_a ∂f_a/∂q̇`, shape `(m, n)`.
+    #[getter]
+    fn phi(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.phi, || {
+            series(py, &self.inner.phi, self.inner.t.len())
+        })
+    }
+
+    /// The residual `f` of the velocity constraints (and `ḣ` of the holonomic ones), shape `(m, k)`.
+    #[getter]
+    fn residual(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.residual, || {
+            series(py, &self.inner.residual, self.inner.t.len())
+        })
+    }
+
+    /// `h(t, q)` of the holonomic constraints, shape `(m, kh)`.
+    #[getter]
+    fn position_residual(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.position_residual, || {
+            series(py, &self.inner.position_residual, self.inner.t.len())
+        })
+    }
+
+    /// `t`, shape `(m,)`.
+    #[getter]
+    fn t(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.t, || Ok(vector(py, &self.inner.t)))
+    }
+
+    /// `max_a |f_a| / (|J_a|·|q̇|)` at each point, shape `(m,)`.
+    #[getter]
+    fn relative_residual(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.relative_residual, || {
+            Ok(vector(py, &self.inner.relative_residual))
+        })
+    }
+
+    /// The energy `E = q̇·∂L/∂q̇ − L`, shape `(m,)`.
+    #[getter]
+    fn energy(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.energy, || {
+            Ok(vector(py, &self.inner.energy))
+        })
+    }
+
+    /// The work of the Chetaev force, `W_Φ = ∫ q̇·Φ dt`, shape `(m,)`.
+    #[getter]
+    fn work(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.work, || Ok(vector(py, &self.inner.work)))
+    }
+
+    /// `∫ ∂L/∂t dt`, shape `(m,)`.
+    #[getter]
+    fn dl_dt_integral(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.dl_dt_integral, || {
+            Ok(vector(py, &self.inner.dl_dt_integral))
+        })
+    }
+
+    /// The work of the forces not derivable from `L`, shape `(m,)`.
+    #[getter]
+    fn work_forces(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.work_forces, || {
+            Ok(vector(py, &self.inner.work_forces))
+        })
+    }
+
+    /// `E − E(t0) − W_Φ − W_Q + ∫∂L/∂t dt`: zero along an exact motion, shape `(m,)`.
+    #[getter]
+    fn energy_balance(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.energy_balance, || {
+            Ok(vector(py, &self.inner.energy_balance()))
+        })
+    }
+
+    /// The located events, in order (`EventHit`s).
+    #[getter]
+    fn events(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.events, || {
+            let s = &self.inner;
+            let events = PyList::empty(py);
+            for (i, e) in s.events.iter().enumerate() {
+                let dt = match &s.sensitivities {
+                    Some(sens) => match sens.events.get(i) {
+                        Some(Some(es)) => sens
+                            .names
+                            .iter()
+                            .cloned()
+                            .zip(es.t.iter().copied())
+                            .collect(),
+                        _ => Vec::new(),
+                    },
+                    None => Vec::new(),
+                };
+                events.append(EventHit {
+                    index: e.index,
+                    name: self.names.get(e.index).cloned().unwrap_or_default(),
+                    t: e.t,
+                    q: e.q.clone(),
+                    qd: e.qd.clone(),
+                    dt,
+                })?;
+            }
+            Ok(events.into_any().unbind())
+        })
+    }
+
+    /// The sensitivities: `{seed name: {"q": (m, n), "qd": (m, n)}}`, or None without seeds.
+    #[getter]
+    fn sensitivities(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.sensitivities, || {
+            let s = &self.inner;
+            let Some(sens) = &s.sensitivities else {
+                return Ok(py.None());
+            };
+            let d = PyDict::new(py);
+            let n = s.n();
+            let rows = sens.values.len();
+            for (j, name) in sens.names.iter().enumerate() {
+                let (mut dq, mut dqd) =
+                    (Vec::with_capacity(rows * n), Vec::with_capacity(rows * n));
+                for i in 0..rows {
+                    dq.extend_from_slice(sens.q(i, j));
+                    dqd.extend_from_slice(sens.qd(i, j));
+                }
+                let entry = PyDict::new(py);
+                entry.set_item("q", PyArray1::from_vec(py, dq).reshape([rows, n])?)?;
+                entry.set_item("qd", PyArray1::from_vec(py, dqd).reshape([rows, n])?)?;
+                d.set_item(name, entry)?;
+            }
+            Ok(d.into_any().unbind())
+        })
+    }
+
+    /// Counts: right-hand sides, steps, Jacobians, projections, event evaluations, ...
+    #[getter]
+    fn stats(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        cached(py, &self.cache.stats, || {
+            let st = &self.inner.stats;
+            let stats = PyDict::new(py);
+            for (k, v) in [
+                ("rhs_evaluations", st.rhs_evaluations),
+                ("jacobian_evaluations", st.jacobian_evaluations),
+                ("lu_decompositions", st.lu_decompositions),
+                ("output_evaluations", st.output_evaluations),
+                ("accepted_steps", st.accepted_steps),
+                ("rejected_steps", st.rejected_steps),
+                ("projections", st.projections),
+                ("projection_iterations", st.projection_iterations),
+                ("event_evaluations", st.event_evaluations),
+                ("graph_fallbacks", st.graph_fallbacks),
+            ] {
+                stats.set_item(k, v)?;
+            }
+            Ok(stats.into_any().unbind())
+        })
+    }
+
+    /// The method's name.
+    #[getter]
+    fn method(&self) -> &'static str {
+        self.inner.method
+    }
+
+    /// 'success' (the end time), 'terminated' (a terminal event) or 'failed'.
+    #[getter]
+    fn status(&self) -> &'static str {
+        match self.inner.status {
+            Status::Success => "success",
+            Status::Terminated { .. } => "terminated",
+            Status::Failed(_) => "failed",
+        }
+    }
+
+    /// The index of the terminal event that ended the run, or None.
+    #[getter]
+    fn terminated_by(&self) -> Option<usize> {
+        match self.inner.status {
+            Status::Terminated { event } => Some(event),
+            _ => None,
+        }
+    }
+
+    /// Why the run failed (the library's message, with advice), or None.
+    #[getter]
+    fn message(&self) -> Option<String> {
+        match &self.inner.status {
+            Status::Failed(e) => Some(pythonic(&e.to_string())),
+            _ => None,
+        }
+    }
+
+    /// Whether the end time or a terminal event was reached.
+    #[getter]
+    fn success(&self) -> bool {
+        !matches!(self.inner.status, Status::Failed(_))
+    }
+
+    /// The number of coordinates `n`.
+    #[getter]
+    fn n(&self) -> usize {
+        self.inner.n()
+    }
+
+    /// The number of multipliers `k`.
+    #[getter]
+    fn k(&self) -> usize {
+        self.inner.k()
+    }
+
+    fn __len__(&self) -> usize {
+        self.inner.len()
+    }
+
+    fn __repr__(&self) -> String {
+        let tail = match self.message() {
             Some(m) => format!(", message={m:?}"),
             None => String::new(),
         };
-        Ok(format!(
-            "Solution(method={:?}, status={:?}, points={len}{tail})",
-            self.method, self.status
-        ))
+        format!(
+            "Solution(method={:?}, status={:?}, points={}{tail})",
+            self.inner.method,
+            self.status(),
+            self.inner.len()
+        )
     }
 }
 
@@ -1061,6 +1378,14 @@ fn _chetaev(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Solution>()?;
     m.add_function(wrap_pyfunction!(solve, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
+    m.add_function(wrap_pyfunction!(_solve_seconds, m)?)?;
+    // Raised and pickled as `chetaev.ChetaevError` (a process pool sends them back by name).
+    for t in [
+        m.py().get_type::<ChetaevError>(),
+        m.py().get_type::<SceneError>(),
+    ] {
+        t.setattr("__module__", "chetaev")?;
+    }
     m.add("ChetaevError", m.py().get_type::<ChetaevError>())?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -7,7 +7,6 @@ chetaev models made from them are immutable (``frozen`` pyclasses), so sharing t
 from __future__ import annotations
 
 import os
-import pathlib
 import sys
 
 import pytest
@@ -16,9 +15,6 @@ sys.path.insert(0, os.path.dirname(__file__))  # `models` lives beside the tests
 
 import chetaev  # noqa: E402
 import models  # noqa: E402
-
-REPO = pathlib.Path(__file__).resolve().parents[3]  # tests -> chetaev-py -> crates -> repo
-SCENES = REPO / "scenes"
 
 
 @pytest.fixture(scope="session")

@@ -372,7 +372,7 @@ impl Graph {
             Ok(())
         } else {
             Err(GraphError::whole(format!(
-                "{what} is operation {root}, but the graph has {} operations",
+                "{what} is operation {root}, but the graph has only {} operation(s)",
                 self.ops.len()
             )))
         }
@@ -495,13 +495,14 @@ impl GraphModel {
         let g = &*graph;
         g.check_root(parts.lagrangian, "the Lagrangian")?;
         for (a, &f) in parts.constraints.iter().enumerate() {
-            g.check_root(f, &format!("velocity constraint {a}"))?;
+            g.check_root(f, &format!("velocity constraint {}", a + 1))?;
         }
         for (b, &h) in parts.holonomic.iter().enumerate() {
-            g.check_root(h, &format!("holonomic constraint {b}"))?;
+            g.check_root(h, &format!("holonomic constraint {}", b + 1))?;
             if g.uses_velocity(h) {
                 return Err(GraphError::whole(format!(
-                    "holonomic constraint {b} depends on the velocities; a holonomic constraint h(t, q) = 0 has none (a constraint on velocities is a velocity constraint)"
+                    "holonomic constraint {} (numbered from 1) depends on the velocities; a holonomic constraint h(t, q) = 0 has none (a constraint on velocities is a velocity constraint)",
+                    b + 1
                 )));
             }
         }
@@ -513,7 +514,7 @@ impl GraphModel {
             )));
         }
         for (i, &f) in parts.forces.iter().enumerate() {
-            g.check_root(f, &format!("generalised force {i}"))?;
+            g.check_root(f, &format!("generalised force {}", i + 1))?;
         }
         if let Some(d) = parts.dissipation {
             g.check_root(d, "the dissipation function")?;
@@ -613,14 +614,14 @@ impl DynModel for GraphModel {
 #[derive(Clone, Debug)]
 pub struct GraphExpr {
     graph: Arc<Graph>,
-    plan: Plan,
+    plan: Arc<Plan>,
 }
 
 impl GraphExpr {
     /// The expression at operation `root` of `graph`.
     pub fn new(graph: Graph, root: u32) -> Result<Self, GraphError> {
         graph.check_root(root, "the expression")?;
-        let plan = graph.plan(&[root]);
+        let plan = Arc::new(graph.plan(&[root]));
         Ok(Self {
             graph: Arc::new(graph),
             plan,

@@ -71,6 +71,9 @@ class Symbols:
         self.index = {c: i for i, c in enumerate(self.q)}
         self.velocity = {c.diff(self.t): i for i, c in enumerate(self.q)}
         self.parameter_index = {p: i for i, p in enumerate(self.parameters)}
+        # A parameter given by name, or as a symbol with other assumptions than the expression's
+        # (Symbol("w") and Symbol("w", positive=True) are different symbols to sympy).
+        self.parameter_by_name = {str(p): i for i, p in enumerate(self.parameters)}
         self.names = [coordinate_name(c) for c in self.q]
 
     def local_names(self) -> dict[str, Any]:
@@ -100,7 +103,16 @@ class Converter:
     def add(self, expr: Any, where: str) -> int:
         """The index of the operation computing ``expr``."""
         self.where = where
-        expr = sympy.sympify(expr)
+        try:
+            expr = sympy.sympify(expr, strict=True)
+        except sympy.SympifyError:
+            raise ConversionError(
+                f"{where} is {expr!r}, not an expression; give a sympy expression or a number"
+            ) from None
+        if not isinstance(expr, sympy.Basic):
+            raise ConversionError(
+                f"{where} is {expr!r}, not an expression; give a sympy expression or a number"
+            )
         # Post-order without recursion: a deep expression does not reach Python's stack limit.
         stack: list[tuple[Any, bool]] = [(expr, False)]
         while stack:
@@ -152,6 +164,8 @@ class Converter:
         if node.is_Symbol:
             if node in s.parameter_index:
                 return self._push("param", [], float(s.parameter_index[node]))
+            if str(node) in s.parameter_by_name:
+                return self._push("param", [], float(s.parameter_by_name[str(node)]))
             raise ConversionError(
                 f"{self.where} uses the symbol {node}, which has no value: give it in "
                 f"parameters={{{node}: ...}} (the parameters are "
@@ -340,8 +354,9 @@ def from_sympy(
     conv = Converter(symbols)
 
     root_l = conv.add(lagrangian, "the Lagrangian")
-    roots_f = [conv.add(f, f"velocity constraint {a}") for a, f in enumerate(constraints)]
-    roots_h = [conv.add(h, f"holonomic constraint {b}") for b, h in enumerate(holonomic)]
+    # Numbered from 1, as the library's messages number them.
+    roots_f = [conv.add(f, f"velocity constraint {a}") for a, f in enumerate(constraints, 1)]
+    roots_h = [conv.add(h, f"holonomic constraint {b}") for b, h in enumerate(holonomic, 1)]
     q_forces = None
     if forces is not None:
         q_forces = [sympy.sympify(f) for f in forces]
@@ -355,7 +370,10 @@ def from_sympy(
         q_forces = mapped if q_forces is None else [a + b for a, b in zip(q_forces, mapped)]
     roots_q = []
     if q_forces is not None:
-        roots_q = [conv.add(f, f"generalised force {i}") for i, f in enumerate(q_forces)]
+        roots_q = [
+            conv.add(f, f"the generalised force on {name}")
+            for name, f in zip(symbols.names, q_forces)
+        ]
     root_d = None if rayleigh is None else conv.add(rayleigh, "the Rayleigh function")
 
     return Model(

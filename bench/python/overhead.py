@@ -1,0 +1,85 @@
+"""The cost of the Python door: a solve called from Python against the same solve timed in Rust.
+
+The paper's particle (m = 1, g = 10, v0 = 10, from (0, 5) with velocity (10, 0)) to its impact,
+converted once from sympy; then, alternately in one process (A, B, A, B, ...):
+
+  A  ``chetaev.solve(problem, ...)`` called from Python and the impact time read from the solution,
+     timed in Python (``time.perf_counter``) around each batch of calls;
+  B  the same problem, method and options solved by ``chetaev::solve`` inside Rust, timed there
+     (``chetaev._chetaev._solve_seconds``): no Python call, no conversion of arguments or results.
+
+Both run the same steps, so they are at equal error by construction (the printed step counts and
+impact times are the same). Prints the machine, its load, and per tolerance the median time per
+solve of each and the ratio A / B over the rounds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import statistics
+import subprocess
+import time
+
+import sympy as sp
+from sympy.physics.mechanics import dynamicsymbols
+
+import chetaev
+from chetaev import _chetaev
+
+
+def machine() -> str:
+    try:
+        out = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
+        model = next(l.split(":", 1)[1].strip() for l in out.splitlines() if l.startswith("Model name"))
+    except Exception:
+        model = platform.processor() or "unknown"
+    with open("/proc/loadavg") as f:
+        load = " ".join(f.read().split()[:3])
+    return f"{model}; load average {load}"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--rounds", type=int, default=11)
+    ap.add_argument("--batch", type=int, default=200, help="solves per timed batch")
+    ap.add_argument("--tols", default="1e-10,1e-11,1e-12")
+    ap.add_argument("--method", default="dop853")
+    args = ap.parse_args()
+
+    x, y = dynamicsymbols("x y")
+    m, g, v0 = sp.symbols("m g v0")
+    L = m * (x.diff() ** 2 + y.diff() ** 2) / 2 - m * g * y
+    f = x.diff() ** 2 + y.diff() ** 2 - v0**2
+    model = chetaev.Model.from_sympy(L, [x, y], constraints=[f], parameters={m: 1, g: 10, v0: 10})
+    problem = chetaev.Problem(model, q0=[0, 5], qd0=[10, 0])
+    impact = chetaev.Event("impact", y, direction="falling", terminal=True)
+
+    print(f"machine: {machine()}")
+    print(f"chetaev {chetaev.__version__}, method {args.method}, {args.rounds} rounds of {args.batch} solves each side")
+    print("| tol | steps | T | Python [µs/solve] | Rust [µs/solve] | Python / Rust (median, min–max over rounds) |")
+    print("|---|---|---|---|---|---|")
+    for tol in (float(t) for t in args.tols.split(",")):
+        kw = dict(method=args.method, rtol=tol, atol=tol, events=[impact])
+        warm = chetaev.solve(problem, 10.0, **kw)
+        _chetaev._solve_seconds(problem, 10.0, 10, **kw)
+        a_times, b_times, ratios = [], [], []
+        for _ in range(args.rounds):
+            start = time.perf_counter()
+            for _ in range(args.batch):
+                hit = chetaev.solve(problem, 10.0, **kw).events[0].t
+            a = (time.perf_counter() - start) / args.batch
+            b = sum(_chetaev._solve_seconds(problem, 10.0, args.batch, **kw)) / args.batch
+            a_times.append(a)
+            b_times.append(b)
+            ratios.append(a / b)
+        assert hit == warm.events[0].t
+        print(
+            f"| {tol:g} | {warm.stats['accepted_steps']} | {hit:.13f} | {statistics.median(a_times) * 1e6:.1f} "
+            f"| {statistics.median(b_times) * 1e6:.1f} | {statistics.median(ratios):.3f} ({min(ratios):.3f}–{max(ratios):.3f}) |"
+        )
+    print(f"load after: {machine().split('; ')[1]}")
+
+
+if __name__ == "__main__":
+    main()
