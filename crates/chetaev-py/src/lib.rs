@@ -959,7 +959,7 @@ fn _solve_seconds<'py>(
         (0..repeats)
             .map(|_| {
                 let start = std::time::Instant::now();
-                let s = with_problem!(&inner, p => chetaev::solve(&**p, method.clone(), &options))?;
+                let s = with_problem!(&inner, p => chetaev::solve(&**p, method, &options))?;
                 let elapsed = start.elapsed().as_secs_f64();
                 drop(std::hint::black_box(s));
                 Ok(elapsed)
