@@ -858,12 +858,17 @@ fn event_expression(py: Python<'_>, model: &Py<Model>, e: &EventSpec) -> PyResul
 ///     sensitivities: parameter symbols or names, or `Seed`s: the derivatives of the motion and
 ///         of the events with respect to them; `sensitivity_control` puts them under error
 ///         control.
+///     stiffness_detection: False switches off the explicit methods' stiffness test (on by
+///         default: a stiff problem stops with advice to use 'rodas4').
+///     controller: the step-size controller, `{"safety", "fac_min", "fac_max", "beta"}` (each
+///         method's own by default).
+///     rank_tolerance: the block solve's rank threshold (1e-8).
 ///
 /// Returns a `Solution`. A run that fails returns the motion up to the failure, with
 /// `status == 'failed'` and the reason in `message`; input that cannot be used raises
 /// `ChetaevError`. The GIL is released while the problem is solved.
 #[pyfunction]
-#[pyo3(signature = (problem, t_end, method="dop853", rtol=None, atol=None, step=None, output=None, record="energy", events=vec![], project=None, max_step=None, initial_step=None, max_steps=None, event_samples=None, sensitivities=vec![], sensitivity_control=false))]
+#[pyo3(signature = (problem, t_end, method="dop853", rtol=None, atol=None, step=None, output=None, record="energy", events=vec![], project=None, max_step=None, initial_step=None, max_steps=None, event_samples=None, sensitivities=vec![], sensitivity_control=false, stiffness_detection=None, controller=None, rank_tolerance=None))]
 #[allow(clippy::too_many_arguments)]
 fn solve<'py>(
     py: Python<'py>,
@@ -883,6 +888,9 @@ fn solve<'py>(
     event_samples: Option<usize>,
     sensitivities: Vec<Bound<'py, PyAny>>,
     sensitivity_control: bool,
+    stiffness_detection: Option<bool>,
+    controller: Option<&Bound<'py, PyDict>>,
+    rank_tolerance: Option<f64>,
 ) -> PyResult<Solution> {
     let fixed = method.eq_ignore_ascii_case("rk4");
     if step.is_some() && !fixed {
@@ -895,7 +903,21 @@ fn solve<'py>(
             "'rk4' takes fixed steps (step=) and has no error control, so rtol and atol would be ignored; leave them out, or choose an adaptive method such as 'dop853'",
         ));
     }
-    let method = AnyMethod::from_name(method, step).map_err(chetaev_error)?;
+    let mut method = AnyMethod::from_name(method, step).map_err(chetaev_error)?;
+    if let Some(on) = stiffness_detection {
+        let test = match &mut method {
+            AnyMethod::Dopri5(m) => &mut m.stiffness,
+            AnyMethod::Dop853(m) => &mut m.stiffness,
+            AnyMethod::Tsit5(m) => &mut m.stiffness,
+            _ => {
+                return Err(ChetaevError::new_err(
+                    "stiffness_detection= applies to the explicit methods with error control ('dopri5', 'dop853', 'tsit5'); the implicit ones are made for stiff problems and 'rk4' has no error estimate",
+                ))
+            }
+        };
+        test.enabled = on;
+    }
+    let controller = controller.map(step_controller).transpose()?;
     let asked = Asked {
         t_end,
         rtol,
@@ -911,7 +933,11 @@ fn solve<'py>(
         sensitivities,
         sensitivity_control,
     };
-    let (options, names) = options(py, problem, asked)?;
+    let (mut options, names) = options(py, problem, asked)?;
+    options.controller = controller;
+    if let Some(r) = rank_tolerance {
+        options.rank_tolerance = r;
+    }
     let inner = problem.inner.clone();
     let solution = py
         .detach(|| with_problem!(&inner, p => chetaev::solve(&**p, method, &options)))
@@ -967,6 +993,28 @@ fn _solve_seconds<'py>(
             .collect::<Result<Vec<f64>, chetaev::Error>>()
     })
     .map_err(chetaev_error)
+}
+
+/// A step-size controller from `{"safety": .., "fac_min": .., "fac_max": .., "beta": ..}` (missing
+/// keys: the I controller's 0.9, 0.2, 10, 0).
+fn step_controller(d: &Bound<'_, PyDict>) -> PyResult<chetaev::prelude::Controller> {
+    let mut c = chetaev::prelude::Controller::i(0.2, 10.0);
+    for (k, v) in d.iter() {
+        let key = k.str()?.to_string();
+        let value: f64 = v.extract()?;
+        match key.as_str() {
+            "safety" => c.safety = value,
+            "fac_min" => c.fac_min = value,
+            "fac_max" => c.fac_max = value,
+            "beta" => c.beta = value,
+            other => {
+                return Err(ChetaevError::new_err(format!(
+                    "unknown controller key '{other}'; the keys are safety, fac_min, fac_max and beta (the PI controller's β; 0 is the I controller)"
+                )))
+            }
+        }
+    }
+    Ok(c)
 }
 
 /// The located crossing of an event.

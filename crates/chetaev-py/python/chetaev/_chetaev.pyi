@@ -179,6 +179,8 @@ class Solution:
     terminated_by: Optional[int]
     message: Optional[str]
     success: bool
+    n: int
+    k: int
     def __len__(self) -> int: ...
 
 class Scene:
@@ -211,5 +213,8 @@ def solve(
     event_samples: Optional[int] = None,
     sensitivities: Sequence[Union[str, Any, Seed]] = (),
     sensitivity_control: bool = False,
+    stiffness_detection: Optional[bool] = None,
+    controller: Optional[Mapping[str, float]] = None,
+    rank_tolerance: Optional[float] = None,
 ) -> Solution: ...
 def methods() -> list[str]: ...
