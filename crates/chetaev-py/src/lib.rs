@@ -277,6 +277,29 @@ impl Model {
     }
 }
 
+/// An initial position or velocity: a sequence of `n` numbers in the model's order, or a dict
+/// `{coordinate: value}` (names, dynamicsymbols or, for velocities, their derivatives).
+fn state(
+    py: Python<'_>,
+    model: &Py<Model>,
+    values: &Bound<'_, PyAny>,
+    what: &str,
+) -> PyResult<Vec<f64>> {
+    if values.is_instance_of::<PyDict>() {
+        return py
+            .import("chetaev._sympy")?
+            .getattr("state_vector")?
+            .call1((model.bind(py), values, what))?
+            .extract();
+    }
+    values.extract().map_err(|_| {
+        ChetaevError::new_err(format!(
+            "{what} must be a sequence of numbers, one per coordinate ({}), or a dict {{coordinate: value}}",
+            model.get().coordinates.join(", ")
+        ))
+    })
+}
+
 /// A problem of either kind the package makes.
 #[derive(Clone)]
 enum Inner {
@@ -320,13 +343,15 @@ impl Problem {
     fn new(
         py: Python<'_>,
         model: Py<Model>,
-        q0: Vec<f64>,
-        qd0: Vec<f64>,
+        q0: &Bound<'_, PyAny>,
+        qd0: &Bound<'_, PyAny>,
         t0: f64,
         project_velocity: bool,
         route: &str,
     ) -> PyResult<Self> {
         let route = self::route(route)?;
+        let q0 = state(py, &model, q0, "q0")?;
+        let qd0 = state(py, &model, qd0, "qd0")?;
         let m = model.get();
         let graph_model = (*m.inner).clone();
         let coordinates = m.coordinates.clone();

@@ -328,3 +328,17 @@ def test_events_on_a_model_from_operations_are_refused_pointing_to_from_sympy():
     problem = chetaev.Problem(chetaev.Model(1, FREE, 4), [0.0], [1.0])
     with pytest.raises(chetaev.ConversionError, match="from_sympy"):
         chetaev.solve(problem, 1.0, events=[chetaev.Event("e", "q1 - 0.5")])
+
+
+def test_an_initial_state_may_be_a_dict_of_coordinates_and_is_checked(particle_model, particle_sympy):
+    x, y = particle_sympy["q"]
+    by_symbol = chetaev.Problem(particle_model, q0={y: 5.0, x: 0.0}, qd0={x.diff(): 10.0, y.diff(): 0.0})
+    by_name = chetaev.Problem(particle_model, q0={"x": 0.0, "y": 5.0}, qd0={"x": 10.0, "y": 0.0})
+    assert list(by_symbol.q0) == list(by_name.q0) == [0.0, 5.0]
+    assert list(by_symbol.qd0) == [10.0, 0.0]
+    with pytest.raises(chetaev.ConversionError, match="no value for y"):
+        chetaev.Problem(particle_model, q0={x: 0.0}, qd0=[10.0, 0.0])
+    with pytest.raises(chetaev.ConversionError, match="not a coordinate"):
+        chetaev.Problem(particle_model, q0={"z": 0.0, "x": 0.0, "y": 5.0}, qd0=[10.0, 0.0])
+    with pytest.raises(chetaev.ChetaevError, match="sequence of numbers"):
+        chetaev.Problem(particle_model, q0="05", qd0=[10.0, 0.0])

@@ -85,8 +85,8 @@ class Problem:
     def __init__(
         self,
         model: Model,
-        q0: Union[Sequence[float], Array],
-        qd0: Union[Sequence[float], Array],
+        q0: Union[Sequence[float], Array, Mapping[Any, float]],
+        qd0: Union[Sequence[float], Array, Mapping[Any, float]],
         t0: float = 0.0,
         project_velocity: bool = False,
         route: Literal["graph", "dual"] = "graph",

@@ -407,3 +407,35 @@ def expression_ops(model: Any, expression: Any) -> tuple[list[tuple[str, list[in
     conv = Converter(symbols)
     root = conv.add(expression, f"the expression {expression}")
     return conv.ops, root
+
+
+def state_vector(model: Any, values: Mapping[Any, float], what: str) -> list[float]:
+    """``q0`` or ``q̇0`` given as ``{coordinate: value}`` in the model's order. Keys are the
+    coordinates' names, their dynamicsymbols, or (for ``q̇0``) the dynamicsymbols' derivatives."""
+    names = list(model.coordinates)
+    symbols = model.symbols
+    out: list[float | None] = [None] * len(names)
+    for key, value in values.items():
+        if isinstance(key, str):
+            i = names.index(key) if key in names else None
+        elif symbols is not None and key in symbols.index:
+            i = symbols.index[key]
+        elif symbols is not None and key in symbols.velocity:
+            i = symbols.velocity[key]
+        else:
+            i = None
+        if i is None:
+            raise ConversionError(
+                f"{what} names {key}, which is not a coordinate; the coordinates are "
+                f"{', '.join(names)}"
+            )
+        if out[i] is not None:
+            raise ConversionError(f"{what} gives {names[i]} twice")
+        try:
+            out[i] = float(value)
+        except (TypeError, ValueError):
+            raise ConversionError(f"{what}: {key} = {value!r} is not a number") from None
+    missing = [n for n, v in zip(names, out) if v is None]
+    if missing:
+        raise ConversionError(f"{what} gives no value for {', '.join(missing)}")
+    return [float(v) for v in out]  # type: ignore[arg-type]
