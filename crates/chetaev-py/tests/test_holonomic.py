@@ -106,3 +106,21 @@ def test_projection_holds_the_pendulum_on_the_circle_at_a_loose_tolerance(cartes
     assert np.abs(held.position_residual).max() <= 1e-11
     # without projection the drift is at the integration error, far above it
     assert np.abs(loose.position_residual).max() > 1e-9
+
+
+@pytest.mark.xfail(
+    strict=True,
+    raises=chetaev.ChetaevError,
+    reason="known limitation (docs/where-it-breaks.md): the initial position is checked against "
+    "1e-10 · |∂h/∂q| · |q0|, a scale that vanishes at the coordinates' origin, so rounding in h "
+    "(5.6e-17 here) is refused there (allowed 1e-22)",
+)
+def test_a_consistent_position_next_to_the_coordinates_origin_is_accepted():
+    x, y = me.dynamicsymbols("x y")
+    a, b, c = sp.symbols("a b c")
+    L = (x.diff() ** 2 + y.diff() ** 2) / 2
+    model = chetaev.Model.from_sympy(
+        L, [x, y], holonomic=[y + a - b * c * sp.cos(x)], parameters={a: 0.3, b: 0.1, c: 3.0}
+    )
+    # y = bc cos x − a = 0 to rounding at x = 1e-12: h = −5.6e-17, from the terms 0.3 − 0.3.
+    chetaev.Problem(model, q0=[1e-12, 0.0], qd0=[0.0, 0.0])
