@@ -136,6 +136,8 @@ fn build_graph(n: usize, parameters: Vec<(String, f64)>, ops: &[OpSpec]) -> PyRe
 struct Model {
     inner: Arc<GraphModel>,
     coordinates: Vec<String>,
+    /// The coordinates' names in LaTeX (sympy's), for `describe`.
+    latex: Option<Vec<String>>,
     /// The sympy symbols the model was converted with (for events and outputs), or None.
     symbols: Option<Py<PyAny>>,
 }
@@ -145,7 +147,7 @@ impl Model {
     /// A model on `n` coordinates from operations `ops` (`(name, operands, value)` each, see
     /// `chetaev_scene::graph`), with the indices of `L`, `f`, `h`, `Q` and `D` among them.
     #[new]
-    #[pyo3(signature = (n, ops, lagrangian, constraints=vec![], holonomic=vec![], forces=vec![], dissipation=None, parameters=vec![], coordinates=None, symbols=None))]
+    #[pyo3(signature = (n, ops, lagrangian, constraints=vec![], holonomic=vec![], forces=vec![], dissipation=None, parameters=vec![], coordinates=None, symbols=None, latex=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         n: usize,
@@ -158,6 +160,7 @@ impl Model {
         parameters: Vec<(String, f64)>,
         coordinates: Option<Vec<String>>,
         symbols: Option<Py<PyAny>>,
+        latex: Option<Vec<String>>,
     ) -> PyResult<Self> {
         let coordinates = coordinates.unwrap_or_else(|| (1..=n).map(|i| format!("q{i}")).collect());
         if coordinates.len() != n {
@@ -174,9 +177,16 @@ impl Model {
             forces,
             dissipation,
         };
+        if latex.as_ref().is_some_and(|l| l.len() != n) {
+            return Err(ChetaevError::new_err(format!(
+                "{} LaTeX names for {n} coordinates",
+                latex.as_ref().map_or(0, Vec::len)
+            )));
+        }
         Ok(Self {
             inner: Arc::new(GraphModel::new(graph, parts).map_err(graph_error)?),
             coordinates,
+            latex,
             symbols,
         })
     }
@@ -254,6 +264,7 @@ impl Model {
         Ok(Self {
             inner: Arc::new(m),
             coordinates: self.coordinates.clone(),
+            latex: self.latex.clone(),
             symbols: self.symbols.as_ref().map(|s| s.clone_ref(py)),
         })
     }
@@ -458,10 +469,15 @@ impl Problem {
                 })
             })
             .map_err(chetaev_error)?;
+        let latex_names = self
+            .model
+            .as_ref()
+            .and_then(|m| m.get().latex.clone())
+            .unwrap_or_else(|| self.coordinates.clone());
         Ok(Description {
             text: format!("coordinates q = ({names})\n{d}"),
-            latex: d.latex(),
-            coordinates: self.coordinates.clone(),
+            latex: named_latex(&d.latex(), &latex_names),
+            coordinates: latex_names,
         })
     }
 
@@ -473,6 +489,19 @@ impl Problem {
             self.t0()
         )
     }
+}
+
+/// The library's LaTeX with the coordinates `q_{i}` and velocities `\dot q_{i}` written by their
+/// names.
+fn named_latex(latex: &str, names: &[String]) -> String {
+    let mut out = latex.to_string();
+    for (i, name) in names.iter().enumerate().rev() {
+        let index = i + 1;
+        out = out
+            .replace(&format!("\\dot q_{{{index}}}"), &format!("\\dot{{{name}}}"))
+            .replace(&format!("q_{{{index}}}"), &format!("{{{name}}}"));
+    }
+    out
 }
 
 /// What the library derived for a model: `str()` gives the text; in Jupyter it renders as LaTeX.

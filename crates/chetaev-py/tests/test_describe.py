@@ -6,6 +6,9 @@ import re
 
 import pytest
 
+import sympy as sp
+import sympy.physics.mechanics as me
+
 import chetaev
 from models import particle_closed_form
 
@@ -52,3 +55,15 @@ def test_the_description_at_a_state_gives_the_closed_form_multiplier(particle_pr
 def test_the_description_of_a_state_off_the_model_is_refused(particle_problem):
     with pytest.raises(chetaev.ChetaevError):
         particle_problem.describe(0.0, [0.0, 5.0, 1.0], [10.0, 0.0, 0.0])
+
+
+def test_the_latex_writes_the_coordinates_by_their_sympy_names():
+    x, th = me.dynamicsymbols("x theta")
+    g, v0 = sp.symbols("g v0")
+    L = (x.diff() ** 2 + th.diff() ** 2) / 2 - g * x
+    f = x.diff() ** 2 + th.diff() ** 2 - v0**2
+    model = chetaev.Model.from_sympy(L, [x, th], constraints=[f], parameters={g: 10, v0: 10})
+    d = chetaev.Problem(model, q0=[0, 5], qd0=[10, 0]).describe()
+    assert r"\dot{\theta}" in d.latex and r"\dot{x}" in d.latex
+    assert "q_{" not in d.latex
+    assert d._repr_latex_().startswith(r"$$q = (x, \theta)$$")

@@ -387,6 +387,7 @@ def from_sympy(
         parameters=[(str(p), v) for p, v in zip(params, values)],
         coordinates=symbols.names,
         symbols=symbols,
+        latex=[sympy.latex(sympy.Symbol(name)) for name in symbols.names],
     )
 
 
