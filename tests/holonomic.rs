@@ -329,3 +329,50 @@ fn a_sled_on_a_holonomic_plane_at_a_prescribed_speed_follows_the_guides_closed_f
     }
     Ok(())
 }
+
+/// A curve `y = b c cos x − a` with `a = b c`: next to the coordinates' origin `h` is the
+/// difference of terms of size 0.3 while `|∂h/∂q|·|q|` vanishes.
+#[derive(Debug)]
+struct Cancelling;
+
+impl Lagrangian<2> for Cancelling {
+    fn lagrangian<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        qd.dot(qd) * 0.5
+    }
+}
+
+impl Constraints<2, 0> for Cancelling {
+    fn holonomic_count(&self) -> usize {
+        1
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &SVector<R, 2>, h: &mut [R]) {
+        h[0] = q[1] + 0.3 - q[0].cos() * 0.1 * 3.0;
+    }
+}
+
+#[test]
+fn a_position_on_the_constraint_to_rounding_next_to_the_origin_is_accepted() -> Result<(), Error> {
+    // h(1e-12, 0) = 0.3 − 0.3 cos(1e-12) = −5.6e-17 in floating point, zero exactly; the relative
+    // tolerance alone allowed 1e-10 · |∂h/∂q| · |q0| = 1e-22.
+    let q0 = SVector::from([1e-12, 0.0]);
+    let problem = Problem::new(Cancelling, 0.0, q0, SVector::zeros())?;
+    assert_eq!(problem.q0(), &[1e-12, 0.0]);
+    // The projection on request accepts it as it is, where its relative residual cannot shrink.
+    let projected = Problem::with_projected_velocity(Cancelling, 0.0, q0, SVector::zeros())?;
+    assert!((projected.q0()[1] - problem.q0()[1]).abs() < 1e-15);
+    // A position truly off the curve there is still refused: 1e-9 is no rounding of 0.3.
+    let off = Problem::new(
+        Cancelling,
+        0.0,
+        SVector::from([1e-12, 1e-9]),
+        SVector::zeros(),
+    );
+    assert!(
+        matches!(
+            off,
+            Err(Error::InconsistentInitialPosition { index: 1, .. })
+        ),
+        "{off:?}"
+    );
+    Ok(())
+}

@@ -52,7 +52,6 @@ import gc
 import math
 import platform
 import statistics
-import subprocess
 import time
 from typing import Any
 
@@ -62,6 +61,7 @@ import sympy.physics.mechanics as me
 from scipy.integrate import solve_ivp
 
 import chetaev
+from machine import machine
 
 # ---------------------------------------------------------------------------------------------
 # The benchmark parameters, Meijaard et al. (2007), Table 1, in this script's axes (z up, y left)
@@ -96,15 +96,6 @@ INDEPENDENT = [3, 5, 6]  # roll rate, rear-wheel spin rate, steer rate
 DEPENDENT = [0, 1, 2, 4, 7]  # x', y', yaw rate, pitch rate, front-wheel spin rate
 
 
-def machine() -> str:
-    try:
-        out = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
-        model = next(l.split(":", 1)[1].strip() for l in out.splitlines() if l.startswith("Model name"))
-    except Exception:
-        model = platform.processor() or "unknown"
-    with open("/proc/loadavg") as f:
-        load = " ".join(f.read().split()[:3])
-    return f"{model}; load average {load}"
 
 
 # ---------------------------------------------------------------------------------------------

@@ -18,15 +18,14 @@ solve of each and the ratio A / B over the rounds.
 from __future__ import annotations
 
 import argparse
-import platform
 import statistics
-import subprocess
 import time
 
 import sympy as sp
 from sympy.physics.mechanics import dynamicsymbols
 
 import chetaev
+from machine import machine
 from chetaev import _chetaev
 
 import os
@@ -35,15 +34,6 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "crates", "chetaev-py", "tests"))
 
 
-def machine() -> str:
-    try:
-        out = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
-        model = next(l.split(":", 1)[1].strip() for l in out.splitlines() if l.startswith("Model name"))
-    except Exception:
-        model = platform.processor() or "unknown"
-    with open("/proc/loadavg") as f:
-        load = " ".join(f.read().split()[:3])
-    return f"{model}; load average {load}"
 
 
 def main() -> None:

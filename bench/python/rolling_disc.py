@@ -30,7 +30,6 @@ Usage:
 from __future__ import annotations
 
 import argparse
-import math
 import platform
 import statistics
 import subprocess
@@ -38,6 +37,7 @@ import sys
 import time
 from typing import Any, Callable
 
+from pathlib import Path
 import numpy as np
 import scipy
 import sympy as sp
@@ -45,46 +45,21 @@ import sympy.physics.mechanics as me
 from scipy.integrate import solve_ivp
 from sympy.core.cache import clear_cache
 
-PARAMETERS = {"m": 1.0, "r": 0.5, "g": 9.81}
-Q0 = [0.3, 0.1, 0.0, 0.0, 0.0]  # q1 (yaw), q2 (lean), q3 (spin), x, y
-QD0_INDEPENDENT = [0.5, -0.2, 6.0]  # q1', q2', q3'; x', y' from the constraints
+from machine import machine
+
 
 
 # ---------------------------------------------------------------------------------------------
-# The model (the same as crates/chetaev-py/tests/models.py: rolling_disc)
+# The model: the rolling disc of the package's tests (crates/chetaev-py/tests/models.py)
 # ---------------------------------------------------------------------------------------------
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "crates" / "chetaev-py" / "tests"))
+import models  # noqa: E402
 
 
 def build_disc() -> dict[str, Any]:
-    """L, q, constraints, parameters and the initial state of the rolling disc."""
-    t = me.dynamicsymbols._t
-    q1, q2, q3, x, y = me.dynamicsymbols("q1 q2 q3 x y")
-    m, r, g = sp.symbols("m r g")
-    N = me.ReferenceFrame("N")
-    Y = N.orientnew("Y", "Axis", [q1, N.z])
-    L = Y.orientnew("L", "Axis", [q2, Y.x])
-    R = L.orientnew("R", "Axis", [q3, L.y])
-    O = me.Point("O")
-    O.set_vel(N, 0)
-    C = O.locatenew("C", x * N.x + y * N.y)
-    D = C.locatenew("D", r * L.z)
-    D.set_vel(N, D.pos_from(O).dt(N))
-    disc = me.RigidBody("disc", D, R, m, (me.inertia(L, m / 4 * r**2, m / 2 * r**2, m / 4 * r**2), D))
-    disc.potential_energy = m * g * D.pos_from(O).dot(N.z)
-    v_contact = D.vel(N) + R.ang_vel_in(N).cross(-r * L.z)
-    q = [q1, q2, q3, x, y]
-    rv = PARAMETERS["r"]
-    q1d, q2d, q3d = QD0_INDEPENDENT
-    return {
-        "L": me.Lagrangian(N, disc),
-        "q": q,
-        "qd": [qi.diff(t) for qi in q],
-        "constraints": [sp.trigsimp(v_contact.dot(N.x)), sp.trigsimp(v_contact.dot(N.y))],
-        "parameters": {m: PARAMETERS["m"], r: PARAMETERS["r"], g: PARAMETERS["g"]},
-        "frame": N,
-        "q0": list(Q0),
-        "qd0": [q1d, q2d, q3d, rv * math.cos(Q0[0]) * q3d, rv * math.sin(Q0[0]) * q3d],
-    }
+    """L, q, constraints, parameters, frame and the initial state of the rolling disc."""
+    return models.rolling_disc()
 
 
 # ---------------------------------------------------------------------------------------------
@@ -187,16 +162,6 @@ def import_chetaev() -> tuple[Any, str | None]:
 # ---------------------------------------------------------------------------------------------
 
 
-def machine() -> str:
-    cpu = "?"
-    try:
-        for line in subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout.splitlines():
-            if line.startswith("Model name:"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except (OSError, subprocess.CalledProcessError):
-        pass
-    return cpu
 
 
 def uptime() -> str:

@@ -1197,6 +1197,21 @@ impl Solution {
             cache: Cache::default(),
         })
     }
+
+    /// The series `s` as an `(m, width)` array, kept in `cell`.
+    fn series(
+        &self,
+        py: Python<'_>,
+        cell: &OnceLock<Py<PyAny>>,
+        s: &chetaev::prelude::Series,
+    ) -> PyResult<Py<PyAny>> {
+        cached(py, cell, || series(py, s, self.inner.t.len()))
+    }
+
+    /// The values `v` as an `(m,)` array, kept in `cell`.
+    fn vector(&self, py: Python<'_>, cell: &OnceLock<Py<PyAny>>, v: &[f64]) -> PyResult<Py<PyAny>> {
+        cached(py, cell, || Ok(vector(py, v)))
+    }
 }
 
 #[pymethods]
@@ -1204,101 +1219,87 @@ impl Solution {
     /// `q`, shape `(m, n)`.
     #[getter]
     fn q(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.q, || {
-            series(py, &self.inner.q, self.inner.t.len())
-        })
+        self.series(py, &self.cache.q, &self.inner.q)
     }
 
     /// `q̇`, shape `(m, n)`.
     #[getter]
     fn qd(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.qd, || {
-            series(py, &self.inner.qd, self.inner.t.len())
-        })
+        self.series(py, &self.cache.qd, &self.inner.qd)
     }
 
     /// `q̈`, shape `(m, n)` (no columns below record='dynamics').
     #[getter]
     fn qdd(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.qdd, || {
-            series(py, &self.inner.qdd, self.inner.t.len())
-        })
+        self.series(py, &self.cache.qdd, &self.inner.qdd)
     }
 
     /// The multipliers `μ`, shape `(m, k)`, Newton form: `d/dt ∂L/∂q̇ − ∂L/∂q = Jᵀμ + Q`.
     #[getter]
     fn mu(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.mu, || {
-            series(py, &self.inner.mu, self.inner.t.len())
-        })
+        self.series(py, &self.cache.mu, &self.inner.mu)
     }
 
     /// The Chetaev force `Φ = Σ_a μ_a ∂f_a/∂q̇`, shape `(m, n)`.
     #[getter]
     fn phi(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.phi, || {
-            series(py, &self.inner.phi, self.inner.t.len())
-        })
+        self.series(py, &self.cache.phi, &self.inner.phi)
     }
 
     /// The residual `f` of the velocity constraints (and `ḣ` of the holonomic ones), shape `(m, k)`.
     #[getter]
     fn residual(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.residual, || {
-            series(py, &self.inner.residual, self.inner.t.len())
-        })
+        self.series(py, &self.cache.residual, &self.inner.residual)
     }
 
     /// `h(t, q)` of the holonomic constraints, shape `(m, kh)`.
     #[getter]
     fn position_residual(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.position_residual, || {
-            series(py, &self.inner.position_residual, self.inner.t.len())
-        })
+        self.series(
+            py,
+            &self.cache.position_residual,
+            &self.inner.position_residual,
+        )
     }
 
     /// `t`, shape `(m,)`.
     #[getter]
     fn t(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.t, || Ok(vector(py, &self.inner.t)))
+        self.vector(py, &self.cache.t, &self.inner.t)
     }
 
     /// `max_a |f_a| / (|J_a|·|q̇|)` at each point, shape `(m,)`.
     #[getter]
     fn relative_residual(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.relative_residual, || {
-            Ok(vector(py, &self.inner.relative_residual))
-        })
+        self.vector(
+            py,
+            &self.cache.relative_residual,
+            &self.inner.relative_residual,
+        )
     }
 
     /// The energy `E = q̇·∂L/∂q̇ − L`, shape `(m,)`.
     #[getter]
     fn energy(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.energy, || {
-            Ok(vector(py, &self.inner.energy))
-        })
+        self.vector(py, &self.cache.energy, &self.inner.energy)
     }
 
     /// The work of the Chetaev force, `W_Φ = ∫ q̇·Φ dt`, shape `(m,)`.
     #[getter]
     fn work(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.work, || Ok(vector(py, &self.inner.work)))
+        self.vector(py, &self.cache.work, &self.inner.work)
     }
 
     /// `∫ ∂L/∂t dt`, shape `(m,)`.
     #[getter]
     fn dl_dt_integral(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.dl_dt_integral, || {
-            Ok(vector(py, &self.inner.dl_dt_integral))
-        })
+        self.vector(py, &self.cache.dl_dt_integral, &self.inner.dl_dt_integral)
     }
 
     /// The work of the forces not derivable from `L`, shape `(m,)`.
     #[getter]
     fn work_forces(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        cached(py, &self.cache.work_forces, || {
-            Ok(vector(py, &self.inner.work_forces))
-        })
+        self.vector(py, &self.cache.work_forces, &self.inner.work_forces)
     }
 
     /// `E − E(t0) − W_Φ − W_Q + ∫∂L/∂t dt`: zero along an exact motion, shape `(m,)`.

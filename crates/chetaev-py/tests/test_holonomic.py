@@ -108,13 +108,6 @@ def test_projection_holds_the_pendulum_on_the_circle_at_a_loose_tolerance(cartes
     assert np.abs(loose.position_residual).max() > 1e-9
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=chetaev.ChetaevError,
-    reason="known limitation (docs/where-it-breaks.md): the initial position is checked against "
-    "1e-10 · |∂h/∂q| · |q0|, a scale that vanishes at the coordinates' origin, so rounding in h "
-    "(5.6e-17 here) is refused there (allowed 1e-22)",
-)
 def test_a_consistent_position_next_to_the_coordinates_origin_is_accepted():
     x, y = me.dynamicsymbols("x y")
     a, b, c = sp.symbols("a b c")
@@ -122,5 +115,10 @@ def test_a_consistent_position_next_to_the_coordinates_origin_is_accepted():
     model = chetaev.Model.from_sympy(
         L, [x, y], holonomic=[y + a - b * c * sp.cos(x)], parameters={a: 0.3, b: 0.1, c: 3.0}
     )
-    # y = bc cos x − a = 0 to rounding at x = 1e-12: h = −5.6e-17, from the terms 0.3 − 0.3.
-    chetaev.Problem(model, q0=[1e-12, 0.0], qd0=[0.0, 0.0])
+    # y = bc cos x − a = 0 to rounding at x = 1e-12: h = −5.6e-17, from the terms 0.3 − 0.3;
+    # 1e-10 · |∂h/∂q| · |q0| alone would allow 1e-22.
+    problem = chetaev.Problem(model, q0=[1e-12, 0.0], qd0=[0.0, 0.0])
+    assert list(problem.q0) == [1e-12, 0.0]
+    # 1e-9 off the curve is no rounding of 0.3: still refused.
+    with pytest.raises(chetaev.ChetaevError, match="violates holonomic constraint 1"):
+        chetaev.Problem(model, q0=[1e-12, 1e-9], qd0=[0.0, 0.0])

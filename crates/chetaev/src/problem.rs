@@ -338,9 +338,15 @@ impl<M: Model> Problem<M> {
                 });
             }
             let q_norm = norm(q0);
+            // Next to the coordinates' origin `|∂h/∂q|·|q0|` vanishes while `h` is still the
+            // difference of terms of their own size: there its rounding sets the tolerance.
+            let rounding = holonomic_rounding(&self.model, t0, q0, qd0);
             for b in 0..holonomic {
                 let scale = constraint_scale(norm(&hq[b * n..(b + 1) * n]), q_norm);
-                let tolerance = INITIAL_RESIDUAL_TOLERANCE * scale;
+                let floor = rounding
+                    .as_ref()
+                    .map_or(0.0, |r| ROUNDING_ULPS * f64::EPSILON * r[b]);
+                let tolerance = (INITIAL_RESIDUAL_TOLERANCE * scale).max(floor);
                 if h[b].abs() > tolerance {
                     return Err(Error::InconsistentInitialPosition {
                         t: t0,
@@ -388,6 +394,51 @@ impl<M: Model> Problem<M> {
         }
         Ok(())
     }
+}
+
+/// How many units of roundoff of a holonomic constraint's rounding scale
+/// ([`Graph::rounding_scale`](crate::equations::graph::Graph::rounding_scale)) its initial
+/// residual may be, where that exceeds the relative tolerance.
+pub(crate) const ROUNDING_ULPS: f64 = 16.0;
+
+/// The rounding scale of each holonomic constraint at `(t, q)` (from `h` recorded there), or
+/// `None` where the model offers no recording or a value leaves it; a scale that is not finite
+/// (an infinite derivative on the way) counts as none.
+pub(crate) fn holonomic_rounding<M: Model + ?Sized>(
+    model: &M,
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+) -> Option<Vec<f64>> {
+    use crate::equations::graph::{record, Sym, DEP_Q, DEP_QD, DEP_T};
+    let (n, k) = model.sizes();
+    let holonomic = model.holonomic_count();
+    let (g, (offered, h)) = record(|| {
+        let ts = Sym::input(DEP_T, t);
+        let qs: Vec<Sym> = q.iter().map(|&v| Sym::input(DEP_Q, v)).collect();
+        let qds: Vec<Sym> = qd.iter().map(|&v| Sym::input(DEP_QD, v)).collect();
+        let mut out = crate::model::Functions::<Sym>::new(n, k - holonomic, holonomic);
+        let offered = model.functions(Point::new(ts, &qs, &qds), &mut out);
+        (
+            offered,
+            out.h.iter().map(|s| s.node()).collect::<Vec<u32>>(),
+        )
+    });
+    if !offered || g.escaped() {
+        return None;
+    }
+    Some(
+        h.iter()
+            .map(|&b| {
+                let e = g.rounding_scale(b);
+                if e.is_finite() {
+                    e
+                } else {
+                    0.0
+                }
+            })
+            .collect(),
+    )
 }
 
 /// Above this many coordinates the initial state is checked through the compiled equations, and

@@ -78,6 +78,7 @@ pub fn project_velocity<M: Model + ?Sized>(
             j.copy_from_slice(&blocks.j);
         },
         |qd, w| model.velocity_hessian(Point::new(t, q, qd), w),
+        |_, _| false,
     )
     .map(|(iterations, _)| iterations)
     .map_err(|e| e.locate(t, q, qd))
@@ -108,6 +109,15 @@ pub fn project_positions<M: Model + ?Sized>(
         ws,
         |q, h, hq| model.holonomic_blocks(t, q, h, Some(hq)),
         |q, w| model.velocity_hessian(Point::new(t, q, qd), w),
+        // Next to the coordinates' origin the relative residual's scale `|∂h/∂q|·|q|` vanishes:
+        // there a residual within the rounding of `h`'s terms is as close as `q` can come.
+        |q, h| {
+            crate::problem::holonomic_rounding(model, t, q, qd).is_some_and(|r| {
+                h.iter()
+                    .zip(r)
+                    .all(|(h, r)| h.abs() <= crate::problem::ROUNDING_ULPS * f64::EPSILON * r)
+            })
+        },
     )
     .map(|(iterations, _)| iterations)
     .map_err(|e| e.locate(t, q, qd))
@@ -146,7 +156,9 @@ impl ProjectionFailure {
 
 /// The Newton iteration of the projection for any sizes: `constraints(q̇, f, J)` writes `f` (`k`)
 /// and `J` (`k × n`, row-major), `metric(q̇, W)` writes `W` (`n × n`, row-major). Corrects `qd` in
-/// place; returns the iterations done and the final relative residual.
+/// place; returns the iterations done and the final relative residual. `settled(q̇, f)` says
+/// whether `f` is within the rounding of the constraints' terms: asked only where the iteration
+/// would otherwise stop unconverged, it accepts the state then.
 pub(crate) fn newton_projection(
     n: usize,
     k: usize,
@@ -155,6 +167,7 @@ pub(crate) fn newton_projection(
     ws: &mut Workspace<f64>,
     mut constraints: impl FnMut(&[f64], &mut [f64], &mut [f64]),
     mut metric: impl FnMut(&[f64], &mut [f64]),
+    mut settled: impl FnMut(&[f64], &[f64]) -> bool,
 ) -> Result<(usize, f64), ProjectionFailure> {
     let Projection {
         tol,
@@ -228,6 +241,9 @@ pub(crate) fn newton_projection(
                 return Ok((iteration + 1, r));
             }
         }
+    }
+    if residual.is_finite() && settled(qd, &f) {
+        return Ok((max_iterations, residual));
     }
     Err(ProjectionFailure::NotConverged {
         residual,
