@@ -15,7 +15,7 @@ venv=${CHETAEV_VENV:-target/python-venv}
 rm -rf "$venv"
 "$python" -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
-# The package and its test extras (pytest, matplotlib), as a user installs it.
+# The package and its test extras (pytest, matplotlib, scipy), as a user installs it.
 "$venv/bin/python" -m pip install --quiet "./crates/chetaev-py[test]"
 # From the tests' folder, so that `import chetaev` finds the installed package, not the sources.
 cd crates/chetaev-py

@@ -159,6 +159,8 @@ impl ProjectionFailure {
 /// place; returns the iterations done and the final relative residual. `settled(q̇, f)` says
 /// whether `f` is within the rounding of the constraints' terms: asked only where the iteration
 /// would otherwise stop unconverged, it accepts the state then.
+// The sizes, the state, the settings, the workspace and the model's three callbacks.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn newton_projection(
     n: usize,
     k: usize,
