@@ -288,6 +288,27 @@ impl Model {
     }
 }
 
+/// The independent coordinates and speeds as Python names them (indices, names, dynamicsymbols
+/// or their derivatives), `None` for automatic.
+fn independent(
+    py: Python<'_>,
+    model: &Py<Model>,
+    coordinates: Option<&Bound<'_, PyAny>>,
+    speeds: Option<&Bound<'_, PyAny>>,
+) -> PyResult<chetaev::manifold::Independent> {
+    let convert = py.import("chetaev._sympy")?.getattr("indices")?;
+    let pick = |items: Option<&Bound<'_, PyAny>>, what: &str| -> PyResult<Option<Vec<usize>>> {
+        match items {
+            None => Ok(None),
+            Some(items) => convert.call1((model.bind(py), items, what))?.extract(),
+        }
+    };
+    Ok(chetaev::manifold::Independent {
+        coordinates: pick(coordinates, "independent_coordinates")?,
+        speeds: pick(speeds, "independent_speeds")?,
+    })
+}
+
 /// An initial position or velocity: a sequence of `n` numbers in the model's order, or a dict
 /// `{coordinate: value}` (names, dynamicsymbols or, for velocities, their derivatives).
 fn state(
@@ -350,7 +371,8 @@ fn route(name: &str) -> PyResult<chetaev::Route> {
 #[pymethods]
 impl Problem {
     #[new]
-    #[pyo3(signature = (model, q0, qd0, t0=0.0, project_velocity=false, route="graph"))]
+    #[pyo3(signature = (model, q0, qd0, t0=0.0, project_velocity=false, route="graph", independent_coordinates=None, independent_speeds=None, complete=false))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         model: Py<Model>,
@@ -359,10 +381,22 @@ impl Problem {
         t0: f64,
         project_velocity: bool,
         route: &str,
+        independent_coordinates: Option<&Bound<'_, PyAny>>,
+        independent_speeds: Option<&Bound<'_, PyAny>>,
+        complete: bool,
     ) -> PyResult<Self> {
         let route = self::route(route)?;
-        let q0 = state(py, &model, q0, "q0")?;
-        let qd0 = state(py, &model, qd0, "qd0")?;
+        let mut q0 = state(py, &model, q0, "q0")?;
+        let mut qd0 = state(py, &model, qd0, "qd0")?;
+        if complete || independent_coordinates.is_some() || independent_speeds.is_some() {
+            let independent =
+                self::independent(py, &model, independent_coordinates, independent_speeds)?;
+            let m = (*model.get().inner).clone();
+            let done = py
+                .detach(|| chetaev::manifold::complete(&m, t0, &q0, &qd0, &independent))
+                .map_err(chetaev_error)?;
+            (q0, qd0) = (done.q, done.qd);
+        }
         let m = model.get();
         let graph_model = (*m.inner).clone();
         let coordinates = m.coordinates.clone();
@@ -481,6 +515,43 @@ impl Problem {
         })
     }
 
+    /// The reduced equations linearised on the constraint manifold at a state (the initial one
+    /// by default), in independent coordinates and speeds (chosen by pivoting where None):
+    /// `δż = A δz`, with its eigenvalues and eigenvectors. See `Linearization`.
+    #[pyo3(signature = (t=None, q=None, qd=None, coordinates=None, speeds=None))]
+    fn linearize(
+        &self,
+        py: Python<'_>,
+        t: Option<f64>,
+        q: Option<Vec<f64>>,
+        qd: Option<Vec<f64>>,
+        coordinates: Option<&Bound<'_, PyAny>>,
+        speeds: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Linearization> {
+        let independent = match &self.model {
+            Some(m) => independent(py, m, coordinates, speeds)?,
+            None => chetaev::manifold::Independent {
+                coordinates: coordinates.map(|c| c.extract()).transpose()?,
+                speeds: speeds.map(|c| c.extract()).transpose()?,
+            },
+        };
+        let inner = self.inner.clone();
+        let lin = py
+            .detach(|| {
+                with_problem!(&inner, p => {
+                    let t = t.unwrap_or(p.t0());
+                    let q = q.unwrap_or_else(|| p.q0().to_vec());
+                    let qd = qd.unwrap_or_else(|| p.qd0().to_vec());
+                    p.linearize(t, &q, &qd, &independent)
+                })
+            })
+            .map_err(chetaev_error)?;
+        Ok(Linearization {
+            inner: lin,
+            coordinates: self.coordinates.clone(),
+        })
+    }
+
     fn __repr__(&self) -> String {
         let (n, k) = self.sizes();
         format!(
@@ -502,6 +573,159 @@ fn named_latex(latex: &str, names: &[String]) -> String {
             .replace(&format!("q_{{{index}}}"), &format!("{{{name}}}"));
     }
     out
+}
+
+/// The reduced equations linearised on the constraint manifold: `δż = A δz` in the independent
+/// coordinates and speeds `z` (`states` names them), with the eigenvalues of `A` (sorted by real
+/// part) and their eigenvectors (columns). A cyclic coordinate (on which nothing depends) gives a
+/// zero column and an eigenvalue 0: `cyclic` lists them.
+#[pyclass(module = "chetaev._chetaev", frozen)]
+struct Linearization {
+    inner: chetaev::manifold::Linearization,
+    coordinates: Vec<String>,
+}
+
+#[pymethods]
+impl Linearization {
+    /// `A`, shape `(p, p)`.
+    #[getter]
+    fn a<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let p = self.inner.dim();
+        Ok(PyArray1::from_slice(py, &self.inner.a)
+            .reshape([p, p])?
+            .into_any())
+    }
+
+    /// The eigenvalues of `A`, complex, shape `(p,)`.
+    #[getter]
+    fn eigenvalues<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let v: Vec<numpy::Complex64> = self
+            .inner
+            .eigenvalues
+            .iter()
+            .map(|c| numpy::Complex64::new(c.re, c.im))
+            .collect();
+        Ok(PyArray1::from_vec(py, v).into_any())
+    }
+
+    /// The eigenvectors, one column per eigenvalue, shape `(p, p)`, each of unit length.
+    #[getter]
+    fn eigenvectors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let p = self.inner.dim();
+        let mut flat = vec![numpy::Complex64::new(0.0, 0.0); p * p];
+        for (j, v) in self.inner.eigenvectors.iter().enumerate() {
+            for (i, c) in v.iter().enumerate() {
+                flat[i * p + j] = numpy::Complex64::new(c.re, c.im);
+            }
+        }
+        Ok(PyArray1::from_vec(py, flat).reshape([p, p])?.into_any())
+    }
+
+    /// The names of `z`: the independent coordinates, then their speeds (`<name>_dot`).
+    #[getter]
+    fn states(&self) -> Vec<String> {
+        let name = |i: usize| {
+            self.coordinates
+                .get(i)
+                .cloned()
+                .unwrap_or_else(|| format!("q{}", i + 1))
+        };
+        self.inner
+            .coordinates
+            .iter()
+            .map(|&i| name(i))
+            .chain(
+                self.inner
+                    .speeds
+                    .iter()
+                    .map(|&i| format!("{}_dot", name(i))),
+            )
+            .collect()
+    }
+
+    /// The independent coordinates (indices from 0).
+    #[getter]
+    fn coordinates(&self) -> Vec<usize> {
+        self.inner.coordinates.clone()
+    }
+
+    /// The independent speeds (indices from 0).
+    #[getter]
+    fn speeds(&self) -> Vec<usize> {
+        self.inner.speeds.clone()
+    }
+
+    /// The cyclic coordinates' names: each gives an eigenvalue exactly 0.
+    #[getter]
+    fn cyclic(&self) -> Vec<String> {
+        self.inner
+            .cyclic
+            .iter()
+            .map(|&i| self.coordinates.get(i).cloned().unwrap_or_default())
+            .collect()
+    }
+
+    /// The full Jacobian `∂F/∂(q, q̇)` of the reduced equations, shape `(2n, 2n)`.
+    #[getter]
+    fn full<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let d = 2 * self.inner.q.len();
+        Ok(PyArray1::from_slice(py, &self.inner.full)
+            .reshape([d, d])?
+            .into_any())
+    }
+
+    /// The tangent basis `T`: `δ(q, q̇) = T δz`, shape `(2n, p)`.
+    #[getter]
+    fn basis<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let (d, p) = (2 * self.inner.q.len(), self.inner.dim());
+        Ok(PyArray1::from_slice(py, &self.inner.basis)
+            .reshape([d, p])?
+            .into_any())
+    }
+
+    fn __repr__(&self) -> String {
+        let values: Vec<String> = self
+            .inner
+            .eigenvalues
+            .iter()
+            .map(|c| format!("{:.6}{:+.6}j", c.re, c.im))
+            .collect();
+        format!(
+            "Linearization(states=[{}], eigenvalues=[{}])",
+            self.states().join(", "),
+            values.join(", ")
+        )
+    }
+}
+
+/// A state `(q, q̇)` as numpy arrays.
+type State<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// Completes a state on the constraints: the dependent coordinates from `h = 0`, then the
+/// dependent speeds from `f = 0` and `ḣ = 0`, by Newton's method from the values given (which
+/// serve as the guess), the independent ones held. Returns `(q, qd)` as numpy arrays.
+#[pyfunction]
+#[pyo3(signature = (model, q, qd, t=0.0, coordinates=None, speeds=None))]
+fn complete<'py>(
+    py: Python<'py>,
+    model: Py<Model>,
+    q: &Bound<'py, PyAny>,
+    qd: &Bound<'py, PyAny>,
+    t: f64,
+    coordinates: Option<&Bound<'py, PyAny>>,
+    speeds: Option<&Bound<'py, PyAny>>,
+) -> PyResult<State<'py>> {
+    let q = state(py, &model, q, "q")?;
+    let qd = state(py, &model, qd, "qd")?;
+    let independent = independent(py, &model, coordinates, speeds)?;
+    let m = (*model.get().inner).clone();
+    let done = py
+        .detach(|| chetaev::manifold::complete(&m, t, &q, &qd, &independent))
+        .map_err(chetaev_error)?;
+    Ok((
+        PyArray1::from_vec(py, done.q),
+        PyArray1::from_vec(py, done.qd),
+    ))
 }
 
 /// What the library derived for a model: `str()` gives the text; in Jupyter it renders as LaTeX.
@@ -1481,6 +1705,8 @@ fn _chetaev(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Solution>()?;
     m.add_function(wrap_pyfunction!(solve, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
+    m.add_function(wrap_pyfunction!(complete, m)?)?;
+    m.add_class::<Linearization>()?;
     m.add_function(wrap_pyfunction!(_solve_seconds, m)?)?;
     // Raised and pickled as `chetaev.ChetaevError` (a process pool sends them back by name).
     for t in [

@@ -32,6 +32,28 @@ pub enum Error {
         hint: &'static str,
     },
 
+    /// The dependent coordinates or speeds of a state could not be solved from the independent
+    /// ones ([`manifold::complete`](crate::manifold::complete)).
+    #[error(
+        "completing the dependent {stage} failed at {row}: relative residual {residual} after {iterations} Newton iterations; {why}",
+        row = Row(*.constraint, *.holonomic), residual = Num(*.residual)
+    )]
+    Completion {
+        /// `"coordinates"` (from `h = 0`) or `"speeds"` (from `f = 0` and `ḣ = 0`).
+        stage: &'static str,
+        /// The row that was worst when it stopped, numbered from 1 among the velocity-level rows
+        /// (velocity constraints, then `ḣ`), or for the coordinates the holonomic one's row.
+        constraint: usize,
+        /// For a holonomic constraint, its number among the holonomic ones, from 1.
+        holonomic: Option<usize>,
+        /// That row's residual relative to its scale.
+        residual: f64,
+        /// Newton iterations done.
+        iterations: usize,
+        /// Why, and what to try.
+        why: String,
+    },
+
     /// The model's sizes or the initial state's lengths are wrong.
     #[error("invalid model: {what}")]
     InvalidModel {

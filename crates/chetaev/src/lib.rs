@@ -15,6 +15,7 @@
 //! | structure | [`equations::compiled`] | the model recorded once as an expression graph: zero and constant blocks proved, a constant `W` factorised once, only what varies evaluated; once a problem has run `10⁴` right-hand sides, its right-hand side with the block solve written out for its structure, as machine code |
 //! | method | [`integrate`] | [`Dopri5`](integrate::Dopri5), [`Dop853`](integrate::Dop853), [`Tsit5`](integrate::Tsit5), [`Rk4`](integrate::Rk4), [`Rodas4`](integrate::Rodas4), [`Rodas5P`](integrate::Rodas5P): a recipe of facts ([`MethodInfo`](integrate::MethodInfo)), a trial step, its error, dense output |
 //! | driver | [`solve`] | step control, output, events, projection, statistics |
+//! | manifold | [`manifold`] | dependent coordinates and speeds completed from the independent ones; the reduced equations linearised on the constraints ([`Problem::linearize`]) |
 //! | solution | [`Solution`] | `t, q, q̇, q̈, μ, Φ, f, E, W_Φ`, events, [`Stats`](integrate::system::Stats), [`Status`] |
 //!
 //! Conventions (Newton form, `d/dt ∂L/∂q̇ − ∂L/∂q = Jᵀμ = Φ`) are in `docs/conventions.md`. The
@@ -67,6 +68,7 @@
 pub mod equations;
 pub mod error;
 pub mod integrate;
+pub mod manifold;
 pub mod model;
 pub mod problem;
 pub mod sensitivity;

@@ -440,3 +440,33 @@ def state_vector(model: Any, values: Mapping[Any, float], what: str) -> list[flo
     if missing:
         raise ConversionError(f"{what} gives no value for {', '.join(missing)}")
     return [float(v) for v in out]  # type: ignore[arg-type]
+
+
+def indices(model: Any, items: Iterable[Any] | None, what: str) -> list[int] | None:
+    """Coordinate indices (from 0) of ``items``: ints, the coordinates' names, their
+    dynamicsymbols, or (for speeds) the dynamicsymbols' derivatives. None stays None."""
+    if items is None:
+        return None
+    names = list(model.coordinates)
+    symbols = model.symbols
+    out = []
+    for item in items:
+        if isinstance(item, bool):
+            raise ConversionError(f"{what}: {item!r} is not a coordinate")
+        if isinstance(item, int):
+            i = item
+        elif isinstance(item, str):
+            base = item[:-4] if item.endswith("_dot") and item[:-4] in names else item
+            i = names.index(base) if base in names else None
+        elif symbols is not None and item in symbols.index:
+            i = symbols.index[item]
+        elif symbols is not None and item in symbols.velocity:
+            i = symbols.velocity[item]
+        else:
+            i = None
+        if i is None:
+            raise ConversionError(
+                f"{what}: {item} is not a coordinate; the coordinates are {', '.join(names)}"
+            )
+        out.append(i)
+    return out
