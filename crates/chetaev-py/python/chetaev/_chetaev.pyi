@@ -90,7 +90,12 @@ class Problem:
         t0: float = 0.0,
         project_velocity: bool = False,
         route: Literal["graph", "dual"] = "graph",
-    ) -> None: ...
+        independent_coordinates: Optional[Sequence[Any]] = None,
+        independent_speeds: Optional[Sequence[Any]] = None,
+        complete: bool = False,
+    ) -> None:
+        """Naming independent coordinates or speeds (or ``complete=True``) solves the dependent
+        ones from the constraints first (see ``complete``)."""
     @property
     def model(self) -> Optional[Model]: ...
     @property
@@ -113,6 +118,51 @@ class Problem:
         q: Optional[Sequence[float]] = None,
         qd: Optional[Sequence[float]] = None,
     ) -> Description: ...
+    def linearize(
+        self,
+        t: Optional[float] = None,
+        q: Optional[Sequence[float]] = None,
+        qd: Optional[Sequence[float]] = None,
+        coordinates: Optional[Sequence[Any]] = None,
+        speeds: Optional[Sequence[Any]] = None,
+    ) -> "Linearization":
+        """The reduced equations linearised on the constraint manifold at a state (the initial
+        one by default), in independent coordinates and speeds (chosen by pivoting where None)."""
+
+class Linearization:
+    """``δż = A δz`` in the independent coordinates and speeds ``z`` (named by ``states``)."""
+
+    @property
+    def a(self) -> Array: ...
+    @property
+    def eigenvalues(self) -> npt.NDArray[np.complex128]: ...
+    @property
+    def eigenvectors(self) -> npt.NDArray[np.complex128]:
+        """One column per eigenvalue, unit length."""
+    @property
+    def states(self) -> list[str]: ...
+    @property
+    def coordinates(self) -> list[int]: ...
+    @property
+    def speeds(self) -> list[int]: ...
+    @property
+    def cyclic(self) -> list[str]:
+        """Coordinates nothing depends on: each gives an eigenvalue exactly 0."""
+    @property
+    def full(self) -> Array: ...
+    @property
+    def basis(self) -> Array: ...
+
+def complete(
+    model: Model,
+    q: Union[Sequence[float], Array, Mapping[Any, float]],
+    qd: Union[Sequence[float], Array, Mapping[Any, float]],
+    t: float = 0.0,
+    coordinates: Optional[Sequence[Any]] = None,
+    speeds: Optional[Sequence[Any]] = None,
+) -> tuple[Array, Array]:
+    """The dependent coordinates from ``h = 0`` and speeds from ``f = 0``, ``ḣ = 0``, by Newton's
+    method from the values given, the independent ones (named, or chosen by pivoting) held."""
 
 class Event:
     """The zeros of ``g(t, q, q̇)`` (a sympy expression, or a string in the coordinates' names with
