@@ -261,6 +261,12 @@ impl Scene {
                     None => self.error_at(s.initial.clone(), format!("at the initial state, {e}")),
                 }
             }
+            e @ E::Completion { .. } => self.error_at(
+                s.independent.clone(),
+                format!(
+                    "{e} (coordinates and constraints are numbered from 1 in the order of the file)"
+                ),
+            ),
             E::InitialProjectionFailed {
                 residual,
                 iterations,
@@ -356,7 +362,12 @@ impl Scene {
             forces: self.forces.clone(),
             dissipation: self.dissipation.clone(),
         };
-        let (q0, qd0) = (self.q0.clone(), self.qd0.clone());
+        let (mut q0, mut qd0) = (self.q0.clone(), self.qd0.clone());
+        if let Some(independent) = &self.independent {
+            let done = chetaev::manifold::complete(&model, self.t0, &q0, &qd0, independent)
+                .map_err(|e| self.setup_error(e))?;
+            (q0, qd0) = (done.q, done.qd);
+        }
         if self.project_velocity && self.k() > 0 {
             Problem::dynamic_with_projected_velocity(model, self.t0, q0, qd0)
         } else {

@@ -323,3 +323,67 @@ fn an_initial_projection_that_cannot_converge_points_at_the_initial_state() {
     );
     assert!(m.contains("prescribed speed is 0 at t0"), "{m}");
 }
+
+/// A pendulum of length 2 whose `y` and `y_dot` are left to the constraint.
+fn pendulum_with(initial: &str) -> String {
+    format!(
+        r#"
+[model]
+coordinates = ["x", "y"]
+lagrangian = "0.5*(x_dot^2 + y_dot^2) - 9.81*y"
+holonomic = ["x^2 + y^2 - 4"]
+
+[initial]
+{initial}
+
+[solve]
+t_end = 1.0
+"#
+    )
+}
+
+#[test]
+fn named_independent_coordinates_and_speeds_complete_the_dependent_ones() {
+    // x = 1.2 held: y = −1.6 (the guess −1.76 is 10 % off); ẋ = 0.8: ẏ = −x ẋ / y = 0.6.
+    let text = pendulum_with(
+        "q = [1.2, -1.76]\nq_dot = [0.8, 0.0]\nindependent_coordinates = [\"x\"]\nindependent_speeds = [\"x_dot\"]",
+    );
+    let scene = Scene::parse(&text, "pendulum.toml").expect("parses");
+    let problem = scene.problem().expect("completed");
+    assert!((problem.q0()[1] + 1.6).abs() < 1e-14, "{:?}", problem.q0());
+    assert!(
+        (problem.qd0()[1] - 0.6).abs() < 1e-14,
+        "{:?}",
+        problem.qd0()
+    );
+    let o = scene.solve().expect("solves");
+    assert!(o.is_success() && o.position_residual.iter().all(|h| h[0].abs() < 1e-8));
+}
+
+#[test]
+fn independent_lists_are_checked_where_they_are_written() {
+    let cases = [
+        (
+            "q = [1.2, -1.76]\nq_dot = [0.8, 0.0]\nindependent_speeds = [\"z_dot\"]",
+            "'z_dot' is not a coordinate",
+        ),
+        (
+            "q = [1.2, -1.76]\nq_dot = [0.8, 0.0]\nindependent_speeds = [\"x\"]\nproject_velocity = true",
+            "choose one",
+        ),
+        (
+            // Both coordinates held: no coordinate is left for the holonomic constraint.
+            "q = [1.2, -1.76]\nq_dot = [0.8, 0.0]\nindependent_coordinates = [\"x\", \"y\"]",
+            "have 1",
+        ),
+    ];
+    for (initial, says) in cases {
+        let text = pendulum_with(initial);
+        let e = Scene::parse(&text, "pendulum.toml")
+            .and_then(|s| s.problem().map(|_| ()))
+            .expect_err(says);
+        let message = e.to_string();
+        assert!(message.contains(says), "{message}");
+        assert!(e.position().is_some(), "{message}");
+    }
+}

@@ -64,6 +64,10 @@ pub(crate) struct RawInitial {
     pub(crate) q_dot: Spanned<Vec<Spanned<Number>>>,
     #[serde(default)]
     pub(crate) project_velocity: bool,
+    /// Coordinates held while the others are solved from the holonomic constraints.
+    pub(crate) independent_coordinates: Option<Spanned<Vec<Spanned<String>>>>,
+    /// Speeds held while the others are solved from the velocity constraints and `ḣ = 0`.
+    pub(crate) independent_speeds: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
 #[derive(Deserialize)]

@@ -43,6 +43,9 @@ pub struct Scene {
     pub qd0: Vec<f64>,
     /// Whether the initial velocity is projected onto `f = 0` first.
     pub project_velocity: bool,
+    /// The independent coordinates and speeds of `[initial]`, if named: the dependent ones are
+    /// solved from the constraints ([`chetaev::manifold::complete`]) before the solve.
+    pub independent: Option<chetaev::manifold::Independent>,
     /// Method, end time, tolerances.
     pub solve: SolveSpec,
     /// Events, in the order of the file.
@@ -96,6 +99,8 @@ pub struct SensitivitySpec {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Spans {
     pub initial: Range<usize>,
+    /// `independent_speeds` (or `independent_coordinates`), or `[initial]`.
+    pub independent: Range<usize>,
     pub q: Range<usize>,
     pub q_dot: Range<usize>,
     pub constraints: Vec<Range<usize>>,

@@ -52,6 +52,64 @@ fn is_identifier(s: &str) -> bool {
 }
 
 impl Builder {
+    /// `[initial] independent_coordinates` and `independent_speeds` as indices: names of
+    /// coordinates (a speed as `x` or `x_dot`), each once; refused together with
+    /// `project_velocity`.
+    fn independent(
+        &self,
+        initial: &super::schema::RawInitial,
+        coordinates: &[String],
+    ) -> Result<Option<chetaev::manifold::Independent>, Error> {
+        let (c, v) = (
+            &initial.independent_coordinates,
+            &initial.independent_speeds,
+        );
+        if c.is_none() && v.is_none() {
+            return Ok(None);
+        }
+        if initial.project_velocity {
+            let span = v.as_ref().or(c.as_ref()).map_or(0..0, Spanned::span);
+            return Err(self.err(
+                span,
+                "independent_coordinates and independent_speeds solve the dependent values from \
+                 the constraints, and project_velocity = true projects the whole state onto them: \
+                 choose one (remove project_velocity to keep the independent values as given)",
+            ));
+        }
+        let resolve = |list: &Option<Spanned<Vec<Spanned<String>>>>,
+                       speeds: bool|
+         -> Result<Option<Vec<usize>>, Error> {
+            let Some(list) = list else { return Ok(None) };
+            let mut out = Vec::new();
+            for name in list.get_ref() {
+                let text = name.get_ref();
+                let base = if speeds {
+                    text.strip_suffix("_dot").unwrap_or(text)
+                } else {
+                    text
+                };
+                let Some(i) = coordinates.iter().position(|c| c == base) else {
+                    let hint = match crate::expr::closest(base, coordinates) {
+                        Some(s) => format!("did you mean '{s}'?"),
+                        None => format!("the coordinates are {}", coordinates.join(", ")),
+                    };
+                    return Err(
+                        self.err(name.span(), format!("'{text}' is not a coordinate; {hint}"))
+                    );
+                };
+                if out.contains(&i) {
+                    return Err(self.err(name.span(), format!("'{text}' is listed twice")));
+                }
+                out.push(i);
+            }
+            Ok(Some(out))
+        };
+        Ok(Some(chetaev::manifold::Independent {
+            coordinates: resolve(c, false)?,
+            speeds: resolve(v, true)?,
+        }))
+    }
+
     pub(super) fn err(&self, range: Range<usize>, message: impl Into<String>) -> Error {
         self.file.error(range, message)
     }
@@ -303,6 +361,7 @@ impl Builder {
         };
         let q0 = self.vector(&initial.q, &coordinates, "q", &constants)?;
         let qd0 = self.vector(&initial.q_dot, &coordinates, "q_dot", &constants)?;
+        let independent = self.independent(initial, &coordinates)?;
         let (q_rates, qd_rates) = match &raw.sensitivities {
             None => (Vec::new(), Vec::new()),
             Some(s) => {
@@ -319,6 +378,15 @@ impl Builder {
                              without that parameter",
                         ));
                     }
+                }
+                if independent.is_some() {
+                    return Err(self.err(
+                        s.get_ref().parameters.span(),
+                        "[sensitivities] cannot be combined with independent_coordinates or \
+                         independent_speeds under [initial]: the derivatives of the completed state \
+                         are not computed; give a q and q_dot that satisfy the constraints, written \
+                         with the parameters they depend on, and remove the independent lists",
+                    ));
                 }
                 if initial.project_velocity {
                     return Err(self.err(
@@ -469,6 +537,7 @@ impl Builder {
             q0,
             qd0,
             project_velocity: initial.project_velocity,
+            independent,
             solve,
             events,
             sensitivities,
@@ -476,6 +545,11 @@ impl Builder {
             units,
             spans: Spans {
                 initial: raw.initial.span(),
+                independent: initial
+                    .independent_speeds
+                    .as_ref()
+                    .or(initial.independent_coordinates.as_ref())
+                    .map_or_else(|| raw.initial.span(), Spanned::span),
                 q: initial.q.span(),
                 q_dot: initial.q_dot.span(),
                 constraints: constraint_spans,
