@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """Converting a large sympy model: the Carvallo–Whipple bicycle, timed through Model.from_sympy.
 
-Model: the benchmark bicycle of Meijaard, Papadopoulos, Ruina and Schwab (2007), "Linearized
-dynamics equations for the balance and steer of a bicycle: a benchmark and review", Proc. R. Soc.
-A 463, 1955–1982, built with sympy.physics.mechanics in Lagrangian form. Its four rigid bodies are
-the rear wheel R, the rear frame B (with rider), the front frame H (fork and handlebar) and the
-front wheel F, with the parameters of the paper's Table 1. The coordinates follow Moore's
+Model: models.whipple_bicycle() of crates/chetaev-py/tests/models.py (imported from there, so
+that the model exists once), the benchmark bicycle of Meijaard, Papadopoulos, Ruina and Schwab
+(2007), "Linearized dynamics equations for the balance and steer of a bicycle: a benchmark and
+review", Proc. R. Soc. A 463, 1955–1982, built with sympy.physics.mechanics in Lagrangian form.
+Its four rigid bodies are the rear wheel R, the rear frame B (with rider), the front frame H (fork
+and handlebar) and the front wheel F, with the parameters of the paper's Table 1. The coordinates follow Moore's
 formulation (Moore, Hubbard, Kooijman, Schwab 2010), eight of them:
 
     q = [x, y, psi, phi, theta, theta_R, delta, theta_F]
@@ -49,39 +50,28 @@ from __future__ import annotations
 
 import argparse
 import gc
-import math
 import platform
 import statistics
+import sys
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import sympy as sp
-import sympy.physics.mechanics as me
 from scipy.integrate import solve_ivp
 
 import chetaev
 from machine import machine
 
 # ---------------------------------------------------------------------------------------------
-# The benchmark parameters, Meijaard et al. (2007), Table 1, in this script's axes (z up, y left)
+# The model: the bicycle of the package's tests (crates/chetaev-py/tests/models.py)
 # ---------------------------------------------------------------------------------------------
 
-# Rotating the paper's axes (x forward, y right, z down) half a turn about x turns the products
-# of inertia I_xz into −I_xz: the paper's I_Bxz = 2.4 is −2.4 here, its I_Hxz = −0.00756 is
-# +0.00756. Heights are positive up: the paper's z_B = −0.9, z_H = −0.7 are 0.9 and 0.7 here.
-TABLE_1 = {
-    "w": 1.02,  # wheelbase [m]
-    "c": 0.08,  # trail [m]
-    "lambda": math.pi / 10,  # steer axis tilt from the vertical [rad]
-    "g": 9.81,  # gravity [m/s²]
-    "r_R": 0.3, "m_R": 2.0, "I_Rxx": 0.0603, "I_Ryy": 0.12,  # rear wheel
-    "x_B": 0.3, "z_B": 0.9, "m_B": 85.0,  # rear frame and rider
-    "I_Bxx": 9.2, "I_Byy": 11.0, "I_Bzz": 2.8, "I_Bxz": -2.4,
-    "x_H": 0.9, "z_H": 0.7, "m_H": 4.0,  # front frame
-    "I_Hxx": 0.05892, "I_Hyy": 0.06, "I_Hzz": 0.00708, "I_Hxz": 0.00756,
-    "r_F": 0.35, "m_F": 3.0, "I_Fxx": 0.1405, "I_Fyy": 0.28,  # front wheel
-}
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "crates" / "chetaev-py" / "tests"))
+import models  # noqa: E402
+
+TABLE_1 = models.WHIPPLE_PARAMETERS  # Meijaard et al. (2007), Table 1, in the model's axes
 
 # The linearised equations in roll and steer, M q̈ + v C1 q̇ + (g K0 + v² K2) q = 0, with the
 # matrices published for these parameters (Meijaard et al. 2007, eq. (5.4) and Table 2); their
@@ -91,105 +81,15 @@ BENCH_C1 = np.array([[0.0, 33.86641391492494], [-0.85035641456978, 1.68540397397
 BENCH_K0 = np.array([[-80.95, -2.59951685249872], [-2.59951685249872, -0.80329488458618]])
 BENCH_K2 = np.array([[0.0, 76.59734589573222], [0.0, 2.65431523794604]])
 
-ROLL, PITCH, REAR_SPIN, STEER = 3, 4, 5, 6  # indices into q
-INDEPENDENT = [3, 5, 6]  # roll rate, rear-wheel spin rate, steer rate
-DEPENDENT = [0, 1, 2, 4, 7]  # x', y', yaw rate, pitch rate, front-wheel spin rate
+ROLL, PITCH, STEER = models.BIKE_ROLL, models.BIKE_PITCH, models.BIKE_STEER  # indices into q
 
 
-
-
-# ---------------------------------------------------------------------------------------------
-# The model
-# ---------------------------------------------------------------------------------------------
 
 
 def build_bicycle() -> dict[str, Any]:
-    """L, q, the rolling constraints, the holonomic constraint and the parameter values."""
-    q = me.dynamicsymbols("x y psi phi theta theta_R delta theta_F")
-    x, y, psi, phi, theta, theta_R, delta, theta_F = q
-    p = {name: sp.Symbol(name) for name in TABLE_1}
-    w, c, lam, g, rR, rF = (p[k] for k in ("w", "c", "lambda", "g", "r_R", "r_F"))
-
-    # Frames. Y: yawed about the vertical; R: rolled about Y.x (the rear wheel's plane stays
-    # perpendicular to R.y); B: the rear frame, pitched about R.y; B is aligned with the paper's
-    # axes in its reference configuration (theta = 0). S: B tilted back by lambda about B.y, so
-    # S.z is the steer axis (pointing up); H: the front frame, steered about S.z; H0: H tilted
-    # forward again, aligned with B when delta = 0 (the paper gives H's inertia in those axes).
-    # The wheels spin about B.y and H.y.
-    N = me.ReferenceFrame("N")
-    Y = N.orientnew("Y", "Axis", [psi, N.z])
-    R = Y.orientnew("R", "Axis", [phi, Y.x])
-    B = R.orientnew("B", "Axis", [theta, R.y])
-    S = B.orientnew("S", "Axis", [-lam, B.y])
-    H = S.orientnew("H", "Axis", [delta, S.z])
-    H0 = H.orientnew("H0", "Axis", [lam, H.y])
-    WR = B.orientnew("WR", "Axis", [theta_R, B.y])
-    WF = H.orientnew("WF", "Axis", [theta_F, H.y])
-
-    # Points. In the reference configuration (all angles zero) the rear contact is at the
-    # origin, the front contact at (w, 0, 0), and the steer axis meets the ground at
-    # (w + c, 0, 0): the point A, fixed in B and H alike. From A, the front wheel's centre
-    # (w, 0, rF) and the front frame's mass centre (x_H, 0, z_H) are written in H's axes
-    # (rotating with the steer): offsets along H.x (perpendicular to the steer axis: the fork
-    # offset rF sin(lambda) − c cos(lambda)) and along H.z (the steer axis).
-    O = me.Point("O")
-    O.set_vel(N, 0)
-    contact_R = O.locatenew("contact_R", x * N.x + y * N.y)
-    centre_R = contact_R.locatenew("centre_R", rR * R.z)
-    mass_B = centre_R.locatenew("mass_B", p["x_B"] * B.x + (p["z_B"] - rR) * B.z)
-    A = centre_R.locatenew("A", (w + c) * B.x - rR * B.z)
-    dx_H, dz_H = p["x_H"] - w - c, p["z_H"]
-    mass_H = A.locatenew(
-        "mass_H",
-        (dx_H * sp.cos(lam) + dz_H * sp.sin(lam)) * H.x
-        + (-dx_H * sp.sin(lam) + dz_H * sp.cos(lam)) * H.z,
-    )
-    centre_F = A.locatenew(
-        "centre_F",
-        (rF * sp.sin(lam) - c * sp.cos(lam)) * H.x + (c * sp.sin(lam) + rF * sp.cos(lam)) * H.z,
-    )
-    # Every mass centre's velocity is its position's time derivative: a function of q and q̇.
-    for point in (centre_R, mass_B, mass_H, centre_F):
-        point.set_vel(N, point.pos_from(O).dt(N))
-
-    # The front wheel's lowest point: from its centre, rF along the direction in the wheel's
-    # plane (perpendicular to the axle H.y) that points most steeply down.
-    k = N.z.dot(H.y)
-    down_F = (k * H.y - N.z) / sp.sqrt(1 - k**2)
-
-    # Bodies. The wheels are symmetric about their axles, so their inertia is constant in B and H
-    # (and the Lagrangian does not depend on the spin angles).
-    bodies = [
-        me.RigidBody("rear_wheel", centre_R, WR, p["m_R"],
-                     (me.inertia(B, p["I_Rxx"], p["I_Ryy"], p["I_Rxx"]), centre_R)),
-        me.RigidBody("rear_frame", mass_B, B, p["m_B"],
-                     (me.inertia(B, p["I_Bxx"], p["I_Byy"], p["I_Bzz"], 0, 0, p["I_Bxz"]), mass_B)),
-        me.RigidBody("front_frame", mass_H, H, p["m_H"],
-                     (me.inertia(H0, p["I_Hxx"], p["I_Hyy"], p["I_Hzz"], 0, 0, p["I_Hxz"]), mass_H)),
-        me.RigidBody("front_wheel", centre_F, WF, p["m_F"],
-                     (me.inertia(H, p["I_Fxx"], p["I_Fyy"], p["I_Fxx"]), centre_F)),
-    ]
-    for body in bodies:
-        body.potential_energy = body.mass * g * body.masscenter.pos_from(O).dot(N.z)
-    lagrangian = me.Lagrangian(N, *bodies)
-
-    # Rolling without slip: the wheel's material point at the contact, v_centre + ω × (contact −
-    # centre), has no horizontal velocity (its vertical velocity vanishes through the geometry,
-    # at the rear, and through h, at the front).
-    slip_R = centre_R.vel(N) + WR.ang_vel_in(N).cross(-rR * R.z)
-    slip_F = centre_F.vel(N) + WF.ang_vel_in(N).cross(rF * down_F)
-    rolling = [slip_R.dot(N.x), slip_R.dot(N.y), slip_F.dot(N.x), slip_F.dot(N.y)]
-
-    # The front contact's height: the centre's height minus rF sqrt(1 − (N.z·H.y)²).
-    touching = [centre_F.pos_from(O).dot(N.z) - rF * sp.sqrt(1 - k**2)]
-
-    return {
-        "L": lagrangian,
-        "q": q,
-        "constraints": rolling,
-        "holonomic": touching,
-        "parameters": {p[name]: value for name, value in TABLE_1.items()},
-    }
+    """L, q, the rolling constraints, the holonomic constraint, the parameter values and the
+    upright state's helper: models.whipple_bicycle()."""
+    return models.whipple_bicycle()
 
 
 def expression_size(exprs: list[Any]) -> tuple[int, int]:
@@ -228,27 +128,9 @@ def initial_state(bike: dict[str, Any], v: float, roll_rate: float) -> tuple[np.
     """Upright (roll = steer = 0) at the origin, heading along N.x; the pitch from h = 0 by
     Newton; rear-wheel spin rate v/rR and the given roll rate, steer rate 0; the dependent speeds
     (x', y', yaw rate, pitch rate, front-wheel spin) from the four rolling constraints and ḣ = 0,
-    which are linear in q̇: G(q) q̇ = 0."""
-    q, values = bike["q"], bike["parameters"]
-    qd = [c.diff() for c in q]
-    h = bike["holonomic"][0].xreplace(values)
-    h_of = sp.lambdify([q], h)
-    dh_of = sp.lambdify([q], h.diff(q[PITCH]))
-    G = (sp.Matrix(bike["constraints"]).jacobian(qd)
-         .col_join(sp.Matrix(bike["holonomic"]).jacobian(q))).xreplace(values)
-    G_of = sp.lambdify([q], G)
-
-    q0 = np.zeros(len(q))
-    for _ in range(50):
-        step = h_of(q0) / dh_of(q0)
-        q0[PITCH] -= step
-        if abs(step) < 1e-16:
-            break
-    qd0 = np.zeros(len(q))
-    qd0[INDEPENDENT] = [roll_rate, v / TABLE_1["r_R"], 0.0]
-    Gn = np.array(G_of(q0), dtype=float)
-    qd0[DEPENDENT] = np.linalg.solve(Gn[:, DEPENDENT], -Gn[:, INDEPENDENT] @ qd0[INDEPENDENT])
-    return q0, qd0
+    which are linear in q̇: G(q) q̇ = 0 (models.whipple_bicycle()["upright"])."""
+    q0, qd0 = bike["upright"](v, roll_rate=roll_rate)
+    return np.array(q0), np.array(qd0)
 
 
 def make_problem(model: chetaev.Model, q0: np.ndarray, qd0: np.ndarray) -> chetaev.Problem | None:

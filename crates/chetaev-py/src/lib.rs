@@ -698,14 +698,14 @@ impl Linearization {
     }
 }
 
-/// A state `(q, q̇)` as numpy arrays.
-type State<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
-
 /// Completes a state on the constraints: the dependent coordinates from `h = 0`, then the
 /// dependent speeds from `f = 0` and `ḣ = 0`, by Newton's method from the values given (which
-/// serve as the guess), the independent ones held. Returns `(q, qd)` as numpy arrays.
+/// serve as the guess), the independent ones held. Returns `(q, qd)` as numpy arrays; with
+/// `info=True`, `(q, qd, info)` where `info` holds the dependent coordinates and speeds (indices
+/// from 0) and the Newton iterations of each stage.
 #[pyfunction]
-#[pyo3(signature = (model, q, qd, t=0.0, coordinates=None, speeds=None))]
+#[pyo3(signature = (model, q, qd, t=0.0, coordinates=None, speeds=None, info=false))]
+#[allow(clippy::too_many_arguments)]
 fn complete<'py>(
     py: Python<'py>,
     model: Py<Model>,
@@ -714,7 +714,8 @@ fn complete<'py>(
     t: f64,
     coordinates: Option<&Bound<'py, PyAny>>,
     speeds: Option<&Bound<'py, PyAny>>,
-) -> PyResult<State<'py>> {
+    info: bool,
+) -> PyResult<Bound<'py, PyAny>> {
     let q = state(py, &model, q, "q")?;
     let qd = state(py, &model, qd, "qd")?;
     let independent = independent(py, &model, coordinates, speeds)?;
@@ -722,10 +723,19 @@ fn complete<'py>(
     let done = py
         .detach(|| chetaev::manifold::complete(&m, t, &q, &qd, &independent))
         .map_err(chetaev_error)?;
-    Ok((
+    let (q, qd) = (
         PyArray1::from_vec(py, done.q),
         PyArray1::from_vec(py, done.qd),
-    ))
+    );
+    if !info {
+        return Ok((q, qd).into_pyobject(py)?.into_any());
+    }
+    let details = PyDict::new(py);
+    details.set_item("dependent_coordinates", done.dependent_coordinates)?;
+    details.set_item("dependent_speeds", done.dependent_speeds)?;
+    details.set_item("coordinate_iterations", done.iterations.0)?;
+    details.set_item("speed_iterations", done.iterations.1)?;
+    Ok((q, qd, details).into_pyobject(py)?.into_any())
 }
 
 /// What the library derived for a model: `str()` gives the text; in Jupyter it renders as LaTeX.

@@ -67,3 +67,12 @@ def test_the_particle_at_constant_speed_completes_the_root_nearest_its_guess():
         chetaev.complete(model, [0, 5], [6, -8], speeds=["z"])
     with pytest.raises(chetaev.ChetaevError, match="have 1"):
         chetaev.complete(model, [0, 5], [6, -8], speeds=[0, 1])
+
+
+def test_completion_reports_its_dependent_indices_and_newton_iterations(pendulum):
+    model, x, _ = pendulum
+    q, qd, info = chetaev.complete(model, [1.2, -1.76], [0.8, 0.0], coordinates=[x], speeds=[x],
+                                   info=True)
+    assert info["dependent_coordinates"] == [1] and info["dependent_speeds"] == [1]
+    # From a guess 10 % off, Newton's method converges in a handful of iterations.
+    assert 1 <= info["coordinate_iterations"] <= 10 and 1 <= info["speed_iterations"] <= 10

@@ -26,10 +26,13 @@
 //! ```
 //!
 //! a matrix of size `p = 2n − kh − k`. Its eigenvalues are those of the motion on the manifold;
-//! the directions off it (which the constraints forbid) are not among them. A coordinate that
-//! appears in neither `L` nor the constraints (a cyclic coordinate: a position on the ground, a
-//! heading, a wheel's angle) gives a zero column of `A_z` and so an eigenvalue exactly zero,
-//! listed in [`Linearization::cyclic`].
+//! the directions off it (which the constraints forbid) are not among them. A coordinate on which
+//! nothing depends there (a cyclic coordinate: a position on the ground, a wheel's angle) gives a
+//! zero column of `A_z` and so an eigenvalue exactly zero, listed in [`Linearization::cyclic`];
+//! so does a speed that nothing changes (a zero row). A neutral direction that is neither (a
+//! heading, which the rolling constraints read, along a straight steady motion) also has an
+//! eigenvalue zero, found by the eigenvalue solver to about the square root of the rounding where
+//! it is repeated.
 
 use nalgebra::{Complex, DMatrix};
 
@@ -634,12 +637,35 @@ impl<M: Model> Problem<M> {
 
 /// The eigenvalues of a real square matrix, sorted by real then imaginary part, each with a unit
 /// eigenvector (the right singular vector of `A − λI` for its smallest singular value).
+///
+/// A zero column or a zero row (a cyclic coordinate; a speed nothing changes) is an eigenvalue
+/// exactly zero, and the others are those of the matrix without that row and column (expand the
+/// determinant of `A − λI` along it): such rows and columns are taken out first, repeatedly, so
+/// that their zeros are exact and do not spoil the rest (an iterative eigenvalue solver finds a
+/// repeated zero only to about the square root of the rounding).
 fn eigen(a: &DMatrix<f64>) -> (Vec<Complex<f64>>, Vec<Vec<Complex<f64>>>) {
     let p = a.nrows();
     if p == 0 {
         return (Vec::new(), Vec::new());
     }
-    let mut values: Vec<Complex<f64>> = a.clone().complex_eigenvalues().iter().copied().collect();
+    let mut keep: Vec<usize> = (0..p).collect();
+    let mut values: Vec<Complex<f64>> = Vec::new();
+    loop {
+        let zero = keep.iter().position(|&i| {
+            keep.iter().all(|&j| a[(j, i)] == 0.0) || keep.iter().all(|&j| a[(i, j)] == 0.0)
+        });
+        match zero {
+            Some(at) => {
+                keep.remove(at);
+                values.push(Complex::new(0.0, 0.0));
+            }
+            None => break,
+        }
+    }
+    if !keep.is_empty() {
+        let rest = DMatrix::from_fn(keep.len(), keep.len(), |i, j| a[(keep[i], keep[j])]);
+        values.extend(rest.complex_eigenvalues().iter().copied());
+    }
     values.sort_by(|x, y| {
         x.re.partial_cmp(&y.re)
             .unwrap_or(std::cmp::Ordering::Equal)
