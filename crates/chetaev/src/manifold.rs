@@ -67,6 +67,29 @@ impl Independent {
             speeds: Some(speeds),
         }
     }
+
+    /// The dependent coordinates among `n` under `kh` holonomic constraints of gradient `hq`
+    /// (row-major `kh × n`, read only where they are to be chosen).
+    fn dependent_coordinates(&self, n: usize, kh: usize, hq: &[f64]) -> Result<Vec<usize>, Error> {
+        match &self.coordinates {
+            Some(ind) => dependent_of(ind, n, kh, "coordinates", "holonomic constraints"),
+            None => Ok(pivot_columns(hq, kh, n)),
+        }
+    }
+
+    /// The dependent speeds among `n` under `k` velocity-level rows of gradient `j` in `q̇`.
+    fn dependent_speeds(&self, n: usize, k: usize, j: &[f64]) -> Result<Vec<usize>, Error> {
+        match &self.speeds {
+            Some(ind) => dependent_of(
+                ind,
+                n,
+                k,
+                "speeds",
+                "velocity constraints and holonomic rates",
+            ),
+            None => Ok(pivot_columns(j, k, n)),
+        }
+    }
 }
 
 /// A completed state: `q` and `q̇` on the constraints, and which components were solved for.
@@ -143,13 +166,10 @@ pub fn complete<M: Model + ?Sized>(
     // Coordinates: h(t, q) = 0 for the dependent ones.
     let mut h = vec![0.0; kh];
     let mut hq = vec![0.0; kh * n];
-    let dep_q = match &independent.coordinates {
-        Some(ind) => dependent_of(ind, n, kh, "coordinates", "holonomic constraints")?,
-        None => {
-            model.holonomic_blocks(t, &q, &mut h, Some(&mut hq));
-            pivot_columns(&hq, kh, n)
-        }
-    };
+    if independent.coordinates.is_none() {
+        model.holonomic_blocks(t, &q, &mut h, Some(&mut hq));
+    }
+    let dep_q = independent.dependent_coordinates(n, kh, &hq)?;
     let it_q = newton(
         Stage::Coordinates,
         &mut q,
@@ -168,19 +188,10 @@ pub fn complete<M: Model + ?Sized>(
 
     // Speeds: f(t, q, q̇) = 0 and ḣ = 0 for the dependent ones.
     let mut blocks = ConstraintBlocks::new(n, k);
-    let dep_qd = match &independent.speeds {
-        Some(ind) => dependent_of(
-            ind,
-            n,
-            k,
-            "speeds",
-            "velocity constraints and holonomic rates",
-        )?,
-        None => {
-            model.constraint_blocks(Point::new(t, &q, &qd), false, &mut blocks);
-            pivot_columns(&blocks.j, k, n)
-        }
-    };
+    if independent.speeds.is_none() {
+        model.constraint_blocks(Point::new(t, &q, &qd), false, &mut blocks);
+    }
+    let dep_qd = independent.dependent_speeds(n, k, &blocks.j)?;
     let it_qd = newton(
         Stage::Speeds,
         &mut qd,
@@ -546,23 +557,11 @@ impl<M: Model> Problem<M> {
         for b in 0..kh {
             hq[b * n..(b + 1) * n].copy_from_slice(&g[b * dim..b * dim + n]);
         }
-        let dep_q = match &independent.coordinates {
-            Some(ind) => dependent_of(ind, n, kh, "coordinates", "holonomic constraints")?,
-            None => pivot_columns(&hq, kh, n),
-        };
+        let dep_q = independent.dependent_coordinates(n, kh, &hq)?;
         let jqd: Vec<f64> = (0..k)
             .flat_map(|a| g[(kh + a) * dim + n..(kh + a + 1) * dim].to_vec())
             .collect();
-        let dep_qd = match &independent.speeds {
-            Some(ind) => dependent_of(
-                ind,
-                n,
-                k,
-                "speeds",
-                "velocity constraints and holonomic rates",
-            )?,
-            None => pivot_columns(&jqd, k, n),
-        };
+        let dep_qd = independent.dependent_speeds(n, k, &jqd)?;
         let ind_q: Vec<usize> = (0..n).filter(|i| !dep_q.contains(i)).collect();
         let ind_qd: Vec<usize> = (0..n).filter(|i| !dep_qd.contains(i)).collect();
         let z: Vec<usize> = ind_q

@@ -410,21 +410,29 @@ def expression_ops(model: Any, expression: Any) -> tuple[list[tuple[str, list[in
     return conv.ops, root
 
 
+def _coordinate_index(model: Any, key: Any, speeds_by_name: bool = False) -> int | None:
+    """The index of the coordinate ``key`` names: its name (``<name>_dot`` too where
+    ``speeds_by_name``), its dynamicsymbol, or that symbol's derivative; None for no coordinate."""
+    names = list(model.coordinates)
+    symbols = model.symbols
+    if isinstance(key, str):
+        if speeds_by_name and key.endswith("_dot") and key[:-4] in names:
+            key = key[:-4]
+        return names.index(key) if key in names else None
+    if symbols is not None and key in symbols.index:
+        return symbols.index[key]
+    if symbols is not None and key in symbols.velocity:
+        return symbols.velocity[key]
+    return None
+
+
 def state_vector(model: Any, values: Mapping[Any, float], what: str) -> list[float]:
     """``q0`` or ``q̇0`` given as ``{coordinate: value}`` in the model's order. Keys are the
     coordinates' names, their dynamicsymbols, or (for ``q̇0``) the dynamicsymbols' derivatives."""
     names = list(model.coordinates)
-    symbols = model.symbols
     out: list[float | None] = [None] * len(names)
     for key, value in values.items():
-        if isinstance(key, str):
-            i = names.index(key) if key in names else None
-        elif symbols is not None and key in symbols.index:
-            i = symbols.index[key]
-        elif symbols is not None and key in symbols.velocity:
-            i = symbols.velocity[key]
-        else:
-            i = None
+        i = _coordinate_index(model, key)
         if i is None:
             raise ConversionError(
                 f"{what} names {key}, which is not a coordinate; the coordinates are "
@@ -448,22 +456,11 @@ def indices(model: Any, items: Iterable[Any] | None, what: str) -> list[int] | N
     if items is None:
         return None
     names = list(model.coordinates)
-    symbols = model.symbols
     out = []
     for item in items:
         if isinstance(item, bool):
             raise ConversionError(f"{what}: {item!r} is not a coordinate")
-        if isinstance(item, int):
-            i = item
-        elif isinstance(item, str):
-            base = item[:-4] if item.endswith("_dot") and item[:-4] in names else item
-            i = names.index(base) if base in names else None
-        elif symbols is not None and item in symbols.index:
-            i = symbols.index[item]
-        elif symbols is not None and item in symbols.velocity:
-            i = symbols.velocity[item]
-        else:
-            i = None
+        i = item if isinstance(item, int) else _coordinate_index(model, item, speeds_by_name=True)
         if i is None:
             raise ConversionError(
                 f"{what}: {item} is not a coordinate; the coordinates are {', '.join(names)}"
