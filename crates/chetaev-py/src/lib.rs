@@ -18,7 +18,7 @@ use std::sync::{Arc, OnceLock};
 use chetaev::integrate::events::{Direction, Event};
 use chetaev::prelude::{AnyMethod, Atol, Options, Output, Projection, Record};
 use chetaev::{Problem as RustProblem, Seed as RustSeed, Solution as RustSolution, Status};
-use chetaev_scene::graph::{Graph, GraphError, GraphExpr, GraphModel, Parts};
+use chetaev_scene::graph::{Graph, GraphError, GraphModel, Parts};
 use chetaev_scene::{ExprModel, Scene as RustScene};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::create_exception;
@@ -795,7 +795,7 @@ struct EventSpec {
     terminal: bool,
     /// The expression converted for the last model it was solved with (held, so that its
     /// address identifies it), so that a solve repeated on one model converts it once.
-    converted: std::sync::Mutex<Option<(Arc<GraphModel>, GraphExpr)>>,
+    converted: std::sync::Mutex<Option<(Arc<GraphModel>, Event)>>,
 }
 
 #[pymethods]
@@ -1081,24 +1081,20 @@ fn options(py: Python<'_>, problem: &Problem, a: Asked<'_>) -> PyResult<(Options
                 "events on a scene's problem are declared in the scene file ([[events]]); solve it with scene.solve(), or build the model with Model.from_sympy",
             )
         })?;
-        let g = event_expression(py, model, e)?;
-        let mut event = Event::smooth(e.name.clone(), g);
-        event.direction = parse_direction(&e.direction)?;
-        event.terminal = e.terminal;
         names.push(e.name.clone());
-        o.events.push(event);
+        o.events.push(event_for(py, model, e)?);
     }
     Ok((o, names))
 }
 
-/// The event's expression as operations on the model's graph, converted by the Python side once
-/// per model.
-fn event_expression(py: Python<'_>, model: &Py<Model>, e: &EventSpec) -> PyResult<GraphExpr> {
+/// The event for `model`: its expression as operations on the model's graph, converted by the
+/// Python side, made once per model (a solve repeated on one model reuses it).
+fn event_for(py: Python<'_>, model: &Py<Model>, e: &EventSpec) -> PyResult<Event> {
     let m = model.get();
     if let Ok(cache) = e.converted.lock() {
-        if let Some((held, g)) = cache.as_ref() {
+        if let Some((held, event)) = cache.as_ref() {
             if Arc::ptr_eq(held, &m.inner) {
-                return Ok(g.clone());
+                return Ok(event.clone());
             }
         }
     }
@@ -1116,10 +1112,13 @@ fn event_expression(py: Python<'_>, model: &Py<Model>, e: &EventSpec) -> PyResul
             Ok(root)
         })
         .map_err(|err| ChetaevError::new_err(format!("event '{}': {}", e.name, err.message)))?;
+    let mut event = Event::smooth(e.name.clone(), g);
+    event.direction = parse_direction(&e.direction)?;
+    event.terminal = e.terminal;
     if let Ok(mut cache) = e.converted.lock() {
-        *cache = Some((Arc::clone(&m.inner), g.clone()));
+        *cache = Some((Arc::clone(&m.inner), event.clone()));
     }
-    Ok(g)
+    Ok(event)
 }
 
 /// Solves a problem from its initial state to `t_end`: Chetaev's equations in Newton form,
@@ -1272,11 +1271,11 @@ fn _solve_seconds<'py>(
     py.detach(|| {
         (0..repeats)
             .map(|_| {
+                // The solution is dropped inside the timing, as a caller's would be.
                 let start = std::time::Instant::now();
                 let s = with_problem!(&inner, p => chetaev::solve(&**p, method, &options))?;
-                let elapsed = start.elapsed().as_secs_f64();
                 drop(std::hint::black_box(s));
-                Ok(elapsed)
+                Ok(start.elapsed().as_secs_f64())
             })
             .collect::<Result<Vec<f64>, chetaev::Error>>()
     })
