@@ -135,6 +135,9 @@ fn build_graph(n: usize, parameters: Vec<(String, f64)>, ops: &[OpSpec]) -> PyRe
 #[pyclass(module = "chetaev._chetaev", frozen)]
 struct Model {
     inner: Arc<GraphModel>,
+    /// The operations and parts it was made from, for pickling (a process pool sends a model
+    /// to its workers so).
+    made_from: Arc<(Vec<OpSpec>, Parts)>,
     coordinates: Vec<String>,
     /// The coordinates' names in LaTeX (sympy's), for `describe`.
     latex: Option<Vec<String>>,
@@ -177,6 +180,7 @@ impl Model {
             forces,
             dissipation,
         };
+        let made_from = Arc::new((ops, parts.clone()));
         if latex.as_ref().is_some_and(|l| l.len() != n) {
             return Err(ChetaevError::new_err(format!(
                 "{} LaTeX names for {n} coordinates",
@@ -185,10 +189,41 @@ impl Model {
         }
         Ok(Self {
             inner: Arc::new(GraphModel::new(graph, parts).map_err(graph_error)?),
+            made_from,
             coordinates,
             latex,
             symbols,
         })
+    }
+
+    /// Pickling: the model is made again from its operations, with its current parameter
+    /// values (`with_parameters` included).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let py = slf.py();
+        let m = slf.get();
+        let (ops, parts) = &*m.made_from;
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("constraints", parts.constraints.clone())?;
+        kwargs.set_item("holonomic", parts.holonomic.clone())?;
+        kwargs.set_item("forces", parts.forces.clone())?;
+        kwargs.set_item("dissipation", parts.dissipation)?;
+        let parameters: Vec<(String, f64)> = m
+            .inner
+            .graph()
+            .parameters()
+            .map(|(n, v)| (n.to_string(), v))
+            .collect();
+        kwargs.set_item("parameters", parameters)?;
+        kwargs.set_item("coordinates", m.coordinates.clone())?;
+        kwargs.set_item("symbols", m.symbols.as_ref().map(|s| s.clone_ref(py)))?;
+        kwargs.set_item("latex", m.latex.clone())?;
+        let args = (m.inner.graph().n(), ops.clone(), parts.lagrangian);
+        // `Model(*args, **kwargs)`, through functools.partial, which pickles by reference.
+        let partial = py
+            .import("functools")?
+            .getattr("partial")?
+            .call((slf.get_type(), args.0, args.1, args.2), Some(&kwargs))?;
+        (partial, ()).into_pyobject(py).map(|t| t.into_any())
     }
 
     /// The model of a sympy Lagrangian (or of `sympy.physics.mechanics` bodies); see
@@ -263,6 +298,7 @@ impl Model {
         }
         Ok(Self {
             inner: Arc::new(m),
+            made_from: Arc::clone(&self.made_from),
             coordinates: self.coordinates.clone(),
             latex: self.latex.clone(),
             symbols: self.symbols.as_ref().map(|s| s.clone_ref(py)),
@@ -356,6 +392,15 @@ struct Problem {
     inner: Inner,
     model: Option<Py<Model>>,
     coordinates: Vec<String>,
+    /// The route's name, for pickling.
+    route: &'static str,
+}
+
+fn route_name(route: chetaev::Route) -> &'static str {
+    match route {
+        chetaev::Route::Dual => "dual",
+        _ => "graph",
+    }
 }
 
 fn route(name: &str) -> PyResult<chetaev::Route> {
@@ -414,7 +459,26 @@ impl Problem {
             inner: Inner::Graph(Arc::new(problem)),
             model: Some(model),
             coordinates,
+            route: route_name(route),
         })
+    }
+
+    /// Pickling: the model and the (completed) initial state; a scene's problem is pickled as
+    /// its scene is not, so it is refused.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let py = slf.py();
+        let p = slf.get();
+        let Some(model) = &p.model else {
+            return Err(ChetaevError::new_err(
+                "a scene's problem cannot be pickled: send the scene's text and make the problem with Scene.parse(text).problem() where it is needed",
+            ));
+        };
+        let (t0, q0, qd0) =
+            with_problem!(&p.inner, x => (x.t0(), x.q0().to_vec(), x.qd0().to_vec()));
+        let args = (model.clone_ref(py), q0, qd0, t0, false, p.route);
+        (slf.get_type(), args)
+            .into_pyobject(py)
+            .map(|t| t.into_any())
     }
 
     /// The model (None for a scene's problem).
@@ -877,6 +941,7 @@ impl Scene {
             inner: Inner::Scene(Arc::new(p)),
             model: None,
             coordinates: self.inner.coordinates.clone(),
+            route: "graph",
         })
     }
 

@@ -74,3 +74,54 @@ def test_one_problem_shared_by_threads_gives_the_same_results(particle_problem, 
             np.testing.assert_array_equal(sol.q, ref.q)
             np.testing.assert_array_equal(sol.sensitivities["g"]["q"], ref.sensitivities["g"]["q"])
             assert sol.events[0].dt == ref.events[0].dt
+
+
+def test_a_model_and_a_problem_pickle_with_their_parameters_and_state():
+    import pickle
+
+    import sympy as sp
+    import sympy.physics.mechanics as me
+
+    x, y = me.dynamicsymbols("x y")
+    g, v0 = sp.symbols("g v0")
+    L = (x.diff() ** 2 + y.diff() ** 2) / 2 - g * y
+    model = chetaev.Model.from_sympy(L, [x, y], constraints=[x.diff() ** 2 + y.diff() ** 2 - v0**2],
+                                     parameters={g: 10, v0: 10})
+    moon = model.with_parameters({g: 1.62})
+    again = pickle.loads(pickle.dumps(moon))
+    assert again.parameters == moon.parameters == [("g", 1.62), ("v0", 10.0)]
+    assert again.coordinates == ["x", "y"] and again.operations == moon.operations
+    problem = chetaev.Problem(again, q0=[0, 5], qd0=[10, 0])
+    copy = pickle.loads(pickle.dumps(problem))
+    event = chetaev.Event("impact", y, direction="falling", terminal=True)
+    a = chetaev.solve(problem, 100, rtol=1e-10, atol=1e-10, events=[event])
+    b = chetaev.solve(copy, 100, rtol=1e-10, atol=1e-10, events=[event])
+    # The same model, state and options: the same steps, bit for bit.
+    assert a.events[0].t == b.events[0].t and np.array_equal(a.q, b.q)
+
+
+def test_a_process_pool_sweeps_a_pickled_model():
+    from concurrent.futures import ProcessPoolExecutor
+
+    import sympy as sp
+    import sympy.physics.mechanics as me
+
+    x, y = me.dynamicsymbols("x y")
+    g, v0 = sp.symbols("g v0")
+    L = (x.diff() ** 2 + y.diff() ** 2) / 2 - g * y
+    model = chetaev.Model.from_sympy(L, [x, y], constraints=[x.diff() ** 2 + y.diff() ** 2 - v0**2],
+                                     parameters={g: 10, v0: 10})
+    speeds = [5.0, 10.0, 20.0]
+    with ProcessPoolExecutor(max_workers=2) as pool:
+        times = list(pool.map(_impact_time, [model] * 3, speeds))
+    # T = (v0/g) arccosh(exp(g h0 / v0²)), h0 = 5: to the tolerance (1e-10) with room.
+    closed = [v / 10 * np.arccosh(np.exp(50 / v**2)) for v in speeds]
+    np.testing.assert_allclose(times, closed, rtol=1e-8)
+
+
+def _impact_time(model, speed):
+    """The paper's impact time at speed `speed`, in a worker process."""
+    p = chetaev.Problem(model.with_parameters({"v0": speed}), q0=[0, 5], qd0=[speed, 0])
+    y = model.symbols.q[1]
+    event = chetaev.Event("impact", y, direction="falling", terminal=True)
+    return chetaev.solve(p, 100, rtol=1e-10, atol=1e-10, events=[event]).events[0].t

@@ -71,6 +71,8 @@ class Model:
     @property
     def symbols(self) -> Any: ...
     def with_parameters(self, values: Mapping[Any, float]) -> "Model": ...
+    def __reduce__(self) -> Any:
+        """Pickled as its operations and parameter values."""
 
 class Description:
     """What the library derived; ``str()`` is text, Jupyter renders ``_repr_latex_``."""
