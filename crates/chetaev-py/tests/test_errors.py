@@ -342,3 +342,28 @@ def test_an_initial_state_may_be_a_dict_of_coordinates_and_is_checked(particle_m
         chetaev.Problem(particle_model, q0={"z": 0.0, "x": 0.0, "y": 5.0}, qd0=[10.0, 0.0])
     with pytest.raises(chetaev.ChetaevError, match="sequence of numbers"):
         chetaev.Problem(particle_model, q0="05", qd0=[10.0, 0.0])
+
+
+def test_a_constraint_or_event_may_be_written_as_an_equation(particle_sympy):
+    x, y = particle_sympy["q"]
+    g, v0 = sp.symbols("g v0")
+    L = (x.diff() ** 2 + y.diff() ** 2) / 2 - g * y
+    model = chetaev.Model.from_sympy(L, [x, y], constraints=[sp.Eq(x.diff() ** 2 + y.diff() ** 2, v0**2)],
+                                     parameters={g: 10, v0: 10})
+    problem = chetaev.Problem(model, q0=[0, 5], qd0=[10, 0])
+    event = chetaev.Event("impact", sp.Eq(y, 0), direction="falling", terminal=True)
+    sol = chetaev.solve(problem, 10, rtol=1e-12, atol=1e-12, events=[event])
+    # T = (v0/g) arccosh(exp(g h0/v0²)), to the tolerance with room.
+    assert abs(sol.events[0].t - np.arccosh(np.exp(0.5))) < 1e-10
+
+
+def test_coordinates_of_another_time_symbol_are_refused_with_the_argument_to_give():
+    t = sp.Symbol("t", real=True)
+    x = sp.Function("x")(t)
+    with pytest.raises(chetaev.ConversionError, match=r"from_sympy\(\.\.\., t=t\)"):
+        chetaev.Model.from_sympy(x.diff(t) ** 2 / 2, [x])
+    # Given as t=, it is the time.
+    model = chetaev.Model.from_sympy(x.diff(t) ** 2 / 2 + t * x, [x], t=t)
+    sol = chetaev.solve(chetaev.Problem(model, q0=[0], qd0=[0]), 1.0, rtol=1e-12, atol=1e-12)
+    # L = ẋ²/2 + t x: ẍ = t, x(1) = 1/6.
+    assert abs(sol.q[-1, 0] - 1 / 6) < 1e-11

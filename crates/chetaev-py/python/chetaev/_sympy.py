@@ -113,6 +113,9 @@ class Converter:
             raise ConversionError(
                 f"{where} is {expr!r}, not an expression; give a sympy expression or a number"
             )
+        if isinstance(expr, sympy.Equality):
+            # An equation lhs = rhs stands for the expression lhs − rhs = 0.
+            expr = expr.lhs - expr.rhs
         # Post-order without recursion: a deep expression does not reach Python's stack limit.
         stack: list[tuple[Any, bool]] = [(expr, False)]
         while stack:
@@ -342,10 +345,18 @@ def from_sympy(
         lagrangian = Lagrangian(frame, *bodies)
     t = _time_symbol(q, t)
     for c in q:
-        if not isinstance(c, AppliedUndef) or c.args != (t,):
+        if not isinstance(c, AppliedUndef) or len(c.args) != 1:
             raise ConversionError(
                 f"the coordinate {c} is not a function of time alone; make coordinates with "
                 f"sympy.physics.mechanics.dynamicsymbols"
+            )
+        if c.args != (t,):
+            other = c.args[0]
+            same_name = " (a symbol of the same name with other assumptions)" if str(other) == str(t) else ""
+            raise ConversionError(
+                f"the coordinate {c} is a function of {other}{same_name}, not of the time symbol "
+                f"of dynamicsymbols; make coordinates with sympy.physics.mechanics.dynamicsymbols, "
+                f"or give your time symbol as from_sympy(..., t={other})"
             )
     if len(set(q)) != len(q):
         raise ConversionError("a coordinate is listed twice in q")
