@@ -76,3 +76,11 @@ def test_completion_reports_its_dependent_indices_and_newton_iterations(pendulum
     assert info["dependent_coordinates"] == [1] and info["dependent_speeds"] == [1]
     # From a guess 10 % off, Newton's method converges in a handful of iterations.
     assert 1 <= info["coordinate_iterations"] <= 10 and 1 <= info["speed_iterations"] <= 10
+
+
+def test_a_negative_or_too_large_index_is_a_conversion_error(pendulum):
+    model, _, _ = pendulum
+    problem = chetaev.Problem(model, q0=[0.0, -2.0], qd0=[0.0, 0.0])
+    for bad in (-1, 2):
+        with pytest.raises(chetaev.ConversionError, match=f"index {bad} is out of range for 2"):
+            problem.linearize(coordinates=[bad])

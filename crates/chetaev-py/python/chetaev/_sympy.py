@@ -471,7 +471,15 @@ def indices(model: Any, items: Iterable[Any] | None, what: str) -> list[int] | N
     for item in items:
         if isinstance(item, bool):
             raise ConversionError(f"{what}: {item!r} is not a coordinate")
-        i = item if isinstance(item, int) else _coordinate_index(model, item, speeds_by_name=True)
+        if isinstance(item, int):
+            if not 0 <= item < len(names):
+                raise ConversionError(
+                    f"{what}: index {item} is out of range for {len(names)} coordinates "
+                    f"(indices count from 0)"
+                )
+            i = item
+        else:
+            i = _coordinate_index(model, item, speeds_by_name=True)
         if i is None:
             raise ConversionError(
                 f"{what}: {item} is not a coordinate; the coordinates are {', '.join(names)}"
