@@ -557,9 +557,10 @@ impl GraphModel {
         build: impl FnOnce(&mut Graph) -> Result<u32, GraphError>,
     ) -> Result<GraphExpr, GraphError> {
         let mut g = Graph {
+            n: self.graph.n,
+            parameters: self.graph.parameters.clone(),
             ops: Vec::new(),
             uses: Vec::new(),
-            ..(*self.graph).clone()
         };
         let root = build(&mut g)?;
         GraphExpr::new(g, root)

@@ -38,9 +38,10 @@ use nalgebra::{Complex, DMatrix};
 
 use crate::equations::derivatives::ConstraintBlocks;
 use crate::error::Error;
+use crate::integrate::projection::constraint_scale;
 use crate::integrate::system::{Jacobian, OdeSystem, ReducedOde};
 use crate::model::{Model, Point};
-use crate::problem::{holonomic_rounding, ROUNDING_ULPS};
+use crate::problem::{check_state, holonomic_rounding, ROUNDING_ULPS, STATE};
 use crate::Problem;
 
 /// Which coordinates and speeds are independent (indices from 0). `None` lets them be chosen: the
@@ -150,17 +151,9 @@ pub fn complete<M: Model + ?Sized>(
     qd: &[f64],
     independent: &Independent,
 ) -> Result<Completion, Error> {
+    check_state(model, STATE, t, q, qd)?;
     let (n, k) = model.sizes();
     let kh = model.holonomic_count();
-    check_lengths(n, q, qd)?;
-    for (what, v) in [("t", std::slice::from_ref(&t)), ("q", q), ("q̇", qd)] {
-        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-            return Err(Error::NonFiniteInput {
-                what: format!("{what}[{i}]"),
-                value: v[i],
-            });
-        }
-    }
     let (mut q, mut qd) = (q.to_vec(), qd.to_vec());
 
     // Coordinates: h(t, q) = 0 for the dependent ones.
@@ -215,19 +208,6 @@ pub fn complete<M: Model + ?Sized>(
         dependent_speeds: dep_qd,
         iterations: (it_q, it_qd),
     })
-}
-
-fn check_lengths(n: usize, q: &[f64], qd: &[f64]) -> Result<(), Error> {
-    if q.len() != n || qd.len() != n {
-        return Err(Error::InvalidModel {
-            what: format!(
-                "the state has {} coordinates and {} speeds for a model of {n} coordinates",
-                q.len(),
-                qd.len()
-            ),
-        });
-    }
-    Ok(())
 }
 
 /// The stage of a completion.
@@ -339,13 +319,13 @@ fn newton(
     let n = x.len();
     let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
     let (mut g, mut dg) = (vec![0.0; m], vec![0.0; m * n]);
-    // The worst row's residual relative to its scale `|∂g_a/∂x|·|x|`, and the row.
+    // The worst row's residual relative to its scale `|∂g_a/∂x|·|x|` (as the projection measures
+    // it), and the row.
     let worst = |g: &[f64], dg: &[f64], x: &[f64]| {
         let xn = norm(x);
         (0..m)
             .map(|a| {
-                let s = norm(&dg[a * n..(a + 1) * n]) * xn;
-                let r = if s > 0.0 { g[a].abs() / s } else { g[a].abs() };
+                let r = g[a].abs() / constraint_scale(norm(&dg[a * n..(a + 1) * n]), xn);
                 (if r.is_nan() { f64::INFINITY } else { r }, a)
             })
             .fold((0.0f64, 0usize), |acc, v| if v.0 > acc.0 { v } else { acc })
@@ -495,9 +475,9 @@ impl<M: Model> Problem<M> {
         independent: &Independent,
     ) -> Result<Linearization, Error> {
         let model = self.model();
+        check_state(model, STATE, t, q, qd)?;
         let (n, k) = model.sizes();
         let kh = model.holonomic_count();
-        check_lengths(n, q, qd)?;
 
         // A = ∂F/∂y of the reduced equations, exact.
         let mut ode = ReducedOde::for_problem(self, false);

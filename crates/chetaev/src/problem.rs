@@ -410,35 +410,25 @@ pub(crate) fn holonomic_rounding<M: Model + ?Sized>(
     q: &[f64],
     qd: &[f64],
 ) -> Option<Vec<f64>> {
-    use crate::equations::graph::{record, Sym, DEP_Q, DEP_QD, DEP_T};
     let (n, k) = model.sizes();
     let holonomic = model.holonomic_count();
-    let (g, (offered, h)) = record(|| {
-        let ts = Sym::input(DEP_T, t);
-        let qs: Vec<Sym> = q.iter().map(|&v| Sym::input(DEP_Q, v)).collect();
-        let qds: Vec<Sym> = qd.iter().map(|&v| Sym::input(DEP_QD, v)).collect();
-        let mut out = crate::model::Functions::<Sym>::new(n, k - holonomic, holonomic);
-        let offered = model.functions(Point::new(ts, &qs, &qds), &mut out);
+    let (g, _, (offered, h), _) = crate::sensitivity::record_at(t, q, qd, |ts, qs, qds| {
+        let mut out = crate::model::Functions::new(n, k - holonomic, holonomic);
+        let offered = model.functions(Point::new(ts, qs, qds), &mut out);
         (
             offered,
             out.h.iter().map(|s| s.node()).collect::<Vec<u32>>(),
         )
-    });
-    if !offered || g.escaped() {
-        return None;
-    }
-    Some(
+    })?;
+    offered.then(|| {
         h.iter()
             .map(|&b| {
-                let e = g.rounding_scale(b);
-                if e.is_finite() {
-                    e
-                } else {
-                    0.0
-                }
+                Some(g.rounding_scale(b))
+                    .filter(|e| e.is_finite())
+                    .unwrap_or(0.0)
             })
-            .collect(),
-    )
+            .collect()
+    })
 }
 
 /// Above this many coordinates the initial state is checked through the compiled equations, and
@@ -488,9 +478,9 @@ fn norm(v: &[f64]) -> f64 {
 /// The names of `(t, q, q̇)` in [`check_state`]'s errors: of the initial state, or of a state the
 /// equations are asked at.
 const INITIAL: [&str; 3] = ["t0", "q0", "q̇0"];
-const STATE: [&str; 3] = ["t", "q", "q̇"];
+pub(crate) const STATE: [&str; 3] = ["t", "q", "q̇"];
 
-fn check_state<M: Model>(
+pub(crate) fn check_state<M: Model + ?Sized>(
     model: &M,
     [t_name, q_name, qd_name]: [&'static str; 3],
     t0: f64,

@@ -234,7 +234,7 @@ type Read = (String, f64, u32, u32);
 /// Records `f` of the inputs `(t, q, q̇)` with every parameter it reads an input too: the graph,
 /// the input nodes (`t`, then `q`, then `q̇`), what `f` returns, and the parameters read; `None`
 /// where a parameter is read with two values or a value leaves the recording (`re()`).
-fn record_at<O>(
+pub(crate) fn record_at<O>(
     t: f64,
     q: &[f64],
     qd: &[f64],
