@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The tests, Rust and Python: `cargo test --workspace`, then the Python package built from this
+# The tests, Rust and Python: `cargo test --workspace` (without building the examples, which
+# `cargo clippy --all-targets` checks), then the Python package built from this
 # checkout into a fresh virtual environment (maturin, through pip) and its pytest suite.
 #
 # Needs a Rust toolchain, Python 3.10 or newer with pip and venv (PYTHON names another than
@@ -8,7 +9,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-cargo test --workspace
+cargo test --workspace --lib --bins --tests
+cargo test --workspace --doc
 
 python=${PYTHON:-python3}
 venv=${CHETAEV_VENV:-target/python-venv}

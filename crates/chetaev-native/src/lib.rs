@@ -47,11 +47,17 @@
 
 use std::cmp::Ordering;
 
+#[cfg(feature = "jit")]
 use cranelift_codegen::ir::condcodes::FloatCC;
+#[cfg(feature = "jit")]
 use cranelift_codegen::ir::{types, AbiParam, InstBuilder, MemFlagsData, Value};
+#[cfg(feature = "jit")]
 use cranelift_codegen::settings::{self, Configurable};
+#[cfg(feature = "jit")]
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
+#[cfg(feature = "jit")]
 use cranelift_jit::{JITBuilder, JITModule};
+#[cfg(feature = "jit")]
 use cranelift_module::{default_libcall_names, Linkage, Module};
 
 /// A function of one argument the generated code may call.
@@ -282,13 +288,19 @@ impl Program {
 
 /// The signature of every generated function: the two input arrays, the two output arrays;
 /// returns 1 where every guard holds and 0 otherwise.
+#[cfg(feature = "jit")]
 type Entry = extern "C" fn(*const f64, *const f64, *mut f64, *mut f64) -> u32;
 
 /// A [`Program`] compiled to machine code; see the crate docs.
 pub struct Native {
     /// Owns the code's memory, released on drop.
+    #[cfg(feature = "jit")]
     module: Option<JITModule>,
+    #[cfg(feature = "jit")]
     entry: Entry,
+    /// Without a code generator no program compiles, so no value of this type exists.
+    #[cfg(not(feature = "jit"))]
+    never: std::convert::Infallible,
     inputs: [usize; 2],
     outputs: [usize; 2],
     operations: usize,
@@ -298,9 +310,11 @@ pub struct Native {
 // only reads the entry point, and calling the generated function touches nothing but the slices
 // passed to it (and the pure functions the program names, which are `extern "C" fn`s safe to call
 // from any thread). The module itself is only touched again by `drop`, which needs `&mut self`.
+#[cfg(feature = "jit")]
 #[allow(unsafe_code)]
 unsafe impl Send for Native {}
 // SAFETY: as for `Send`: a shared `&Native` gives access only to the immutable entry point.
+#[cfg(feature = "jit")]
 #[allow(unsafe_code)]
 unsafe impl Sync for Native {}
 
@@ -314,6 +328,7 @@ impl std::fmt::Debug for Native {
     }
 }
 
+#[cfg(feature = "jit")]
 impl Drop for Native {
     fn drop(&mut self) {
         if let Some(module) = self.module.take() {
@@ -327,6 +342,7 @@ impl Drop for Native {
     }
 }
 
+#[cfg(feature = "jit")]
 fn backend(e: impl std::fmt::Display) -> ProgramError {
     ProgramError::Backend(e.to_string())
 }
@@ -334,6 +350,7 @@ fn backend(e: impl std::fmt::Display) -> ProgramError {
 impl Native {
     /// Compiles `program` for this machine: refused where [`Program::check`] fails, or where
     /// Cranelift has no code generator for the host.
+    #[cfg(feature = "jit")]
     pub fn compile(program: &Program) -> Result<Self, ProgramError> {
         program.check()?;
         let mut flags = settings::builder();
@@ -464,9 +481,31 @@ impl Native {
         })
     }
 
+    /// Without the `jit` feature there is no code generator: every program is refused with
+    /// [`ProgramError::Backend`] once [`Program::check`] has passed, and callers keep to
+    /// [`Program::eval`] or their own interpreter.
+    #[cfg(not(feature = "jit"))]
+    pub fn compile(program: &Program) -> Result<Self, ProgramError> {
+        program.check()?;
+        Err(ProgramError::Backend(
+            "this build has no code generator: the `jit` feature of chetaev-native (the `native` \
+             feature of chetaev, on by default) is off"
+                .to_owned(),
+        ))
+    }
+
     /// Runs the compiled program on the two input arrays: writes the two output arrays and
     /// returns whether every guard holds. Slices of other lengths than the program's give a
     /// [`LengthError`].
+    #[cfg(not(feature = "jit"))]
+    pub fn call(&self, _: [&[f64]; 2], _: [&mut [f64]; 2]) -> Result<bool, LengthError> {
+        match self.never {}
+    }
+
+    /// Runs the compiled program on the two input arrays: writes the two output arrays and
+    /// returns whether every guard holds. Slices of other lengths than the program's give a
+    /// [`LengthError`].
+    #[cfg(feature = "jit")]
     #[inline]
     pub fn call(&self, inputs: [&[f64]; 2], outputs: [&mut [f64]; 2]) -> Result<bool, LengthError> {
         let [out0, out1] = outputs;
@@ -505,7 +544,7 @@ impl Native {
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "jit"))]
 mod tests {
     use super::*;
 

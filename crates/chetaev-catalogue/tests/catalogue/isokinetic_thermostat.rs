@@ -3,12 +3,10 @@
 //! coefficient of the isokinetic equations (Evans & Morriss), and its one-particle case against the
 //! uniform horizontal projectile of Swaczyna and Volný.
 
-mod common;
-
+use crate::common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 use chetaev::equations::{evaluate, Workspace};
 use chetaev::prelude::*;
 use chetaev_catalogue::isokinetic_thermostat::{entry, friction_coefficient, ClosedForm, Params};
-use common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 use uniform_projectile::closed_form::{uniform, Params as Paper};
 
 /// Eight particles in 3D (`N = 24`) with masses 1…8 and alternating charges in a tilted field.
@@ -122,7 +120,7 @@ fn one_particle_in_gravity_is_the_uniform_projectile() {
             let t = sol.t[i];
             let (x, v) = (uniform::position(&paper, t), uniform::velocity(&paper, t));
             for c in 0..2 {
-                // As tests/paper.rs: positions against max(h0, R), velocities against v0; observed
+                // As tests/suite/paper.rs: positions against max(h0, R), velocities against v0; observed
                 // ≤ 0.15 tol, stated bound 10 tol.
                 assert!(
                     (sol.q[i][c] - x[c]).abs() <= 10.0 * tol * q_scale,

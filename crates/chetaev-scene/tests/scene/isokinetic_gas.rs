@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use chetaev::prelude::Status;
 use chetaev_scene::{Outcome, Scene};
 
-const SCENE: &str = include_str!("../../../scenes/isokinetic-gas.toml");
+const SCENE: &str = include_str!("../../../../scenes/isokinetic-gas.toml");
 
 fn solved() -> (Scene, Outcome, HashMap<String, f64>) {
     let scene = Scene::parse(SCENE, "isokinetic-gas.toml").unwrap_or_else(|e| panic!("{e}"));

@@ -33,7 +33,7 @@ impl DynModel for DynUniform {
     }
 }
 
-/// Every block non-zero (as in tests/derivatives.rs), N = 2, K = 1, written once for both flavours.
+/// Every block non-zero (as in tests/suite/derivatives.rs), N = 2, K = 1, written once for both flavours.
 #[derive(Clone, Copy)]
 struct Everything;
 impl Everything {

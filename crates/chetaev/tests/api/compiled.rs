@@ -7,8 +7,7 @@ use chetaev::equations::structure::Structure;
 use chetaev::model::Fixed;
 use chetaev::prelude::*;
 
-mod common;
-use common::Paper;
+use crate::common::Paper;
 
 /// The paper's particle at `v0 = 10`.
 fn uniform() -> Problem<Fixed<Paper, 2, 1>> {

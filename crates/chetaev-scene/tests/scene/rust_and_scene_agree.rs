@@ -8,8 +8,8 @@ use std::f64::consts::PI;
 use chetaev::prelude::*;
 use chetaev_scene::Scene;
 
-const GUIDE: &str = include_str!("../../../docs/adding-a-constraint.md");
-const SCENE: &str = include_str!("../../../scenes/your-own-constraint.toml");
+const GUIDE: &str = include_str!("../../../../docs/adding-a-constraint.md");
+const SCENE: &str = include_str!("../../../../scenes/your-own-constraint.toml");
 const THIS_FILE: &str = include_str!("rust_and_scene_agree.rs");
 
 // The guide's model and solve, from here to the matching end marker.

@@ -6,8 +6,8 @@ use std::f64::consts::PI;
 use chetaev::prelude::Status;
 use chetaev_scene::Scene;
 
-const GUIDE: &str = include_str!("../../../docs/scenes.md");
-const SCENE: &str = include_str!("../../../scenes/your-own-constraint.toml");
+const GUIDE: &str = include_str!("../../../../docs/scenes.md");
+const SCENE: &str = include_str!("../../../../scenes/your-own-constraint.toml");
 
 /// The first ```toml block after the guide's heading.
 fn guide_block() -> &'static str {
@@ -86,7 +86,7 @@ fn the_summary_shown_in_the_guide_is_what_a_run_prints() {
     let block = &GUIDE[start..];
     let block = &block[block.find('\n').expect("line") + 1..block.find("```").expect("end")];
     let shown: Vec<&str> = block.lines().filter(|l| !l.contains("  wrote  ")).collect();
-    let text = include_str!("../../../scenes/uniform-projectile.toml");
+    let text = include_str!("../../../../scenes/uniform-projectile.toml");
     let scene = Scene::parse(text, "scenes/uniform-projectile.toml").expect("parses");
     let outcome = scene.solve().expect("solves");
     let printed = chetaev_scene::output::summary(&scene, &outcome);

@@ -2,13 +2,11 @@
 //! `φ = ω t`, `x = (g sin α / 2ω²) sin² ω t`, `y = (g sin α / 2ω²)(ω t − ½ sin 2ω t)`,
 //! `μ = −2 m g sin α sin ω t`.
 
-mod common;
-
+use crate::common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 use chetaev::equations::{evaluate, Workspace};
 use chetaev::prelude::*;
 use chetaev_catalogue::knife_edge::{entry, ClosedForm, Params};
 use chetaev_catalogue::Error;
-use common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 
 /// Three turns of the blade (`ω t_end ≈ 3.2 · 2π`).
 const T_END: f64 = 20.0;

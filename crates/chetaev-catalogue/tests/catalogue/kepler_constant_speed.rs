@@ -2,13 +2,11 @@
 //! integration, the scattering orbit against its quadratures, the periapsis against the root of
 //! `r e^(λ/r) = |C|/v0`, and `dC/dt = 0` from the block solve at arbitrary states.
 
-mod common;
-
+use crate::common::{assert_energy_balance, assert_within, run, TOLERANCES};
 use chetaev::equations::{evaluate, Workspace};
 use chetaev::prelude::*;
 use chetaev_catalogue::kepler_constant_speed::{entry, invariant, multiplier_at, Params};
 use chetaev_catalogue::Kind;
-use common::{assert_energy_balance, assert_within, run, TOLERANCES};
 
 /// From r = 20 in to the periapsis r_p = 1.2 (near the unstable circle r = λ = 1; the orbit turns
 /// through 393° in all) and out to r ≈ 980.

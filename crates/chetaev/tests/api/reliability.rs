@@ -3,8 +3,7 @@
 
 use chetaev::prelude::*;
 
-mod common;
-use common::Paper;
+use crate::common::Paper;
 
 /// A particle pushed by a constant force `−a`, whose Lagrangian has a *value* that leaves its domain
 /// beyond `x = 1` (NaN there) while every derivative stays finite: the defect class of a value that
@@ -2013,7 +2012,7 @@ fn largest_imbalance(sol: &Solution) -> f64 {
 /// The quadratures of the energy balance are outside error control (recording them never changes
 /// the motion), and between steps they are the method's dense output: on a grid of output times
 /// the balance is as good as that interpolant of `W_Φ` and `∫∂L/∂t dt`, not as the motion. The
-/// figures of where-it-breaks.md (`cargo test --release -p chetaev --test reliability -- balance
+/// figures of where-it-breaks.md (`cargo test --release -p chetaev --test api -- balance
 /// --nocapture`).
 #[test]
 fn the_energy_balance_between_steps_is_as_good_as_the_dense_output() {

@@ -136,7 +136,7 @@ fn initial_values_cannot_use_the_motion() {
     assert!(e.message.contains("'t' is time"), "{}", e.message);
 }
 
-const UNIFORM: &str = include_str!("../../../scenes/uniform-projectile.toml");
+const UNIFORM: &str = include_str!("../../../../scenes/uniform-projectile.toml");
 
 /// The line and column of the first occurrence of `needle` (plus `offset` characters) in `text`.
 fn line_col(text: &str, needle: &str, offset: usize) -> (usize, usize) {

@@ -2,12 +2,10 @@
 //! `u = V tanh(c V t + s0)`, `ω = ω0 cosh s0 / cosh(c V t + s0)`, the heading by the Gudermannian,
 //! and the conserved energy `½ m u² + ½ (I + m a²) ω²`.
 
-mod common;
-
+use crate::common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 use chetaev::equations::{evaluate, Workspace};
 use chetaev::prelude::*;
 use chetaev_catalogue::chaplygin_sleigh::{body_velocities, entry, ClosedForm, Params};
-use common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 
 /// Long enough for `ω` to fall by `e^(−2 c V t)`: about 1e-22 with the default parameters.
 const T_END: f64 = 10.0;

@@ -3,8 +3,7 @@
 
 use chetaev::prelude::*;
 
-mod common;
-use common::Paper;
+use crate::common::Paper;
 
 /// `L = ½ (1 + x²) ẋ² + ½ ẏ² + t ẋ − y sin t` with `f = ẋ ẏ − x`: `W` depends on `x` only,
 /// `g = (2 x ẋ², 0) + (1, 0)` on `q` and `q̇`, `∂L/∂t = ẋ − y cos t` on all three, `J = (ẏ, ẋ)` on

@@ -17,7 +17,7 @@ fn elliptic_k(k: f64) -> f64 {
 
 #[test]
 fn the_cartesian_pendulum_scene_has_the_elliptic_period() {
-    let text = include_str!("../../../scenes/cartesian-pendulum.toml");
+    let text = include_str!("../../../../scenes/cartesian-pendulum.toml");
     let scene = Scene::parse(text, "scenes/cartesian-pendulum.toml").expect("parses");
     assert_eq!(scene.k(), 1);
     let o = scene.solve().expect("solves");
@@ -90,7 +90,7 @@ tables = ["residual"]
 
 #[test]
 fn a_holonomic_constraint_on_a_velocity_is_a_located_error() {
-    let text = include_str!("../../../scenes/cartesian-pendulum.toml").replace(
+    let text = include_str!("../../../../scenes/cartesian-pendulum.toml").replace(
         "holonomic = [\"x^2 + y^2 - l^2\"]",
         "holonomic = [\"x*x_dot + y^2 - l^2\"]",
     );
@@ -100,7 +100,7 @@ fn a_holonomic_constraint_on_a_velocity_is_a_located_error() {
 
 /// The Cartesian pendulum with its initial position and velocity replaced.
 fn pendulum(q: &str, q_dot: &str, extra: &str) -> String {
-    include_str!("../../../scenes/cartesian-pendulum.toml")
+    include_str!("../../../../scenes/cartesian-pendulum.toml")
         .replace(
             "q = [\"l*sin(theta0)\", \"-l*cos(theta0)\"]",
             &format!("q = {q}"),
@@ -208,7 +208,7 @@ fn a_holonomic_constraint_whose_gradient_vanishes_says_so_in_its_own_terms() {
         m.contains("holonomic constraint 1 ((x^2 + y^2 - l^2)^2) does not restrict the velocity"),
         "{m}"
     );
-    let text = square(include_str!("../../../scenes/cartesian-pendulum.toml").to_string());
+    let text = square(include_str!("../../../../scenes/cartesian-pendulum.toml").to_string());
     let scene = Scene::parse(&text, "flat.toml").expect("parses");
     let o = scene.solve().expect("regular to rounding at the start");
     assert!(!o.is_success());
@@ -244,7 +244,7 @@ fn an_inconsistent_velocity_names_the_holonomic_constraint_it_leaves() {
 #[test]
 fn a_failure_names_the_constraint_as_the_scene_writes_it() {
     // A velocity constraint, then a holonomic one: chetaev numbers them 1 and 2.
-    let text = include_str!("../../../scenes/cartesian-pendulum.toml").replace(
+    let text = include_str!("../../../../scenes/cartesian-pendulum.toml").replace(
         "holonomic = [",
         "constraints = [\"x_dot*y - y_dot*x - 1\"]\nholonomic = [",
     );
@@ -298,7 +298,7 @@ fn a_failure_names_the_constraint_as_the_scene_writes_it() {
 fn an_initial_projection_that_cannot_converge_points_at_the_initial_state() {
     // The prescribed speed a·t is 0 at t0 = 0, where the gradient 2q̇ of the constraint vanishes:
     // no Newton step can reach it.
-    let text = include_str!("../../../scenes/uniform-projectile.toml")
+    let text = include_str!("../../../../scenes/uniform-projectile.toml")
         .replace(
             "constraints = [\"x_dot^2 + y_dot^2 - v0^2\"]",
             "constraints = [\"x_dot^2 + y_dot^2 - (v0*t)^2\"]",

@@ -7,7 +7,7 @@ use uniform_projectile::closed_form::{uniform, Params};
 
 #[test]
 fn the_drag_scene_keeps_the_paper_motion_and_shifts_mu_by_c_over_2() {
-    let text = include_str!("../../../scenes/uniform-projectile-with-drag.toml");
+    let text = include_str!("../../../../scenes/uniform-projectile-with-drag.toml");
     let scene = Scene::parse(text, "scenes/uniform-projectile-with-drag.toml").expect("parses");
     let o = scene.solve().expect("solves");
     assert!(o.is_success(), "{:?}", o.status);
@@ -30,7 +30,7 @@ fn the_drag_scene_keeps_the_paper_motion_and_shifts_mu_by_c_over_2() {
 
 #[test]
 fn a_forces_list_of_the_wrong_length_is_a_located_error() {
-    let text = include_str!("../../../scenes/uniform-projectile-with-drag.toml")
+    let text = include_str!("../../../../scenes/uniform-projectile-with-drag.toml")
         .replace("dissipation = ", "forces = [\"-c*x_dot\"]\ndissipation = ");
     let err = Scene::parse(&text, "bad.toml").expect_err("one force for two coordinates");
     let message = err.to_string();

@@ -8,7 +8,7 @@
 //!    and `H = 2q`, the force `2λ q` pulls inward, `λ = −m g (3 cos θ − 2 cos θ0) / (2ℓ)`.
 //! 2. A sled on an inclined plane `z = h0 − y tan α` (holonomic) whose speed is prescribed,
 //!    `|q̇| = v0 + a t` (nonlinear in the velocities): the closed forms of the guide
-//!    (`crates/chetaev-scene/tests/guide.rs`, docs/scenes.md), the heading
+//!    (`crates/chetaev-scene/tests/scene/guide.rs`, docs/scenes.md), the heading
 //!    `2 atan((v0/(v0 + a t))^k)`, `k = g sin α / a`, and the plane's multiplier `m g cos² α`.
 
 use std::f64::consts::PI;

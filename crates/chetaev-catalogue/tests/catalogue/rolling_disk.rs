@@ -1,11 +1,9 @@
 //! The vertical rolling disk against its closed form (Bloch §1.4): `θ̇`, `φ̇` constant, the contact
 //! point on a circle of radius `R ω / Ω`, `μ` the centripetal force.
 
-mod common;
-
+use crate::common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 use chetaev::equations::{evaluate, Workspace};
 use chetaev_catalogue::rolling_disk::{entry, ClosedForm, Params};
-use common::{assert_energy_balance, assert_within, run, KINDS, TOLERANCES};
 
 /// A little over three laps of the circle (`Ω t_end = 20`).
 const T_END: f64 = 20.0;

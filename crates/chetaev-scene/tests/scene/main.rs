@@ -1,0 +1,17 @@
+//! The integration tests of this package in one binary, so that the library is linked once: a module per subject.
+
+mod autodiff;
+mod cli;
+mod forces;
+mod fuzz;
+mod guide;
+mod holonomic;
+mod isokinetic_gas;
+mod paper;
+mod parameters;
+mod parser;
+mod pictures;
+mod powers;
+mod rust_and_scene_agree;
+mod scenes;
+mod sensitivities;

@@ -1,0 +1,9 @@
+//! The integration tests of this package in one binary, so that the library is linked once: a module per subject.
+
+mod common;
+
+mod compiled;
+mod describe;
+mod manifold;
+mod reliability;
+mod sensitivity;

@@ -1,0 +1,5 @@
+//! The integration tests of this package in one binary, so that the library is linked once: a module per subject.
+
+mod cli;
+mod extreme;
+mod report;
