@@ -95,6 +95,24 @@ impl Error {
     }
 }
 
+/// Something in a scene that is valid but may not be what was meant (an `e` read as Euler's
+/// number), located in the file as an [`Error::Scene`] is. The command prints it to standard
+/// error and goes on.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{path}:{line}:{column}: {message}")]
+pub struct Warning {
+    /// The file, as given.
+    pub path: String,
+    /// Line, from 1.
+    pub line: usize,
+    /// Column, from 1, in characters.
+    pub column: usize,
+    /// What may be wrong, and what to write if it is.
+    pub message: String,
+    /// The line quoted, with a caret under the place (several lines).
+    pub snippet: String,
+}
+
 /// A scene file's name and text, for locating errors.
 #[derive(Clone, Debug)]
 pub struct SourceFile {
@@ -109,6 +127,18 @@ impl SourceFile {
     pub fn error(&self, range: Range<usize>, message: impl Into<String>) -> Error {
         let p = position(&self.text, range.start);
         Error::Scene {
+            path: self.path.clone(),
+            line: p.line,
+            column: p.column,
+            message: message.into(),
+            snippet: snippet(&self.text, range),
+        }
+    }
+
+    /// A [`Warning`] at the byte range `range` of the file.
+    pub fn warning(&self, range: Range<usize>, message: impl Into<String>) -> Warning {
+        let p = position(&self.text, range.start);
+        Warning {
             path: self.path.clone(),
             line: p.line,
             column: p.column,

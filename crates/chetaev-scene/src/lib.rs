@@ -60,7 +60,7 @@ pub mod run;
 pub mod scene;
 pub mod source;
 
-pub use error::Error;
+pub use error::{Error, Warning};
 pub use model::ExprModel;
 pub use run::Outcome;
 pub use scene::Scene;

@@ -2,7 +2,9 @@
 //!
 //! Exit codes: 0 success (the end time or a terminal event was reached, and every value written is
 //! finite), 1 the integration failed or wrote a value that is not finite (what was computed is
-//! still written), 2 the scene cannot be run as written, or its output cannot be written.
+//! still written, and why is printed to standard error), 2 the scene cannot be run as written, its
+//! output cannot be written, or standard output cannot be written. `--help` lists them
+//! ([`EXIT_CODES`], [`RUN_EXIT_CODES`]).
 //!
 //! Standard output closed early (`chetaev run scene.toml | head`) ends the printing quietly; the
 //! run still writes its files and exits with its own code.
@@ -18,11 +20,33 @@ use chetaev::prelude::Status;
 use chetaev_scene::output::{self, count, Plan, MANIFEST};
 use chetaev_scene::{Error, Scene};
 
+/// The exit codes of `chetaev run`, as [`run`] returns them.
+const RUN_EXIT_CODES: &str = "\
+Exit codes:
+  0  the end time or a terminal event was reached, and every value written is finite
+  1  the integration failed, or a value written is NaN or infinite; what was computed is
+     still written, and the reason is printed to standard error (and in the summary)
+  2  the scene cannot be run as written, the output directory cannot be used (checked before
+     integrating), an output file cannot be written, standard output cannot be written (a
+     closed pipe is not an error: the run goes on quietly), or the command line is wrong";
+
+/// The exit codes of every command, as [`main`] returns them.
+const EXIT_CODES: &str = "\
+Exit codes:
+  0  success: run reached the end time or a terminal event with every value written finite;
+     check found the scene valid and its output directory usable; describe printed the equations
+  1  run only: the integration failed, or a value written is NaN or infinite; what was computed
+     is still written, and the reason is printed to standard error (and in the summary)
+  2  the scene cannot be run as written, the output directory cannot be used, an output file
+     cannot be written, standard output cannot be written (a closed pipe is not an error), or
+     the command line is wrong";
+
 #[derive(Parser)]
 #[command(
     name = "chetaev",
     version,
-    about = "Solve constrained Lagrangian systems written as scene files (docs/scenes.md)"
+    about = "Solve constrained Lagrangian systems written as scene files (docs/scenes.md)",
+    after_help = EXIT_CODES
 )]
 struct Cli {
     #[command(subcommand)]
@@ -32,6 +56,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Solve a scene, print a summary and write the tables and pictures it asks for.
+    #[command(after_help = RUN_EXIT_CODES)]
     Run {
         /// The scene file (TOML).
         scene: PathBuf,
@@ -43,7 +68,7 @@ enum Command {
         /// or files no earlier run's manifest lists (they are overwritten).
         #[arg(long, visible_alias = "overwrite")]
         force: bool,
-        /// Print nothing but errors.
+        /// Print nothing but errors (no summary, no warnings).
         #[arg(long)]
         quiet: bool,
     },
@@ -57,6 +82,11 @@ enum Command {
         latex: bool,
     },
     /// Parse and validate a scene, and check its output directory, without integrating it.
+    #[command(
+        after_help = "Exit codes: 0 the scene is valid and its output directory usable; 2 it \
+        is not (the message says where and why), standard output cannot be written, or the \
+        command line is wrong"
+    )]
     Check {
         /// The scene file (TOML).
         scene: PathBuf,
@@ -123,6 +153,13 @@ fn report(e: &Error) {
     eprint(&text);
 }
 
+/// The scene's warnings, on standard error, each with its place in the file as an error has.
+fn warn(scene: &Scene) {
+    for w in &scene.warnings {
+        eprint(&format!("warning: {w}\n{}\n", w.snippet));
+    }
+}
+
 fn fail(e: &Error) -> ExitCode {
     report(e);
     ExitCode::from(2)
@@ -137,10 +174,14 @@ fn plan(scene: &Scene, out: Option<PathBuf>, force: bool) -> Result<Plan, Error>
 }
 
 fn check(scene: &Path, out: Option<PathBuf>, force: bool) -> ExitCode {
-    let s = match Scene::load(scene).and_then(|s| s.check().map(|()| s)) {
+    let s = match Scene::load(scene) {
         Ok(s) => s,
         Err(e) => return fail(&e),
     };
+    warn(&s);
+    if let Err(e) = s.check() {
+        return fail(&e);
+    }
     let plan = match plan(&s, out, force) {
         Ok(p) => p,
         Err(e) => return fail(&e),
@@ -183,6 +224,9 @@ fn run(scene: &Path, out: Option<PathBuf>, force: bool, quiet: bool) -> ExitCode
         Ok(s) => s,
         Err(e) => return fail(&e),
     };
+    if !quiet {
+        warn(&loaded);
+    }
     // Before integrating: a run that cannot write its results should not take the time.
     let plan = match plan(&loaded, out, force) {
         Ok(p) => p,
@@ -224,30 +268,29 @@ fn run(scene: &Path, out: Option<PathBuf>, force: bool, quiet: bool) -> ExitCode
             return stdout.finish(2);
         }
     }
+    // Why the exit code is 1 goes to standard error whether or not the summary is printed: the
+    // summary on standard output stays whole for whoever reads it, and `2> log` or a terminal
+    // with standard output redirected still sees the failure.
     let non_finite = output::non_finite(&loaded, &outcome);
     let code = if let Status::Failed(e) = &outcome.status {
-        if quiet {
-            let f = output::failure(&loaded, e);
-            let at = f.t.map_or_else(String::new, |t| {
-                format!(" at t = {}", output::summary_number(t))
-            });
-            let mut text = format!("error: the integration failed{at}: {}\n", f.what);
-            if !f.advice.is_empty() {
-                text.push_str(&format!("  advice: {}\n", f.advice));
-            }
-            eprint(&text);
+        let f = output::failure(&loaded, e);
+        let at = f.t.map_or_else(String::new, |t| {
+            format!(" at t = {}", output::summary_number(t))
+        });
+        let mut text = format!("error: the integration failed{at}: {}\n", f.what);
+        if !f.advice.is_empty() {
+            text.push_str(&format!("  advice: {}\n", f.advice));
         }
+        eprint(&text);
         1
     } else if !non_finite.is_empty() {
-        if quiet {
-            for bad in &non_finite {
-                eprint(&format!(
-                    "error: {} is NaN or infinite at {} of {}\n",
-                    bad.what,
-                    bad.count,
-                    count(bad.of, "output point", "output points")
-                ));
-            }
+        for bad in &non_finite {
+            eprint(&format!(
+                "error: {} is NaN or infinite at {} of {}\n",
+                bad.what,
+                bad.count,
+                count(bad.of, "output point", "output points")
+            ));
         }
         1
     } else {

@@ -19,6 +19,11 @@
 //!             sinh cosh tanh asinh acosh atanh abs
 //! ```
 //!
+//! The constants `pi` and `e` are the language's own names only where the scene declares no
+//! parameter or coordinate of that name: a declared name shadows a constant (a charge `e`, a
+//! momentum `pi`). `t` cannot be declared. An `e` that means Euler's number is listed by
+//! [`Expr::euler`], so that it can be pointed out: it is easily a forgotten parameter.
+//!
 //! A constant integer exponent with `|n| ≤ 32` (`x^2`, `x^-1`, `x^(n+1)` with a parameter `n`) is
 //! evaluated by repeated multiplication (`powi`), any other constant exponent by `powf` (an
 //! integer-valued one keeps the sign of a negative base), and a variable exponent by
@@ -107,6 +112,12 @@ impl Symbols {
         }
     }
 
+    /// Whether `name` is declared: a parameter or a coordinate (which then shadows a constant of
+    /// the same name).
+    pub fn declares(&self, name: &str) -> bool {
+        self.parameters.contains_key(name) || self.coordinates.iter().any(|c| c == name)
+    }
+
     /// Names for constant expressions: parameters and the constants `pi`, `e` only.
     pub fn constants(parameters: &BTreeMap<String, f64>) -> Self {
         Self {
@@ -135,6 +146,8 @@ pub struct Expr {
     source: String,
     node: Node,
     max_index: Option<usize>,
+    /// Byte ranges in `source` of each `e` read as Euler's number.
+    euler: Vec<std::ops::Range<usize>>,
 }
 
 impl Expr {
@@ -148,11 +161,30 @@ impl Expr {
         let node = resolve(ast, symbols)?;
         let mut max_index = None;
         node.visit_indices(&mut |i| max_index = Some(max_index.map_or(i, |m: usize| m.max(i))));
+        let mut names = Vec::new();
+        ast.names(&mut names);
+        let euler = names
+            .into_iter()
+            .filter(|(n, _)| n == "e" && !symbols.declares("e"))
+            .map(|(_, span)| span.start..span.end)
+            .collect();
         Ok(Self {
             source: source.to_string(),
             node,
             max_index,
+            euler,
         })
+    }
+
+    /// The byte ranges in [`Expr::source`] of each `e` read as Euler's number (no parameter or
+    /// coordinate is named `e`), in the order written; empty for most expressions.
+    pub fn euler(&self) -> &[std::ops::Range<usize>] {
+        &self.euler
+    }
+
+    /// Whether it depends on a velocity.
+    pub fn uses_velocities(&self) -> bool {
+        self.node.uses_velocities()
     }
 
     /// The text it was parsed from.
@@ -288,8 +320,12 @@ const FUNCTIONS: [(&str, Option<Func>); 20] = [
     ("abs", Some(Func::Abs)),
 ];
 
-/// Names that cannot be given to a parameter or a coordinate.
-pub const RESERVED: [&str; 3] = ["t", "pi", "e"];
+/// Names that cannot be given to a parameter or a coordinate: time.
+pub const RESERVED: [&str; 1] = ["t"];
+
+/// The constants of the language, each meant only where no parameter or coordinate of its name is
+/// declared (a declared name shadows it).
+pub const CONSTANTS: [(&str, f64); 2] = [("pi", std::f64::consts::PI), ("e", std::f64::consts::E)];
 
 /// Whether `name` is a function of the language.
 pub fn is_function(name: &str) -> bool {
@@ -469,6 +505,10 @@ impl Node {
     fn uses_time(&self) -> bool {
         matches!(self, Node::Time) || self.children().into_iter().any(Node::uses_time)
     }
+
+    fn uses_velocities(&self) -> bool {
+        matches!(self, Node::Vel(_)) || self.children().into_iter().any(Node::uses_velocities)
+    }
 }
 
 /// Resolves names and folds constants, bottom-up; a constant that is not finite (a division by
@@ -607,11 +647,6 @@ fn resolve_name(name: &str, span: Span, sym: &Symbols) -> Result<Node, ExprError
     if let Some(v) = sym.parameters.get(name) {
         return Ok(Node::Const(*v));
     }
-    match name {
-        "pi" => return Ok(Node::Const(std::f64::consts::PI)),
-        "e" => return Ok(Node::Const(std::f64::consts::E)),
-        _ => {}
-    }
     let coordinate = sym.coordinates.iter().position(|c| c == name);
     let velocity = name
         .strip_suffix("_dot")
@@ -623,6 +658,10 @@ fn resolve_name(name: &str, span: Span, sym: &Symbols) -> Result<Node, ExprError
     } else {
         velocity.map(|i| ("a velocity", Node::Vel(i)))
     };
+    // A constant, unless a coordinate (above: a parameter) of its name shadows it.
+    if let (None, Some((_, c))) = (&kind, CONSTANTS.iter().find(|(n, _)| *n == name)) {
+        return Ok(Node::Const(*c));
+    }
     if let Some((what, node)) = kind {
         if sym.motion {
             return Ok(node);
@@ -652,7 +691,12 @@ pub(crate) fn check_name(name: &str, span: Span, sym: &Symbols) -> Result<(), Ex
 
 fn unknown_name(name: &str, sym: &Symbols) -> String {
     let mut known: Vec<String> = sym.parameters.keys().cloned().collect();
-    known.extend(["pi".to_string(), "e".to_string()]);
+    known.extend(
+        CONSTANTS
+            .iter()
+            .filter(|(n, _)| !sym.declares(n))
+            .map(|(n, _)| n.to_string()),
+    );
     if sym.motion {
         known.push("t".into());
         for c in &sym.coordinates {
@@ -773,6 +817,7 @@ fn call(name: &str, span: Span, args: &[Ast], sym: &Symbols) -> Result<Node, Exp
                 .strip_suffix("_dot")
                 .is_some_and(|b| sym.coordinates.iter().any(|c| c == b))
             || RESERVED.contains(&name)
+            || CONSTANTS.iter().any(|(n, _)| *n == name)
         {
             format!("'{name}' is not a function: write a product with '*', as in {name}*(...)")
         } else {

@@ -11,7 +11,7 @@ use super::{balance_text, quantity_values, summary_number as num, writes_quantit
 use crate::run::Outcome;
 use chetaev::integrate::Method;
 
-use crate::scene::Scene;
+use crate::scene::{Scene, Table};
 
 /// `n` and the noun in the number that goes with it: `count(1, "step", "steps")` is "1 step".
 pub fn count(n: usize, one: &str, many: &str) -> String {
@@ -459,22 +459,8 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         }
         _ => {}
     }
-    if out.events.is_empty() {
-        if !scene.events.is_empty() {
-            let _ = writeln!(s, "  events   none located");
-        }
-    } else {
-        let width = out.event_name_width();
-        for (i, e) in out.events.iter().enumerate() {
-            let label = if i == 0 { "events" } else { "" };
-            let _ = writeln!(
-                s,
-                "  {label:<8} {:<width$}  t = {}, {}",
-                out.event_name(e.index),
-                time(scene, e.t),
-                state_text(scene, &e.q, &e.qd)
-            );
-        }
+    for line in event_lines(scene, out) {
+        let _ = writeln!(s, "{line}");
     }
     if let Some(lines) = sensitivity_text(scene, out) {
         for (i, l) in lines.iter().enumerate() {
@@ -570,6 +556,112 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
     s
 }
 
+/// The most located events the summary lists one by one; past it, each event is summarised by
+/// how often it was located and its first and last occurrence, at most this many events.
+pub const EVENTS_LISTED: usize = 10;
+
+/// The indices into `out.events` the summary shows: all of them up to [`EVENTS_LISTED`]; past it,
+/// the first and the last occurrence of each event (of the first [`EVENTS_LISTED`] events
+/// located), by event in the order of the scene, with how many times it was located.
+fn shown_events(scene: &Scene, out: &Outcome) -> Option<Vec<(usize, usize, Option<usize>)>> {
+    if out.events.len() <= EVENTS_LISTED {
+        return None;
+    }
+    // (count, first, last) per event of the scene.
+    let mut per: Vec<(usize, usize, usize)> = vec![(0, 0, 0); scene.events.len()];
+    for (i, e) in out.events.iter().enumerate() {
+        if let Some(p) = per.get_mut(e.index) {
+            if p.0 == 0 {
+                p.1 = i;
+            }
+            p.0 += 1;
+            p.2 = i;
+        }
+    }
+    Some(
+        per.into_iter()
+            .filter(|p| p.0 > 0)
+            .map(|(n, first, last)| (n, first, (n > 1).then_some(last)))
+            .collect(),
+    )
+}
+
+/// The summary's lines on the located events: each one, or past [`EVENTS_LISTED`] of them, per
+/// event how many and the first and last, and where they are all written.
+fn event_lines(scene: &Scene, out: &Outcome) -> Vec<String> {
+    if out.events.is_empty() {
+        return if scene.events.is_empty() {
+            Vec::new()
+        } else {
+            vec!["  events   none located".to_string()]
+        };
+    }
+    let width = out.event_name_width();
+    let state = |i: usize| {
+        let e = &out.events[i];
+        format!(
+            "t = {}, {}",
+            time(scene, e.t),
+            state_text(scene, &e.q, &e.qd)
+        )
+    };
+    let Some(shown) = shown_events(scene, out) else {
+        return out
+            .events
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let label = if i == 0 { "events" } else { "" };
+                format!(
+                    "  {label:<8} {:<width$}  {}",
+                    out.event_name(e.index),
+                    state(i)
+                )
+            })
+            .collect();
+    };
+    let name = Table::Events.name();
+    let table = if scene.output.tables.contains(&Table::Events) {
+        format!("all of them are in {name}.csv")
+    } else {
+        format!("add \"{name}\" to tables under [output] to write them all to {name}.csv")
+    };
+    let mut lines = vec![format!(
+        "  events   {} located; of each event, how many, the first and the last ({table}):",
+        out.events.len()
+    )];
+    for &(n, first, last) in shown.iter().take(EVENTS_LISTED) {
+        let name = out.event_name(out.events[first].index);
+        let times = count(n, "time", "times");
+        lines.push(format!("           {name:<width$}  {times}"));
+        match last {
+            Some(last) => {
+                lines.push(format!(
+                    "           {:<width$}    first {}",
+                    "",
+                    state(first)
+                ));
+                lines.push(format!(
+                    "           {:<width$}    last  {}",
+                    "",
+                    state(last)
+                ));
+            }
+            None => lines.push(format!("           {:<width$}    at {}", "", state(first))),
+        }
+    }
+    if shown.len() > EVENTS_LISTED {
+        let rest = &shown[EVENTS_LISTED..];
+        let located: usize = rest.iter().map(|s| s.0).sum();
+        lines.push(format!(
+            "           and {} more, located {}",
+            count(rest.len(), "event", "events"),
+            count(located, "time", "times")
+        ));
+    }
+    lines
+}
+
 /// The summary's lines on the sensitivities: for each located event, how its time moves with each
 /// parameter (`impact  dT/dv0 = 0.108, dT/dg = -0.054`); without events, the parameters and the
 /// number of output points. `None` without `[sensitivities]`.
@@ -588,27 +680,42 @@ fn sensitivity_text(scene: &Scene, out: &Outcome) -> Option<Vec<String>> {
             }
         )]);
     }
-    let width = out.event_name_width();
-    let lines =
-        out.events
+    // Past EVENTS_LISTED, the first and the last occurrence of each event, as the events lines.
+    let listed: Vec<(usize, &str)> = match shown_events(scene, out) {
+        None => (0..out.events.len()).map(|i| (i, "")).collect(),
+        Some(shown) => shown
             .iter()
-            .enumerate()
-            .map(|(i, e)| {
-                let name = out.event_name(e.index);
-                let text = match sens.events.get(i).and_then(Option::as_ref) {
-                    Some(d) => spec
-                        .parameters
-                        .iter()
-                        .zip(&d.t)
-                        .map(|(p, dt)| format!("dT/d{p} = {}", num(*dt)))
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                    None => "T is not differentiable here (the event is crossed tangentially)"
-                        .to_string(),
-                };
-                format!("{name:<width$}  {text}")
+            .take(EVENTS_LISTED)
+            .flat_map(|&(_, first, last)| match last {
+                Some(last) => vec![(first, " (first)"), (last, " (last)")],
+                None => vec![(first, "")],
             })
-            .collect();
+            .collect(),
+    };
+    let label = |i: usize, which: &str| format!("{}{which}", out.event_name(out.events[i].index));
+    let width = listed
+        .iter()
+        .map(|&(i, which)| label(i, which).chars().count())
+        .max()
+        .unwrap_or(0);
+    let lines = listed
+        .iter()
+        .map(|&(i, which)| {
+            let text = match sens.events.get(i).and_then(Option::as_ref) {
+                Some(d) => spec
+                    .parameters
+                    .iter()
+                    .zip(&d.t)
+                    .map(|(p, dt)| format!("dT/d{p} = {}", num(*dt)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                None => {
+                    "T is not differentiable here (the event is crossed tangentially)".to_string()
+                }
+            };
+            format!("{:<width$}  {text}", label(i, which))
+        })
+        .collect();
     Some(lines)
 }
 

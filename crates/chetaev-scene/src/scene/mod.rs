@@ -93,7 +93,11 @@ impl Scene {
             let span = e.span().unwrap_or(0..0);
             file.error(span, validate::toml_message(e.message()))
         })?;
-        validate::Builder { file }.build(raw)
+        validate::Builder {
+            file,
+            warnings: Default::default(),
+        }
+        .build(raw)
     }
 
     /// `N`, the number of coordinates.

@@ -125,7 +125,7 @@ impl Builder {
                         match index.get(n.as_str()) {
                             Some(&j) => uses.push(j),
                             None => {
-                                // Not a parameter: pi or e, or a mistake, reported with every
+                                // Not a parameter: the constant pi or e, or a mistake, reported with every
                                 // parameter name as a candidate for "did you mean".
                                 let symbols = all_names.get_or_insert_with(|| Symbols {
                                     parameters: written
@@ -167,12 +167,14 @@ impl Builder {
             let e = &entries[i];
             let value = match &e.value {
                 Value::Number(x) => *x,
-                Value::Expr(s, ast) => Expr::from_ast(s.get_ref(), ast, &known)
-                    .map_err(|err| self.expr_error(s, err))?
-                    .constant()
-                    .ok_or_else(|| {
+                Value::Expr(s, ast) => {
+                    let expr = Expr::from_ast(s.get_ref(), ast, &known)
+                        .map_err(|err| self.expr_error(s, err))?;
+                    self.warn_euler(s, &expr);
+                    expr.constant().ok_or_else(|| {
                         self.err(s.span(), "a parameter must be a constant expression")
-                    })?,
+                    })?
+                }
             };
             known.parameters.insert(e.name.get_ref().clone(), value);
             values[i] = value;

@@ -57,6 +57,9 @@ pub struct Scene {
     /// Units of time, the coordinates, the multipliers, the energy and the output quantities,
     /// for the pictures' axis labels.
     pub units: Units,
+    /// What in the file is valid but may not be what was meant, in the order of the file: each
+    /// `e` read as Euler's number where no parameter `e` is declared.
+    pub warnings: Vec<crate::error::Warning>,
     pub(crate) spans: Spans,
 }
 

@@ -16,7 +16,7 @@ use super::spec::{
     EventSpec, GridEnd, OutputSpec, Picture, Scene, SolveSpec, Spans, Table, Times, Units,
 };
 use super::MAX_OUTPUT_TIMES;
-use crate::error::{Error, SourceFile};
+use crate::error::{Error, SourceFile, Warning};
 use crate::expr::{is_function, Expr, Symbols, RESERVED};
 use crate::output::summary_number;
 use crate::source::string_offset;
@@ -33,6 +33,9 @@ pub(super) fn toml_message(message: &str) -> String {
 
 pub(super) struct Builder {
     pub(super) file: SourceFile,
+    /// The warnings found so far, each place possibly more than once (an expression is resolved
+    /// with and without its varying parameters).
+    pub(super) warnings: std::cell::RefCell<Vec<Warning>>,
 }
 
 /// "1 value", "3 values".
@@ -116,7 +119,25 @@ impl Builder {
 
     /// Parses an expression given as a TOML string; errors point into the string.
     pub(super) fn expr(&self, s: &Spanned<String>, symbols: &Symbols) -> Result<Expr, Error> {
-        Expr::parse(s.get_ref(), symbols).map_err(|e| self.expr_error(s, e))
+        let e = Expr::parse(s.get_ref(), symbols).map_err(|e| self.expr_error(s, e))?;
+        self.warn_euler(s, &e);
+        Ok(e)
+    }
+
+    /// A warning at each `e` of `e` (written as `s`) that is Euler's number: a physicist's `e` is
+    /// more often a charge whose parameter was forgotten.
+    pub(super) fn warn_euler(&self, s: &Spanned<String>, e: &Expr) {
+        let span = s.span();
+        for r in e.euler() {
+            let start = string_offset(&self.file.text, &span, s.get_ref(), r.start);
+            let end = string_offset(&self.file.text, &span, s.get_ref(), r.end).max(start + 1);
+            self.warnings.borrow_mut().push(self.file.warning(
+                start..end,
+                "'e' is Euler's number 2.718281828… here, since no parameter or coordinate is named e: write \
+                 exp(1) if that is meant, or declare e under [parameters] (a charge, say) to use \
+                 that value",
+            ));
+        }
     }
 
     pub(super) fn expr_error(&self, s: &Spanned<String>, e: crate::expr::ExprError) -> Error {
@@ -165,7 +186,7 @@ impl Builder {
         if RESERVED.contains(&n.as_str()) {
             return Err(self.err(
                 name.span(),
-                format!("'{n}' is reserved (t is time, pi and e are constants); choose another {what} name"),
+                format!("'{n}' is reserved for time; choose another {what} name"),
             ));
         }
         if is_function(n) {
@@ -280,7 +301,24 @@ impl Builder {
                 ));
             }
             for c in list.get_ref() {
-                constraints.push(model_expr(c)?);
+                let f = model_expr(c)?;
+                if !f.uses_velocities() {
+                    let example = match coordinates.as_slice() {
+                        [x, y, ..] => format!("{x}^2 + {y}^2 - l^2"),
+                        [x] => format!("{x} - a"),
+                        [] => "x^2 + y^2 - l^2".to_string(),
+                    };
+                    return Err(self.err(
+                        c.span(),
+                        format!(
+                            "this constraint has no velocity in it: it is a position constraint \
+                             h(t, q) = 0, and `constraints` takes constraints on the velocities \
+                             f(t, q, q_dot) = 0; a position constraint goes under \
+                             `holonomic = [...]` in [model], as in holonomic = [\"{example}\"]"
+                        ),
+                    ));
+                }
+                constraints.push(f);
                 constraint_spans.push(c.span());
             }
         }
@@ -543,6 +581,12 @@ impl Builder {
             sensitivities,
             output,
             units,
+            warnings: {
+                let mut w = self.warnings.take();
+                w.sort_by_key(|w| (w.line, w.column));
+                w.dedup();
+                w
+            },
             spans: Spans {
                 initial: raw.initial.span(),
                 independent: initial
@@ -1239,6 +1283,7 @@ impl Builder {
                                 ),
                             )
                         })?;
+                        self.warn_euler(&Spanned::new(t.span(), s.clone()), &e);
                         GridEnd::Time(constant(
                             &Number::Value(e.constant().unwrap_or(f64::NAN)),
                             "output.times.to",

@@ -636,3 +636,211 @@ fn a_scene_that_is_not_utf8_is_refused_at_its_line_and_column() {
     );
     assert!(err.contains("save it as UTF-8"), "{err}");
 }
+
+/// `x = cos t` to `t_end`, with an event at each zero of `x` going down and one going up: 64 of
+/// them to t = 200. `tables` is the `[output] tables` line, or empty.
+fn oscillator(dir: &Path, tables: &str) -> String {
+    write_scene(
+        dir,
+        "oscillator.toml",
+        &format!(
+            "[model]\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2 - 0.5*x^2\"\n\
+             [initial]\nq = [1.0]\nq_dot = [0.0]\n[solve]\nt_end = 200.0\nrtol = 1e-12\n\
+             atol = 1e-12\n[[events]]\nname = \"down\"\nexpression = \"x\"\n\
+             direction = \"falling\"\n[[events]]\nname = \"up\"\nexpression = \"x\"\n\
+             direction = \"rising\"\n[output]\n{tables}\n"
+        ),
+    )
+}
+
+/// The time printed after `label t = ` on the line that holds it.
+fn time_after(line: &str, label: &str) -> f64 {
+    line.split(&format!("{label} t = "))
+        .nth(1)
+        .and_then(|r| r.split(',').next())
+        .and_then(|t| t.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no time after '{label}' in {line}"))
+}
+
+#[test]
+fn many_events_are_summarised_per_event_with_their_first_and_last() {
+    let dir = tmp("many-events");
+    let path = oscillator(&dir, "");
+    let out = dir.join("out");
+    let o = chetaev(&["run", &path, "--out", out.to_str().expect("utf-8")]);
+    let stdout = text(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", text(&o.stderr));
+    let lines: Vec<&str> = stdout.lines().collect();
+    // Two events: a heading, and per event its count, first and last; the whole summary is short.
+    assert!(lines.len() <= 16, "{stdout}");
+    let heading = lines
+        .iter()
+        .position(|l| l.starts_with("  events   64 located"))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(
+        lines[heading].contains("add \"events\" to tables under [output]"),
+        "{stdout}"
+    );
+    let pi = std::f64::consts::PI;
+    // x = cos t goes down through 0 at π/2 + 2kπ, up at 3π/2 + 2kπ: 32 of each before 200.
+    let expected = [
+        ("down", pi / 2.0, pi / 2.0 + 62.0 * pi),
+        ("up", 1.5 * pi, 1.5 * pi + 62.0 * pi),
+    ];
+    for (k, (name, first, last)) in expected.iter().enumerate() {
+        let at = heading + 1 + 3 * k;
+        assert!(
+            lines[at].trim_start().starts_with(name) && lines[at].ends_with("32 times"),
+            "{stdout}"
+        );
+        let (f, l) = (
+            time_after(lines[at + 1], "first"),
+            time_after(lines[at + 2], "last "),
+        );
+        assert!(
+            (f - first).abs() < 1e-8,
+            "first {name} at {f}, want {first}"
+        );
+        assert!((l - last).abs() < 1e-8, "last {name} at {l}, want {last}");
+    }
+
+    // With the events table asked for, the summary points at it, and it holds every event.
+    let path = oscillator(&dir, "tables = [\"events\"]");
+    let o = chetaev(&[
+        "run",
+        &path,
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--force",
+    ]);
+    let stdout = text(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", text(&o.stderr));
+    assert!(
+        stdout.contains("64 located; of each event, how many, the first and the last (all of them are in events.csv)"),
+        "{stdout}"
+    );
+    let events = std::fs::read_to_string(out.join("events.csv")).expect("events.csv");
+    assert_eq!(events.lines().count(), 1 + 64, "{events}");
+    assert_eq!(
+        events.lines().filter(|l| l.starts_with("down,")).count(),
+        32
+    );
+}
+
+#[test]
+fn a_few_events_are_listed_one_by_one() {
+    let dir = tmp("few-events");
+    let path = oscillator(&dir, "");
+    let short = std::fs::read_to_string(&path)
+        .expect("scene")
+        .replace("t_end = 200.0", "t_end = 10.0");
+    let path = write_scene(&dir, "short.toml", &short);
+    let o = chetaev(&[
+        "run",
+        &path,
+        "--out",
+        dir.join("out").to_str().expect("utf-8"),
+    ]);
+    let stdout = text(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", text(&o.stderr));
+    // Zeros at π/2, 3π/2, 5π/2: three lines, each with its state.
+    let events: Vec<&str> = stdout
+        .lines()
+        .skip_while(|l| !l.starts_with("  events"))
+        .take_while(|l| l.starts_with("  events") || l.starts_with("           "))
+        .collect();
+    assert_eq!(events.len(), 3, "{stdout}");
+    assert!(!stdout.contains("located"), "{stdout}");
+    assert!(
+        events[1].contains("up") && events[1].contains("x_dot = 1"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn a_failed_run_says_why_on_standard_error_too() {
+    let dir = tmp("failed-stderr");
+    let path = short_scene(&dir);
+    let o = chetaev(&[
+        "run",
+        &path,
+        "--out",
+        dir.join("out").to_str().expect("utf-8"),
+    ]);
+    let (stdout, stderr) = (text(&o.stdout), text(&o.stderr));
+    assert_eq!(o.status.code(), Some(1), "{stdout}{stderr}");
+    // The summary keeps its status and advice lines; standard error has the same reason.
+    assert!(stdout.contains("  status   FAILED at t = "), "{stdout}");
+    assert!(stdout.contains("  advice   raise max_steps"), "{stdout}");
+    assert!(
+        stderr.starts_with("error: the integration failed at t = ")
+            && stderr.contains("the step limit of 4 steps was reached\n  advice: raise max_steps"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn the_help_lists_the_exit_codes() {
+    for args in [vec!["run", "--help"], vec!["--help"]] {
+        let o = chetaev(&args);
+        let help = text(&o.stdout);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", text(&o.stderr));
+        assert!(help.contains("Exit codes:"), "{args:?}: {help}");
+        for says in [
+            "0  ",
+            "1  ",
+            "the integration failed, or a value written is NaN or infinite",
+            "2  the scene cannot be run as written",
+            "the output directory cannot be used",
+            "standard output cannot be written",
+        ] {
+            assert!(help.contains(says), "{args:?}: '{says}' in {help}");
+        }
+    }
+    let help = text(&chetaev(&["run", "--help"]).stdout);
+    assert!(
+        help.contains(
+            "0  the end time or a terminal event was reached, and every value written is finite"
+        ),
+        "{help}"
+    );
+    let help = text(&chetaev(&["check", "--help"]).stdout);
+    assert!(help.contains("Exit codes: 0 the scene is valid"), "{help}");
+}
+
+#[test]
+fn an_e_read_as_eulers_number_is_warned_of_by_check_and_run() {
+    let dir = tmp("euler");
+    let body = "[parameters]\nB = 1.0\n[model]\ncoordinates = [\"x\", \"y\"]\n\
+                lagrangian = \"0.5*(x_dot^2 + y_dot^2)\"\nforces = [\"e*B*y_dot\", \"-e*B*x_dot\"]\n\
+                [initial]\nq = [0.0, 0.0]\nq_dot = [1.0, 0.0]\n[solve]\nt_end = 1.0\n";
+    let path = write_scene(&dir, "euler.toml", body);
+    let out = dir.join("out");
+    let out = out.to_str().expect("utf-8");
+    for args in [
+        vec!["check", &path, "--out", out],
+        vec!["run", &path, "--out", out],
+    ] {
+        let o = chetaev(&args);
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {stderr}");
+        assert_eq!(stderr.matches("warning: ").count(), 2, "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("euler.toml:6:12: 'e' is Euler's number"),
+            "{args:?}: {stderr}"
+        );
+        assert!(stderr.contains("exp(1)"), "{args:?}: {stderr}");
+        assert!(stderr.contains("6 | forces"), "{args:?}: {stderr}");
+    }
+    // Quiet prints nothing but errors; a declared e is no warning.
+    let o = chetaev(&["run", "--quiet", &path, "--out", out]);
+    assert!(o.stderr.is_empty(), "{}", text(&o.stderr));
+    let path = write_scene(
+        &dir,
+        "charge.toml",
+        &body.replace("B = 1.0", "B = 1.0\ne = 2.0"),
+    );
+    let o = chetaev(&["check", &path, "--out", out]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert!(o.stderr.is_empty(), "{}", text(&o.stderr));
+}

@@ -387,3 +387,39 @@ fn independent_lists_are_checked_where_they_are_written() {
         assert!(e.position().is_some(), "{message}");
     }
 }
+
+#[test]
+fn a_position_constraint_under_constraints_is_told_to_go_under_holonomic() {
+    let text = pendulum_with("q = [0.0, -2.0]\nq_dot = [1.0, 0.0]").replace(
+        "holonomic = [\"x^2 + y^2 - 4\"]",
+        "constraints = [\"x^2 + y^2 - l^2\"]",
+    );
+    let text = format!("[parameters]\nl = 2.0\n{text}");
+    let e = Scene::parse(&text, "pendulum.toml").expect_err("a position constraint");
+    let message = e.to_string();
+    assert!(
+        message.contains("this constraint has no velocity in it"),
+        "{message}"
+    );
+    assert!(
+        message.contains("a position constraint goes under `holonomic = [...]`"),
+        "{message}"
+    );
+    assert!(
+        message.contains("holonomic = [\"x^2 + y^2 - l^2\"]"),
+        "{message}"
+    );
+    assert!(!message.contains("speed"), "{message}");
+    // At the constraint itself.
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("constraints"))
+        .expect("line")
+        + 1;
+    assert_eq!(e.position(), Some((line, 16)), "{message}");
+    // The same constraint under holonomic runs.
+    let fixed = text.replace("constraints = [", "holonomic = [");
+    Scene::parse(&fixed, "pendulum.toml")
+        .and_then(|s| s.check())
+        .unwrap_or_else(|e| panic!("{e}"));
+}

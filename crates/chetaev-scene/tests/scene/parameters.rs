@@ -169,3 +169,99 @@ proptest! {
         }
     }
 }
+
+/// A charge `q` of mass `m` in the plane, in a uniform magnetic field `B` along `z`, from the
+/// origin with velocity `(v, 0)`. The force `e (ẏ B, −ẋ B)` is given either as `forces` or through
+/// the vector potential `A = (−B y/2, B x/2)` in `L = ½ m |v|² + e A·v`.
+fn charge_in_a_field(parameters: &str, force: &str) -> String {
+    let model = match force {
+        "forces" => {
+            "lagrangian = \"0.5*m*(x_dot^2 + y_dot^2)\"\nforces = [\"e*B*y_dot\", \"-e*B*x_dot\"]"
+        }
+        _ => "lagrangian = \"0.5*m*(x_dot^2 + y_dot^2) + e*B/2*(x*y_dot - y*x_dot)\"",
+    };
+    format!(
+        "[parameters]\n{parameters}\nm = 1.0\nB = 1.0\nv = 1.0\n[model]\ncoordinates = [\"x\", \"y\"]\n\
+         {model}\n[initial]\nq = [0.0, 0.0]\nq_dot = [\"v\", 0.0]\n[solve]\nt_end = 1.0\n\
+         rtol = 1e-12\natol = 1e-12\n"
+    )
+}
+
+/// The circle of the charge: `x = (v/ω) sin ωt`, `y = −(v/ω)(1 − cos ωt)`, `ω = e B / m`.
+fn gyration(e: f64, t: f64) -> [f64; 2] {
+    let w = e; // B = m = v = 1
+    [(w * t).sin() / w, -(1.0 - (w * t).cos()) / w]
+}
+
+#[test]
+fn a_parameter_named_e_is_the_charge_and_not_eulers_number() {
+    for force in ["forces", "potential"] {
+        let s = Scene::parse(&charge_in_a_field("e = 2.0", force), "charge.toml")
+            .unwrap_or_else(|err| panic!("{force}: {err}"));
+        assert!(s.warnings.is_empty(), "{force}: {:?}", s.warnings);
+        let o = s.solve().unwrap_or_else(|err| panic!("{force}: {err}"));
+        assert!(o.is_success(), "{force}: {:?}", o.status);
+        let (t, q) = (o.t[o.len() - 1], &o.q[o.len() - 1]);
+        assert_eq!(t, 1.0);
+        let want = gyration(2.0, t);
+        for i in 0..2 {
+            assert!(
+                (q[i] - want[i]).abs() < 1e-9,
+                "{force}: q = {q:?}, want {want:?}"
+            );
+        }
+    }
+    // Computed from the declared e, and shadowing pi too.
+    let lines = [
+        "e = 1.5".to_string(),
+        "pi = 3.0".to_string(),
+        "w = \"e*pi\"".to_string(),
+    ];
+    let s = Scene::parse(&scene(&lines, "w"), "shadow.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(value(&s, "w"), 4.5);
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+}
+
+#[test]
+fn an_undeclared_e_is_eulers_number_with_a_warning_at_each_place() {
+    let s = Scene::parse(&charge_in_a_field("", "forces"), "euler.toml")
+        .unwrap_or_else(|err| panic!("{err}"));
+    let o = s.solve().unwrap_or_else(|err| panic!("{err}"));
+    let q = &o.q[o.len() - 1];
+    let want = gyration(std::f64::consts::E, 1.0);
+    for i in 0..2 {
+        assert!((q[i] - want[i]).abs() < 1e-9, "q = {q:?}, want {want:?}");
+    }
+    // One warning per use, at the e in each force.
+    let text = charge_in_a_field("", "forces");
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("forces"))
+        .expect("forces")
+        + 1;
+    let places: Vec<(usize, usize)> = s.warnings.iter().map(|w| (w.line, w.column)).collect();
+    assert_eq!(places, [(line, 12), (line, 26)], "{:?}", s.warnings);
+    for w in &s.warnings {
+        assert!(w.message.contains("Euler's number"), "{w}");
+        assert!(w.message.contains("exp(1)"), "{w}");
+        assert!(w.message.contains("[parameters]"), "{w}");
+        assert!(w.snippet.contains('^'), "{}", w.snippet);
+    }
+    // In a parameter's expression too; exp(1) and pi say what they mean and are not warned of.
+    let lines = ["w = \"e*pi\"".to_string(), "u = \"exp(1)*pi\"".to_string()];
+    let s = Scene::parse(&scene(&lines, "w + u"), "pie.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+    assert_eq!((s.warnings[0].line, s.warnings[0].column), (2, 6));
+}
+
+#[test]
+fn a_coordinate_may_be_named_e_and_t_stays_reserved() {
+    let text = "[model]\ncoordinates = [\"e\"]\nlagrangian = \"0.5*e_dot^2 - 0.5*e^2\"\n\
+                [initial]\nq = [1.0]\nq_dot = [0.0]\n[solve]\nt_end = 1.0\nrtol = 1e-12\natol = 1e-12\n";
+    let s = Scene::parse(text, "oscillator.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let o = s.solve().unwrap_or_else(|e| panic!("{e}"));
+    assert!((o.q[o.len() - 1][0] - 1f64.cos()).abs() < 1e-9);
+    let e = Scene::parse(&scene(&["t = 1.0".to_string()], "t"), "time.toml").expect_err("t");
+    assert!(e.to_string().contains("'t' is reserved for time"), "{e}");
+}
