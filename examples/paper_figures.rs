@@ -307,7 +307,6 @@ fn multiplier_figure(p: &Params, uni: &Solution, t_u: f64) -> Figure {
     Figure::new("Lagrange multiplier of the uniform motion")
         .x_label("t [s]")
         .y_label("μ [kg/s]")
-        .x_range(0.0, T_CONTINUED)
         .y_range(1.1 * limit, -0.1 * limit)
         .line_styled(
             "μ(t) = −(m g/2v0) tanh(g t/v0), (42.40)",
@@ -351,7 +350,6 @@ fn chetaev_force_figure(p: &Params, uni: &Solution, t_u: f64) -> Figure {
     Figure::new("Magnitude of the Chetaev force of the uniform motion")
         .x_label("t [s]")
         .y_label("|Φ| [N]")
-        .x_range(0.0, T_CONTINUED)
         .y_range(-0.05 * mg, 1.1 * mg)
         .line_styled(
             "|Φ|(t) = m g tanh(g t/v0), (42.42)",

@@ -49,6 +49,12 @@ pub fn uniform_error(p: &Params, t_end: f64, q: [f64; 2], qd: [f64; 2]) -> f64 {
     scaled_error(&q, &qd, &x, &v, &[length, length], p.v0)
 }
 
+/// What the error of the uniform scene ([`uniform_error`]) compares the end state with, and how
+/// it scales its components; the hand-written forms of the limit share it.
+pub const UNIFORM_REFERENCE: &str =
+    "closed form (42.29)–(42.30) at the closed-form impact time T (42.38); positions relative to \
+     max(R, h0), velocities to v0, largest component";
+
 /// The paper's uniform motion (42.29)–(42.30) to the closed-form impact time (42.38).
 pub fn uniform_scene() -> Result<StudyScene<Fixed<UniformProjectile, 2, 1>>, Error> {
     let p = PAPER;
@@ -56,9 +62,7 @@ pub fn uniform_scene() -> Result<StudyScene<Fixed<UniformProjectile, 2, 1>>, Err
     Ok(StudyScene {
         key: "uniform",
         title: "Uniform motion (paper, v0 = 10, g = 10, h0 = 5)".to_string(),
-        reference: "closed form (42.29)–(42.30) at the closed-form impact time T (42.38); \
-                    positions relative to max(R, h0), velocities to v0, largest component"
-            .to_string(),
+        reference: UNIFORM_REFERENCE.to_string(),
         problem: uniform_problem(&p)?,
         t_end,
         error: Box::new(move |q, qd| uniform_error(&p, t_end, [q[0], q[1]], [qd[0], qd[1]])),

@@ -175,6 +175,23 @@ fn an_ensemble_in_three_shards_merges_into_the_whole_run() {
     }
     let csv = std::fs::read_to_string(merged.join("ensemble.csv")).expect("written");
     assert_eq!(csv.lines().count(), 1 + 16, "a header and 4 × 4 points");
+    // The error diagram marks the largest error of the CSV, with its value.
+    let largest = csv
+        .lines()
+        .skip(1)
+        .filter(|l| l.ends_with(','))
+        .map(|l| {
+            l.split(',')
+                .nth(4)
+                .expect("ratio_error")
+                .parse::<f64>()
+                .expect("a number")
+        })
+        .fold(0.0f64, f64::max);
+    let error_svg = std::fs::read_to_string(merged.join("ensemble-error.svg")).expect("written");
+    let mark = format!("largest: {:.1e} at z = ", largest.max(1e-17));
+    assert!(error_svg.contains(&mark), "{mark} in {error_svg}");
+    assert!(error_svg.contains("all 16 points"), "{error_svg}");
     // The speed-up with the range of its rounds: three interleaved pairs per run, so nine over
     // three shards; each run records the seconds of every round.
     let md = |dir: &Path| std::fs::read_to_string(dir.join("ensemble.md")).expect("written");
@@ -223,6 +240,22 @@ fn a_work_precision_study_in_three_shards_merges_into_the_whole_run() {
             })
             .collect()
     };
+    // Every work-precision diagram says which error it plots.
+    for name in [
+        "uniform.svg",
+        "classical.svg",
+        "stiff.svg",
+        "particle3d.svg",
+        "two-runners.svg",
+        "limit-full.svg",
+        "limit-reduced.svg",
+    ] {
+        let svg = std::fs::read_to_string(whole.join(name)).expect("written");
+        assert!(
+            svg.contains("Error of the end state (q, q̇)") && svg.contains("end-state error: max_i"),
+            "{name} defines its error"
+        );
+    }
     for scene in [
         "uniform",
         "classical",

@@ -142,8 +142,9 @@ fn usable(lo: f64, hi: f64, log: bool) -> (f64, f64) {
 /// The relative span below which an automatic linear range is one value.
 const ROUNDING: f64 = 1e-12;
 
-/// How close (in steps) data may be beyond a tick and still have an automatic range end there.
-const SNAP: f64 = 1e-6;
+/// The margin of automatic ranges unless a figure sets its own: this fraction of the data's span
+/// (in axis units, so decades on a log axis) on each side, as matplotlib's default.
+pub(crate) const MARGIN: f64 = 0.05;
 
 /// A "nice" step: `m · 10^k` with `m ∈ {1, 2, 5}`, in increasing order from the first one not
 /// smaller than `start`.
@@ -166,11 +167,37 @@ fn exp10(k: i32) -> f64 {
     }
 }
 
-/// Chooses a linear axis: a 1-2-5 step whose ticks are at least the room's spacing apart, and a
-/// range. An automatic range (`fixed == false`) is widened outwards to the nearest multiples of
-/// the step, so both ends carry a tick (data less than a millionth of a step beyond a tick counts
-/// as on it).
-pub(crate) fn linear(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
+/// How an axis gets its range: as given, or from the data's extent with a margin.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Span {
+    /// The range is `[lo, hi]` exactly.
+    Fixed,
+    /// The data's extent `[lo, hi]`, widened on each side by this fraction of its span.
+    Auto(f64),
+}
+
+/// `[lo, hi]` widened on each side by `margin` times its span (a margin that is not a finite
+/// non-negative number counts as none), kept within half the largest float.
+fn padded(lo: f64, hi: f64, margin: f64) -> (f64, f64) {
+    let margin = if margin.is_finite() && margin > 0.0 {
+        margin
+    } else {
+        0.0
+    };
+    let pad = (hi - lo) * margin;
+    let (a, b) = (lo - pad, hi + pad);
+    if a.is_finite() && b.is_finite() && b > a {
+        (a.max(-f64::MAX / 4.0), b.min(f64::MAX / 4.0))
+    } else {
+        (lo, hi)
+    }
+}
+
+/// Chooses a linear axis: a 1-2-5 step whose labelled ticks are at least the room's spacing
+/// apart. An automatic range is the data's extent widened by the margin, so no point lies on the
+/// frame; its ends need not be ticks, and at least two ticks fall inside it. A fixed range is kept.
+pub(crate) fn linear(lo: f64, hi: f64, span: Span, room: Room) -> Axis {
+    let fixed = span == Span::Fixed;
     // Automatic ranges: values that differ by rounding only (a span below 1e-12 of their size, a
     // few units in the last place) are one value, drawn flat, not their rounding noise on tick
     // labels of fifteen digits.
@@ -181,31 +208,20 @@ pub(crate) fn linear(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
         (lo, hi)
     };
     let (lo, hi) = usable(lo, hi, false);
-    let start = (hi - lo) / 50.0;
+    let (a, b) = match span {
+        Span::Fixed => (lo, hi),
+        Span::Auto(margin) => padded(lo, hi, margin),
+    };
+    let start = (b - a) / 60.0;
     let mut fallback = None;
     for step in nice_steps(start) {
-        let (a, b) = if fixed {
-            (lo, hi)
-        } else {
-            // Data within a millionth of a step of a tick ends on that tick (an impact at
-            // y = −1e-16 should not open a whole step below zero).
-            (
-                ((lo / step) + SNAP).floor() * step,
-                ((hi / step) - SNAP).ceil() * step,
-            )
-        };
-        if b <= a {
-            // The data snapped to one tick: larger steps only do so again, and an axis of no
-            // length draws nothing.
-            break;
-        }
         let first = (a / step - 1e-9).ceil();
         let last = (b / step + 1e-9).floor();
         let count = last - first + 1.0;
         if !(count.is_finite() && count <= 60.0) {
             continue;
         }
-        let values: Vec<f64> = (0..count as usize)
+        let values: Vec<f64> = (0..count.max(0.0) as usize)
             .map(|i| (first + i as f64) * step)
             .collect();
         let labels = format_linear(&values, step);
@@ -220,7 +236,9 @@ pub(crate) fn linear(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
         if room.fits(spacing, axis.labels().map(|(_, l)| l)) && (count >= 2.0 || fixed) {
             return axis;
         }
-        fallback = Some(axis);
+        if count >= 1.0 || fallback.is_none() {
+            fallback = Some(axis);
+        }
         if count <= 2.0 {
             // Larger steps only lose ticks.
             break;
@@ -228,67 +246,61 @@ pub(crate) fn linear(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
     }
     fallback.unwrap_or(Axis {
         log: false,
-        lo,
-        hi,
+        lo: a,
+        hi: b,
         ticks: Vec::new(),
     })
 }
 
 /// Chooses a log axis (axis units are decades): labelled ticks at every `k`-th decade for the
 /// smallest `k` in 1, 2, 5, 10, ... that leaves room, with unlabelled ticks at 2…9 times each
-/// decade while those are at least 2.5 px apart. An automatic range is widened to whole decades
-/// (multiples of `k`). A fixed range spanning less than one decade boundary gets 1-2-5 ticks.
-pub(crate) fn log(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
+/// decade while those are at least 2.5 px apart. An automatic range is the data's extent in
+/// decades widened by the margin; it does not reach out to whole decades. A range holding fewer
+/// than two decades gets ticks at 1-2-5 (or 1-3, or 1) times powers of ten instead.
+pub(crate) fn log(lo: f64, hi: f64, span: Span, room: Room) -> Axis {
     let (lo, hi) = usable(lo, hi, true);
-    let mut chosen = None;
+    let (a, b) = match span {
+        Span::Fixed => (lo, hi),
+        Span::Auto(margin) => padded(lo, hi, margin),
+    };
+    let mut chosen: Option<(f64, Vec<f64>, Vec<String>)> = None;
     for k in [1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0] {
-        let (a, b) = if fixed {
-            (lo, hi)
-        } else {
-            let a = ((lo / k) + SNAP).floor() * k;
-            (a, (((hi / k) - SNAP).ceil() * k).max(a + k))
-        };
         let first = (a / k - 1e-9).ceil();
         let last = (b / k + 1e-9).floor();
         let count = last - first + 1.0;
         if !count.is_finite() || count > 400.0 {
             continue;
         }
+        if count < 2.0 && chosen.is_some() {
+            // Thinner decades would leave one label: keep the crowded choice.
+            break;
+        }
         let decades: Vec<f64> = (0..count.max(0.0) as usize)
             .map(|i| (first + i as f64) * k)
             .collect();
         let spacing = room.length_px * k / (b - a);
         let labels: Vec<String> = decades.iter().map(|&d| power_of_ten(d)).collect();
-        if room.fits(spacing, labels.iter().map(String::as_str)) || k >= 100.0 {
-            chosen = Some((a, b, k, decades, labels));
+        let fits = room.fits(spacing, labels.iter().map(String::as_str));
+        chosen = Some((k, decades, labels));
+        if fits || k >= 100.0 {
             break;
         }
     }
-    let Some((a, b, k, decades, labels)) = chosen else {
+    let Some((k, decades, labels)) = chosen else {
         return Axis {
             log: true,
-            lo,
-            hi,
+            lo: a,
+            hi: b,
             ticks: Vec::new(),
         };
     };
-    if decades.len() < 2 && fixed {
+    if decades.len() < 2 {
         return log_narrow(a, b, room);
     }
     let mut ticks = labelled(&decades, labels);
     // Minor ticks at 2..9 × 10^d, if decades are labelled one by one and they fit.
-    let px_per_decade = room.length_px / (b - a);
-    if k == 1.0 && px_per_decade * (10f64.log10() - 9f64.log10()) >= 2.5 {
-        let d0 = a.floor() as i64;
-        let d1 = b.ceil() as i64;
-        for d in d0..d1 {
-            for m in 2..10 {
-                let pos = d as f64 + f64::from(m).log10();
-                if pos >= a - 1e-12 && pos <= b + 1e-12 {
-                    ticks.push(Tick { pos, label: None });
-                }
-            }
-        }
+    if k == 1.0 {
+        ticks.extend(minor_log_ticks(a, b, room, &[1.0]));
     }
     Axis {
         log: true,
@@ -298,36 +310,98 @@ pub(crate) fn log(lo: f64, hi: f64, fixed: bool, room: Room) -> Axis {
     }
 }
 
-/// A fixed log range inside (less than) one decade: ticks at 1-2-5 multiples of powers of ten if at
-/// least two fall inside, otherwise linear 1-2-5 ticks of the values, placed logarithmically.
-fn log_narrow(a: f64, b: f64, room: Room) -> Axis {
+/// Unlabelled ticks at `m × 10^d` (`m` = 1…9, leaving out the mantissas `labelled`) inside
+/// `[a, b]` (decades), while the closest of them (9 and 10) are at least 2.5 px apart.
+fn minor_log_ticks(a: f64, b: f64, room: Room, labelled: &[f64]) -> Vec<Tick> {
+    let px_per_decade = room.length_px / (b - a);
     let mut ticks = Vec::new();
-    let d0 = a.floor() as i64;
-    for d in d0..=b.ceil() as i64 {
-        for m in [1.0, 2.0, 5.0] {
-            let pos = d as f64 + f64::log10(m);
+    if px_per_decade * (10f64.log10() - 9f64.log10()) < 2.5 {
+        return ticks;
+    }
+    for d in a.floor() as i64..b.ceil() as i64 + 1 {
+        for m in 1..10 {
+            let m = f64::from(m);
+            if labelled.contains(&m) {
+                continue;
+            }
+            let pos = d as f64 + m.log10();
             if pos >= a - 1e-12 && pos <= b + 1e-12 {
-                let value = m * exp10(d as i32);
-                ticks.push(Tick {
-                    pos,
-                    label: Some(format_single(value, value)),
-                });
+                ticks.push(Tick { pos, label: None });
             }
         }
     }
-    if ticks.len() < 2 {
-        let (lo, hi) = (10f64.powf(a), 10f64.powf(b));
-        let lin = linear(lo, hi, true, room);
-        ticks = lin
-            .ticks
-            .into_iter()
-            .filter(|t| t.pos > 0.0)
-            .map(|t| Tick {
-                pos: t.pos.log10(),
-                label: t.label,
-            })
-            .collect();
+    ticks
+}
+
+/// A log range holding fewer than two decades: labelled ticks at 1-2-5 multiples of powers of ten,
+/// or at 1-3 or at 1 times them where those crowd, if at least two fall inside; otherwise linear
+/// 1-2-5 ticks of the values, placed logarithmically. The other multiples 2…9 get unlabelled ticks
+/// where they fit.
+fn log_narrow(a: f64, b: f64, room: Room) -> Axis {
+    let at = |mantissas: &[f64]| -> Vec<Tick> {
+        let mut ticks = Vec::new();
+        for d in a.floor() as i64..=b.ceil() as i64 {
+            for &m in mantissas {
+                let pos = d as f64 + f64::log10(m);
+                if pos >= a - 1e-12 && pos <= b + 1e-12 {
+                    let value = m * exp10(d as i32);
+                    let label = if m == 1.0 && !(1e-3..1e6).contains(&value) {
+                        power_of_ten(d as f64)
+                    } else {
+                        format_single(value, value)
+                    };
+                    ticks.push(Tick {
+                        pos,
+                        label: Some(label),
+                    });
+                }
+            }
+        }
+        ticks
+    };
+    let px = |pos: f64| room.length_px * (pos - a) / (b - a);
+    let sets: [&[f64]; 3] = [&[1.0, 2.0, 5.0], &[1.0, 3.0], &[1.0]];
+    let mut fallback = None;
+    for mantissas in sets {
+        let ticks = at(mantissas);
+        if ticks.len() < 2 {
+            continue;
+        }
+        let fits = ticks.windows(2).all(|w| {
+            let spacing = px(w[1].pos) - px(w[0].pos);
+            room.fits(
+                spacing,
+                w.iter()
+                    .filter_map(|t| t.label.as_deref())
+                    .collect::<Vec<_>>()
+                    .into_iter(),
+            )
+        });
+        fallback = Some((ticks, mantissas));
+        if fits {
+            break;
+        }
     }
+    // The first set that fits, else the sparsest of at least two ticks, else linear ticks.
+    let ticks = match fallback {
+        Some((mut ticks, mantissas)) => {
+            ticks.extend(minor_log_ticks(a, b, room, mantissas));
+            ticks.sort_by(|p, q| p.pos.total_cmp(&q.pos));
+            ticks
+        }
+        None => {
+            let (lo, hi) = (10f64.powf(a), 10f64.powf(b));
+            linear(lo, hi, Span::Fixed, room)
+                .ticks
+                .into_iter()
+                .filter(|t| t.pos > 0.0)
+                .map(|t| Tick {
+                    pos: t.pos.log10(),
+                    label: t.label,
+                })
+                .collect()
+        }
+    };
     Axis {
         log: true,
         lo: a,
@@ -400,6 +474,8 @@ fn format_single(value: f64, resolution: f64) -> String {
 mod tests {
     use super::*;
 
+    const AUTO: Span = Span::Auto(MARGIN);
+
     fn room(px: f64) -> Room {
         Room {
             length_px: px,
@@ -430,8 +506,8 @@ mod tests {
             (-1e300, 1e300),
             (0.999_999, 1.000_001),
         ] {
-            let axis = linear(lo, hi, false, room(600.0));
-            assert!(axis.lo <= lo && axis.hi >= hi, "{lo} {hi}: {axis:?}");
+            let axis = linear(lo, hi, AUTO, room(600.0));
+            assert!(axis.lo < lo && axis.hi > hi, "{lo} {hi}: {axis:?}");
             assert!(axis.ticks.len() >= 2, "{lo} {hi}: {axis:?}");
             let pos: Vec<f64> = axis.ticks.iter().map(|t| t.pos).collect();
             let step = pos[1] - pos[0];
@@ -448,26 +524,35 @@ mod tests {
                     (r - r.round()).abs() < 1e-6 * r.abs().max(1.0),
                     "{p} not a multiple of {step}"
                 );
+                assert!(*p >= axis.lo && *p <= axis.hi, "tick {p} outside {axis:?}");
             }
-            // Automatic ranges end on ticks.
-            assert!(
-                (axis.lo - pos[0]).abs() <= 1e-9 * step
-                    && (axis.hi - pos[pos.len() - 1]).abs() <= 1e-9 * step
-            );
         }
     }
 
     #[test]
+    fn automatic_ranges_have_a_five_per_cent_margin() {
+        let axis = linear(0.0, 10.0, AUTO, room(600.0));
+        assert_eq!((axis.lo, axis.hi), (-0.5, 10.5));
+        let axis = linear(-1e-16, 10.0, Span::Auto(0.0), room(600.0));
+        assert_eq!((axis.lo, axis.hi), (-1e-16, 10.0));
+        // On a log axis the margin is in decades: 2 … 24 is 1.08 decades.
+        let (lo, hi) = (2f64.log10(), 24f64.log10());
+        let axis = log(lo, hi, AUTO, room(600.0));
+        let pad = 0.05 * (hi - lo);
+        assert!((axis.lo - (lo - pad)).abs() < 1e-12 && (axis.hi - (hi + pad)).abs() < 1e-12);
+    }
+
+    #[test]
     fn linear_labels() {
-        let axis = linear(0.0, 1.085, false, room(600.0));
+        let axis = linear(0.0, 1.085, AUTO, room(600.0));
         let labels: Vec<&str> = axis.labels().map(|(_, l)| l).collect();
-        assert_eq!(labels, ["0", "0.2", "0.4", "0.6", "0.8", "1.0", "1.2"]);
-        let axis = linear(-0.5, 0.0, false, room(300.0));
+        assert_eq!(labels, ["0", "0.2", "0.4", "0.6", "0.8", "1.0"]);
+        let axis = linear(-0.5, 0.0, AUTO, room(300.0));
         assert!(
             axis.labels().all(|(_, l)| !l.contains('-')),
             "uses the minus sign"
         );
-        assert!(axis.labels().any(|(_, l)| l == "−0.5"));
+        assert!(axis.labels().any(|(_, l)| l.starts_with('−')));
         assert_eq!(
             format_linear(&[0.0, 2e-5, 4e-5], 2e-5),
             ["0", "2×10⁻⁵", "4×10⁻⁵"]
@@ -476,50 +561,63 @@ mod tests {
     }
 
     #[test]
-    fn data_a_rounding_error_beyond_a_tick_ends_there() {
-        let axis = linear(-1e-16, 10.000000000000002, false, room(600.0));
-        assert_eq!((axis.lo, axis.hi), (0.0, 10.0));
-        let axis = log(-16.0 - 1e-12, -11.0 + 1e-12, false, room(400.0));
-        assert_eq!((axis.lo, axis.hi), (-16.0, -11.0));
-    }
-
-    #[test]
     fn narrow_screen_gets_fewer_ticks() {
-        let wide = linear(0.0, 100.0, false, room(800.0));
-        let narrow = linear(0.0, 100.0, false, room(150.0));
+        let wide = linear(0.0, 100.0, AUTO, room(800.0));
+        let narrow = linear(0.0, 100.0, AUTO, room(150.0));
         assert!(narrow.ticks.len() < wide.ticks.len());
         assert!(narrow.ticks.len() >= 2);
     }
 
     #[test]
     fn fixed_ranges_are_kept() {
-        let axis = linear(-15.7, 15.7, true, room(600.0));
+        let axis = linear(-15.7, 15.7, Span::Fixed, room(600.0));
         assert_eq!((axis.lo, axis.hi), (-15.7, 15.7));
         assert!(axis.ticks.iter().all(|t| t.pos >= -15.7 && t.pos <= 15.7));
         assert!(axis.labels().any(|(_, l)| l == "0"));
     }
 
     #[test]
-    fn log_ticks_are_decades() {
-        let axis = log(-15.3, -11.2, false, room(400.0));
-        assert_eq!((axis.lo, axis.hi), (-16.0, -11.0));
+    fn log_ticks_are_decades_inside_a_range_that_fits_the_data() {
+        let axis = log(-15.3, -11.2, AUTO, room(400.0));
+        // 4.1 decades and 5 % of them on each side, not the whole decades 10⁻¹⁶ … 10⁻¹¹.
+        assert!((axis.lo - (-15.3 - 0.205)).abs() < 1e-12, "{axis:?}");
+        assert!((axis.hi - (-11.2 + 0.205)).abs() < 1e-12, "{axis:?}");
         let labelled: Vec<(f64, &str)> = axis.labels().collect();
-        assert_eq!(labelled.len(), 6);
+        assert_eq!(labelled.len(), 5);
         for (pos, label) in &labelled {
             assert_eq!(pos.fract(), 0.0);
             assert!(label.starts_with("10⁻"), "{label}");
         }
-        assert_eq!(labelled[0].1, "10⁻¹⁶");
-        // Minor ticks at 2..9 × 10^d.
+        assert_eq!(labelled[0].1, "10⁻¹⁵");
+        // Minor ticks at 2..9 × 10^d, also below the first decade.
         assert!(axis
             .ticks
             .iter()
-            .any(|t| t.label.is_none() && (t.pos - (-16.0 + 2f64.log10())).abs() < 1e-12));
+            .any(|t| t.label.is_none() && (t.pos - (-16.0 + 5f64.log10())).abs() < 1e-12));
+        assert!(axis
+            .ticks
+            .iter()
+            .all(|t| t.pos >= axis.lo && t.pos <= axis.hi));
+    }
+
+    #[test]
+    fn a_log_range_of_about_one_decade_gets_one_two_five_ticks() {
+        // n = 2 … 24, as a cost against the number of coordinates.
+        let axis = log(2f64.log10(), 24f64.log10(), AUTO, room(600.0));
+        let labels: Vec<&str> = axis.labels().map(|(_, l)| l).collect();
+        assert_eq!(labels, ["2", "5", "10", "20"]);
+        let axis = log(-7.0 + 2f64.log10(), -6.0 + 8f64.log10(), AUTO, room(400.0));
+        let labels: Vec<&str> = axis.labels().map(|(_, l)| l).collect();
+        assert_eq!(labels, ["2×10⁻⁷", "5×10⁻⁷", "10⁻⁶", "2×10⁻⁶", "5×10⁻⁶"]);
+        // Crowded: 1 and 3.
+        let axis = log(2f64.log10(), 24f64.log10(), AUTO, room(120.0));
+        let labels: Vec<&str> = axis.labels().map(|(_, l)| l).collect();
+        assert_eq!(labels, ["3", "10"]);
     }
 
     #[test]
     fn many_decades_are_thinned() {
-        let axis = log(-300.0, 300.0, false, room(300.0));
+        let axis = log(-300.0, 300.0, AUTO, room(300.0));
         let pos: Vec<f64> = axis.labels().map(|(p, _)| p).collect();
         let step = pos[1] - pos[0];
         assert!(step > 1.0 && is_nice(step), "{step}");
@@ -531,7 +629,7 @@ mod tests {
 
     #[test]
     fn narrow_fixed_log_range() {
-        let axis = log(2f64.log10(), 8f64.log10(), true, room(400.0));
+        let axis = log(2f64.log10(), 8f64.log10(), Span::Fixed, room(400.0));
         let labels: Vec<&str> = axis.labels().map(|(_, l)| l).collect();
         assert_eq!(labels, ["2", "5"]);
     }

@@ -26,9 +26,13 @@
 //!   SVG never contains a non-finite number. On a log axis, points with a non-positive coordinate
 //!   on that axis are dropped and the line joins their neighbours.
 //! * Axes get "nice" ticks: steps of 1, 2 or 5 times a power of ten on linear axes, decades on log
-//!   axes (every 2nd, 5th, 10th, ... decade when they would crowd), spaced so the labels do not
-//!   overlap. An automatic range is widened to the nearest ticks; a fixed range ([`Figure::x_range`])
-//!   is kept as given, and lines are clipped to it.
+//!   axes (every 2nd, 5th, 10th, ... decade when they would crowd; 1-2-5 times powers of ten on
+//!   a log axis holding fewer than two decades), spaced so the labels do not overlap. An automatic
+//!   range is the data's extent with a margin of 5 % of its span on each side (decades on a log
+//!   axis), so no point lies on the frame; its ends need not be ticks ([`Figure::margins`] sets
+//!   the margin). A fixed range ([`Figure::x_range`]) is kept as given, and lines are clipped to
+//!   it.
+//! * [`thin`] keeps the extremes of a series too long to draw point by point.
 //! * A legend lists the series with non-empty names. It goes inside the plot, in the corner (or at
 //!   the middle of the top or bottom edge) where it covers no data; where every such place would
 //!   cover data, or the legend does not fit inside the plot, it goes beside a plot narrowed by
@@ -46,8 +50,10 @@
 mod axis;
 mod panels;
 mod render;
+mod thin;
 
 pub use panels::Panels;
+pub use thin::thin;
 
 use std::path::{Path, PathBuf};
 
@@ -163,6 +169,8 @@ struct AxisSpec {
     label: String,
     log: bool,
     range: Option<(f64, f64)>,
+    /// The margin of an automatic range, as a fraction of the data's span; `None` for the default.
+    margin: Option<f64>,
 }
 
 impl AxisSpec {
@@ -269,6 +277,16 @@ impl Figure {
     /// A fixed y range; see [`Figure::x_range`].
     pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
         self.y.range = Some((lo, hi));
+        self
+    }
+
+    /// The room left between the data and the frame on automatic ranges, as fractions of the
+    /// data's span on the x and the y axis (in decades on a log axis), on each side: 0.05 unless
+    /// set, as in matplotlib; `0` lets the extreme points touch the frame. A fraction that is not
+    /// a finite number ≥ 0 counts as 0. Fixed ranges ([`Figure::x_range`]) have no margin.
+    pub fn margins(mut self, x: f64, y: f64) -> Self {
+        self.x.margin = Some(x);
+        self.y.margin = Some(y);
         self
     }
 

@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use crate::axis::{self, extent, text_width, Axis, Room};
+use crate::axis::{self, extent, text_width, Axis, Room, Span};
 use crate::{AxisSpec, Figure, Legend, Style, PALETTE};
 
 pub(crate) const FONT_FAMILY: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
@@ -74,18 +74,18 @@ impl Frame {
 
 /// Resolves one axis for a given length on the page.
 fn resolve(spec: &AxisSpec, data: Option<(f64, f64)>, room: Room) -> Axis {
-    let (fixed, (lo, hi)) = match spec.fixed() {
-        Some(r) => (true, r),
+    let (span, (lo, hi)) = match spec.fixed() {
+        Some(r) => (Span::Fixed, r),
         None => (
-            false,
+            Span::Auto(spec.margin.unwrap_or(axis::MARGIN)),
             // Nothing to show: [0, 1], or [1, 10] on a log axis.
             data.unwrap_or((0.0, 1.0)),
         ),
     };
     if spec.log {
-        axis::log(lo, hi, fixed, room)
+        axis::log(lo, hi, span, room)
     } else {
-        axis::linear(lo, hi, fixed, room)
+        axis::linear(lo, hi, span, room)
     }
 }
 

@@ -3,7 +3,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use chetaev_plot::{Figure, Legend, Panels, PlotError, Style};
+use chetaev_plot::{thin, Figure, Legend, Panels, PlotError, Style};
 
 /// Parses the SVG (which fails on any malformed XML) and returns it.
 fn parse(svg: &str) -> roxmltree::Document<'_> {
@@ -289,7 +289,7 @@ fn ticks_are_nice_numbers() {
                     "{x} not on a multiple of {step}"
                 );
             }
-            // The ticks cover the data on automatic ranges.
+            // The ticks reach to within one step of both ends of the data.
             let (lo, hi) = (v[0].min(v[v.len() - 1]), v[0].max(v[v.len() - 1]));
             let (dlo, dhi) = if anchor == "middle" {
                 (offset, offset + scale)
@@ -297,7 +297,7 @@ fn ticks_are_nice_numbers() {
                 (offset - scale, offset)
             };
             assert!(
-                lo <= dlo + 1e-9 * scale && hi >= dhi - 1e-9 * scale,
+                lo < dlo + step && hi > dhi - step,
                 "{v:?} vs [{dlo}, {dhi}]"
             );
         }
@@ -1029,4 +1029,135 @@ fn notes_sit_under_the_title() {
         .expect("note");
     let (_, frame_top, _, _) = rect_of(&doc, "frame", 0);
     assert!(attr(&title, "y") < attr(&note, "y") && attr(&note, "y") < frame_top);
+}
+
+/// The pixel extent `(x_min, x_max, y_min, y_max)` of every series path.
+fn path_extent(doc: &roxmltree::Document<'_>) -> (f64, f64, f64, f64) {
+    series_paths(doc)
+        .iter()
+        .flat_map(|p| path_points(p.attribute("d").expect("d")))
+        .fold(
+            (
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ),
+            |(a, b, c, d), (x, y)| (a.min(x), b.max(x), c.min(y), d.max(y)),
+        )
+}
+
+#[test]
+fn automatic_ranges_leave_a_five_per_cent_margin_between_the_data_and_the_frame() {
+    // A line from (0, 0) to (10, 1), and one over four decades on log axes: the data's extent
+    // fills 1/1.1 of the frame, centred, so 0.05/1.1 of it is left free on each side.
+    let line: Vec<(f64, f64)> = (0..=100)
+        .map(|i| (0.1 * f64::from(i), 0.01 * f64::from(i)))
+        .collect();
+    let powers: Vec<(f64, f64)> = (0..=40)
+        .map(|i| {
+            let e = 0.1 * f64::from(i);
+            (10f64.powf(e - 2.0), 10f64.powf(-3.0 * e))
+        })
+        .collect();
+    for (fig, what) in [
+        (Figure::new("").line("", &line), "linear"),
+        (Figure::new("").log_x().log_y().line("", &powers), "log"),
+    ] {
+        let svg = fig.to_svg();
+        let doc = parse(&svg);
+        let (left, top, width, height) = rect_of(&doc, "frame", 0);
+        let (x0, x1, y0, y1) = path_extent(&doc);
+        let (mx, my) = (0.05 / 1.1 * width, 0.05 / 1.1 * height);
+        assert!(mx > 20.0 && my > 10.0, "{what}: a visible margin");
+        for (got, want) in [
+            (x0 - left, mx),
+            (left + width - x1, mx),
+            (y0 - top, my),
+            (top + height - y1, my),
+        ] {
+            assert!(
+                (got - want).abs() < 0.02,
+                "{what}: margin {got} px, not {want} px"
+            );
+        }
+        // Ticks are still nice numbers inside the frame.
+        for anchor in ["middle", "end"] {
+            let v = tick_values(&doc, anchor);
+            assert!(v.len() >= 2, "{what} {anchor}: {v:?}");
+        }
+    }
+    // No margin when asked: the ends of the data are on the frame.
+    let doc_svg = Figure::new("").margins(0.0, 0.0).line("", &line).to_svg();
+    let doc = parse(&doc_svg);
+    let (left, top, width, height) = rect_of(&doc, "frame", 0);
+    let (x0, x1, y0, y1) = path_extent(&doc);
+    for d in [x0 - left, left + width - x1, y0 - top, top + height - y1] {
+        assert!(d.abs() < 0.01, "{d}");
+    }
+}
+
+#[test]
+fn a_log_axis_spans_the_decades_of_the_data_not_whole_decades_around_them() {
+    // n = 2 … 24 against a cost of 1e-7 … 5e-5: ticks 2, 5, 10, 20 on x, not 10⁰ … 10².
+    let pts: Vec<(f64, f64)> = [2.0, 3.0, 6.0, 12.0, 24.0]
+        .iter()
+        .map(|&n: &f64| (n, 1e-7 * (n / 2.0).powf(2.5)))
+        .collect();
+    let svg = Figure::new("").log_x().log_y().line("", &pts).to_svg();
+    let doc = parse(&svg);
+    assert_eq!(tick_values(&doc, "middle"), [2.0, 5.0, 10.0, 20.0]);
+    let y = tick_values(&doc, "end");
+    assert!(y.iter().all(|&v| v > 1e-7 / 1.2 && v < 5e-5 * 1.2), "{y:?}");
+    assert!(y.len() >= 3, "{y:?}");
+}
+
+#[test]
+fn a_thinned_series_keeps_its_largest_value_in_the_svg_path() {
+    // 20 000 points of small values with one spike, at an index every 7th point skips.
+    let spike = 12_345;
+    assert_ne!(spike % 7, 0);
+    let pts: Vec<(f64, f64)> = (0..20_000)
+        .map(|i| {
+            let y = if i == spike {
+                6e-10
+            } else {
+                1e-12 * (1.0 + (f64::from(i) * 0.01).sin().abs())
+            };
+            (f64::from(i), y)
+        })
+        .collect();
+    let few = thin(&pts, 300);
+    assert!(few.len() <= 602 && few.len() >= 300, "{}", few.len());
+    // The overall least and greatest values are kept; every 7th point would lose the spike.
+    let max = |p: &[(f64, f64)]| p.iter().map(|p| p.1).fold(0.0, f64::max);
+    let min = |p: &[(f64, f64)]| p.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+    assert_eq!(max(&few), 6e-10);
+    assert_eq!(min(&few), min(&pts));
+    let sampled: Vec<(f64, f64)> = pts.iter().step_by(7).copied().collect();
+    assert!(max(&sampled) < 1e-11);
+    // In the SVG: with a fixed range the spike's pixel is known, and the path reaches it.
+    let svg = Figure::new("")
+        .log_y()
+        .x_range(0.0, 20_000.0)
+        .y_range(1e-13, 1e-9)
+        .line("", &few)
+        .to_svg();
+    let doc = parse(&svg);
+    let (left, top, width, height) = rect_of(&doc, "frame", 0);
+    let want = (
+        left + width * spike as f64 / 20_000.0,
+        top + height * (1.0 - (6e-10f64.log10() + 13.0) / 4.0),
+    );
+    let path = path_points(series_paths(&doc)[0].attribute("d").expect("d"));
+    assert!(
+        path.iter()
+            .any(|p| (p.0 - want.0).abs() < 0.01 && (p.1 - want.1).abs() < 0.01),
+        "the spike at {want:?} is not on the path"
+    );
+    // Short series and gaps are kept whole.
+    assert_eq!(thin(&pts[..100], 60), pts[..100].to_vec());
+    let mut gappy = pts.clone();
+    gappy[5000].1 = f64::NAN;
+    assert!(thin(&gappy, 100).iter().any(|p| p.1.is_nan()));
 }

@@ -359,6 +359,13 @@ fn round_speedups(serial: &[f64], parallel: &[f64]) -> Vec<f64> {
     serial.iter().zip(parallel).map(|(s, p)| s / p).collect()
 }
 
+/// The error diagram draws the least and the greatest error of this many groups of neighbouring
+/// points in z (all points when there are at most twice as many).
+const ERROR_GROUPS: usize = 400;
+
+/// The colour of the mark on the largest error (vermillion, unlike the points' blue).
+const WORST_COLOUR: &str = "#D55E00";
+
 /// Writes `ensemble.csv`, the diagrams and `ensemble.md` from the solved points of the whole grid
 /// (in grid order) and the wall times of the serial and the parallel sweep (sums over the shards
 /// of a merged run). Returns the summary for stdout.
@@ -430,11 +437,25 @@ fn report(
     closed.sort_by(|a, b| a.0.total_cmp(&b.0));
     closed.dedup_by(|a, b| (a.0 / b.0 - 1.0).abs() < 1e-3);
     let numerical: Vec<(f64, f64)> = ok.iter().step_by(37).map(|p| (p.z, p.ratio)).collect();
-    let errors: Vec<(f64, f64)> = ok
+    // The errors by z, thinned to the least and greatest of each of ERROR_GROUPS groups of
+    // neighbours in z, so that the largest error is drawn whatever the grid; it is also marked.
+    let mut errors: Vec<(f64, f64)> = ok
         .iter()
-        .step_by(7)
         .map(|p| (p.z, p.ratio_error().max(1e-17)))
         .collect();
+    errors.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let worst = ok
+        .iter()
+        .max_by(|a, b| a.ratio_error().total_cmp(&b.ratio_error()));
+    let drawn = chetaev_plot::thin(&errors, ERROR_GROUPS);
+    let errors_name = if drawn.len() < errors.len() {
+        format!(
+            "{} points, least and greatest of {ERROR_GROUPS} groups by z",
+            errors.len()
+        )
+    } else {
+        format!("all {} points", errors.len())
+    };
     Figure::new("Range ratio R_uniform / R_classical against z = g h0 / v0²")
         .x_label("z = g h0 / v0²")
         .y_label("R_uniform / R_classical")
@@ -450,21 +471,37 @@ fn report(
             },
         )
         .save(out.join("ensemble-ratio.svg"))?;
-    Figure::new("Relative error of the range ratio against z")
+    let mut error_figure = Figure::new("Relative error of the range ratio against z")
         .x_label("z = g h0 / v0²")
         .y_label("|ratio − closed form| / closed form")
         .log_x()
         .log_y()
         .line_styled(
-            "every 7th grid point",
-            &errors,
+            &errors_name,
+            &drawn,
             Style {
                 width: 0.0,
                 markers: true,
                 ..Style::default()
             },
-        )
-        .save(out.join("ensemble-error.svg"))?;
+        );
+    if let Some(w) = worst {
+        let e = w.ratio_error().max(1e-17);
+        error_figure = error_figure.line_styled(
+            &format!(
+                "largest: {e:.1e} at z = {:.2e} (v0 = {:.3}, h0 = {:.3})",
+                w.z, w.v0, w.h0
+            ),
+            &[(w.z, e)],
+            Style {
+                width: 3.0,
+                markers: true,
+                color: Some(WORST_COLOUR),
+                ..Style::default()
+            },
+        );
+    }
+    error_figure.save(out.join("ensemble-error.svg"))?;
 
     let mut md = String::new();
     let _ = writeln!(

@@ -114,16 +114,20 @@ const COMPARE_AT: [f64; 6] = [1e-6, 1e-8, 1e-10, 1e-11, 1e-12, 1e-13];
 
 /// The colours of the methods' lines (Okabe and Ito's palette, for colour-blind readers), by
 /// name; a method without one here takes the next of [`SPARE_COLOURS`].
-const COLOURS: [(&str, &str); 5] = [
+/// The same method has the same colour in every diagram; ode_solvers' Dopri5 and Dop853 take the
+/// colour of the method they implement, dashed.
+const COLOURS: [(&str, &str); 6] = [
     ("Dopri5", "#0072B2"),
     ("Dop853", "#D55E00"),
+    ("Tsit5", "#000000"),
     ("Rodas4", "#009E73"),
     ("Rodas5P", "#E69F00"),
     ("Rk4", "#CC79A7"),
 ];
 
-/// The colours left for methods not in [`COLOURS`], in turn.
-const SPARE_COLOURS: [&str; 3] = ["#56B4E9", "#000000", "#F0E442"];
+/// The colours left for methods not in [`COLOURS`], in turn (Okabe and Ito's sky blue, then
+/// brown and grey; no yellow, which is too light on white).
+const SPARE_COLOURS: [&str; 3] = ["#56B4E9", "#8C564B", "#808080"];
 
 /// chetaev's methods in the order of the tables ([`study_methods`]), with the colour of their
 /// lines.
@@ -769,10 +773,13 @@ fn machine() -> String {
 /// One line of a work-precision diagram: name, `(seconds, error)` points, style.
 type PlotLine = (String, Vec<(f64, f64)>, Style);
 
-fn svg_figure(title: &str, lines: &[PlotLine]) -> Figure {
+/// A work-precision diagram: error against run time, the error defined by `reference` (what the
+/// end state is compared with and how its components are scaled) in the note under the title.
+fn svg_figure(title: &str, reference: &str, lines: &[PlotLine]) -> Figure {
     let mut fig = Figure::new(title)
+        .note(&format!("Error of the end state (q, q̇): {reference}."))
         .x_label("median run time [s]")
-        .y_label("error at the end time")
+        .y_label("end-state error: max_i(|Δq_i| / L_i, |Δq̇_i| / V)")
         .log_x()
         .log_y()
         .size(820.0, 520.0);
@@ -841,7 +848,7 @@ fn study_report(
         };
         lines.push((m.to_string(), plot_curve(points, m), style));
     }
-    svg_figure(scene.title(), &lines).save(out.join(format!("{key}.svg")))?;
+    svg_figure(scene.title(), scene.reference(), &lines).save(out.join(format!("{key}.svg")))?;
 
     let pairs = [
         ("Dopri5", "Dopri5 (ode_solvers)"),
@@ -921,7 +928,8 @@ fn limit_report(
                 },
             ));
         }
-        svg_figure(title, &lines).save(out.join(format!("limit-{form}.svg")))?;
+        svg_figure(title, scenes::UNIFORM_REFERENCE, &lines)
+            .save(out.join(format!("limit-{form}.svg")))?;
     }
 
     let mut md = String::from(
