@@ -551,20 +551,84 @@ fn the_largest_residual_is_none_when_it_was_not_recorded() {
 }
 
 #[test]
-fn a_terminal_event_at_the_start_stops_there_without_a_second_row() {
-    // y − h0 is 0 at t0 and falls at once: the event is at t0, whose point is already recorded.
+fn a_terminal_event_zero_at_the_start_does_not_end_the_run() {
+    // The apex ẏ = 0, falling, of a horizontal launch (ẏ0 = 0, then ẏ < 0 at once); and y − h0,
+    // 0 at t0 and falling at once. Neither is reported at t0, and neither crosses later: the run
+    // reaches its end.
     let p = uniform_problem(&Params::PAPER).expect("valid");
+    assert_eq!(p.qd0()[1], 0.0, "a horizontal launch");
     let h0 = p.q0()[1];
+    let apex = Event::new("apex", |_t, _q, qd| qd[1]).falling().terminal();
     let start = Event::new("start", move |_t, q, _| q[1] - h0)
         .falling()
         .terminal();
     for method in AnyMethod::all(1e-3) {
-        let sol = solve(&p, method, &Options::until(1.0).event(start.clone())).expect("valid");
-        assert_eq!(sol.status, Status::Terminated { event: 0 }, "{method:?}");
-        assert_eq!(sol.t, vec![0.0], "{method:?}: one row, not t0 twice");
-        assert_eq!(sol.events.len(), 1);
-        assert_eq!(sol.events[0].t, 0.0);
+        for event in [&apex, &start] {
+            let sol = solve(&p, method, &Options::until(0.5).event(event.clone())).expect("valid");
+            assert_eq!(sol.status, Status::Success, "{method:?}, {}", event.name);
+            assert_eq!(sol.t.last(), Some(&0.5), "{method:?}");
+            assert!(sol.len() > 2, "{method:?}: {} points", sol.len());
+            assert!(sol.events.is_empty(), "{method:?}: {:?}", sol.events);
+            assert!(
+                matches!(
+                    sol.warnings.as_slice(),
+                    [Warning::EventZeroAtStart { index: 0, armed_by: Some(t), .. }] if *t > 0.0 && *t < 0.5
+                ),
+                "{method:?}: {:?}",
+                sol.warnings
+            );
+        }
     }
+}
+
+#[test]
+fn an_event_zero_at_the_start_within_rounding_is_not_a_crossing() {
+    // A launch at the angle π, computed: ẏ0 = v0 sin π = 1.2e-15, positive by rounding alone, and
+    // ẏ < 0 at once. Counted from its computed sign, the fall would be a crossing at t ≈ 1e-16.
+    let v0 = 10.0;
+    let angle = std::f64::consts::PI;
+    let qd0 = SVector::from([-v0 * angle.cos(), v0 * angle.sin()]);
+    assert!(qd0[1] > 0.0 && qd0[1] < 1e-14);
+    let p = Problem::new(model(v0), 0.0, SVector::from([0.0, 5.0]), qd0).expect("consistent");
+    let apex = Event::new("apex", |_t, _q, qd| qd[1]).falling().terminal();
+    let sol = solve(&p, Dopri5::default(), &Options::until(0.5).event(apex)).expect("valid");
+    assert_eq!(sol.status, Status::Success);
+    assert!(sol.events.is_empty(), "{:?}", sol.events);
+    assert!(
+        matches!(sol.warnings.as_slice(), [Warning::EventZeroAtStart { value, .. }] if *value == qd0[1]),
+        "{:?}",
+        sol.warnings
+    );
+    // A value the rounding of the state cannot reach is a sign of its own: from ẏ0 = 1e-6 the
+    // fall crosses zero at t ≈ 1e-6 / g.
+    let qd0 = SVector::from([(v0 * v0 - 1e-12f64).sqrt(), 1e-6]);
+    let p = Problem::new(model(v0), 0.0, SVector::from([0.0, 5.0]), qd0).expect("consistent");
+    let apex = Event::new("apex", |_t, _q, qd| qd[1]).falling().terminal();
+    let o = Options::until(0.5).tolerances(1e-12, 1e-12).event(apex);
+    let sol = solve(&p, Dopri5::default(), &o).expect("valid");
+    assert_eq!(sol.status, Status::Terminated { event: 0 });
+    assert!(sol.warnings.is_empty(), "{:?}", sol.warnings);
+    assert!(
+        (sol.events[0].t - 1e-7).abs() < 1e-12,
+        "{}",
+        sol.events[0].t
+    );
+}
+
+#[test]
+fn a_run_over_no_time_names_an_event_zero_at_the_start() {
+    let p = uniform_problem(&Params::PAPER).expect("valid");
+    let apex = Event::new("apex", |_t, _q, qd| qd[1]).falling().terminal();
+    let sol = solve(&p, Dopri5::default(), &Options::until(0.0).event(apex)).expect("valid");
+    assert_eq!(sol.status, Status::Success);
+    assert!(
+        matches!(
+            sol.warnings.as_slice(),
+            [Warning::EventZeroAtStart { index: 0, armed_by: None, name, .. }] if name == "apex"
+        ),
+        "{:?}",
+        sol.warnings
+    );
 }
 
 #[test]

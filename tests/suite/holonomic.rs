@@ -144,9 +144,12 @@ fn an_inconsistent_initial_position_is_refused_or_projected_on_request() -> Resu
         matches!(err, Error::InconsistentInitialPosition { index: 1, .. }),
         "{err}"
     );
-    let problem = Problem::with_projected_velocity(p(), 0.0, q0, qd0)?;
+    let problem = Problem::with_projected_state(p(), 0.0, q0, qd0)?;
     let q = problem.q0();
     assert!((q[0].hypot(q[1]) - 1.0).abs() < 1e-14, "{q:?}");
+    // The older name is the same projection.
+    let older = Problem::with_projected_velocity(p(), 0.0, q0, qd0)?;
+    assert_eq!((older.q0(), older.qd0()), (problem.q0(), problem.qd0()));
     // A velocity along the rod is projected away too (ḣ = 2 q·q̇ = 0).
     let problem = Problem::with_projected_velocity(
         p(),
@@ -373,6 +376,151 @@ fn a_position_on_the_constraint_to_rounding_next_to_the_origin_is_accepted() -> 
             Err(Error::InconsistentInitialPosition { index: 1, .. })
         ),
         "{off:?}"
+    );
+    Ok(())
+}
+
+/// Released at rest, the pendulum's velocity is zero at the start: an event on `ẋ` (the turning
+/// points) is not reported there, in either direction, and is armed as `ẋ` leaves zero; its next
+/// zero, the far turning point, comes after half a period.
+#[test]
+fn a_turning_point_event_zero_at_the_release_first_fires_half_a_period_later() -> Result<(), Error>
+{
+    let (g, l) = (9.81f64, 2.0f64);
+    let theta0 = 1.5;
+    let problem = pendulum_problem(theta0);
+    let period = 4.0 * (l / g).sqrt() * elliptic_k((theta0 / 2.0).sin());
+    let turning = Event::new("x_dot = 0", |_t, _q, qd| qd[0]).terminal();
+    let o = Options::until(period)
+        .tolerances(1e-12, 1e-12)
+        .event(turning);
+    let sol = solve(&problem, Dop853::default(), &o)?;
+    assert_eq!(sol.status, Status::Terminated { event: 0 });
+    assert_eq!(sol.events.len(), 1);
+    assert!(
+        (sol.events[0].t - period / 2.0).abs() < 1e-9 * period,
+        "{} against T/2 = {}",
+        sol.events[0].t,
+        period / 2.0
+    );
+    // At the far turning point, mirrored.
+    assert!((sol.events[0].q[0] + l * theta0.sin()).abs() < 1e-8 * l);
+    assert!(
+        matches!(
+            sol.warnings.as_slice(),
+            [Warning::EventZeroAtStart { index: 0, value, armed_by: Some(t), .. }]
+                if *value == 0.0 && *t < period / 2.0
+        ),
+        "{:?}",
+        sol.warnings
+    );
+    Ok(())
+}
+
+/// A particle in space with holonomic constraints chosen at run time, for the redundancy checks.
+#[derive(Debug)]
+struct Redundant {
+    /// Which set of constraints.
+    case: usize,
+}
+
+impl DynModel for Redundant {
+    fn sizes(&self) -> (usize, usize) {
+        (3, 0)
+    }
+    fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+        (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]) * 0.5 - q[1] * 9.81
+    }
+    fn holonomic_count(&self) -> usize {
+        match self.case {
+            0 | 1 | 3 => 2,
+            _ => 3,
+        }
+    }
+    fn holonomic<R: Real>(&self, _t: R, q: &[R], h: &mut [R]) {
+        let rod = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] - 4.0;
+        match self.case {
+            // The rod given twice.
+            0 => (h[0], h[1]) = (rod, rod),
+            // The rod and twice the rod.
+            1 => (h[0], h[1]) = (rod, rod * 2.0),
+            // A plane z = 0, a plane x = y, and a third plane through their line.
+            2 => (h[0], h[1], h[2]) = (q[2], q[0] - q[1], q[0] - q[1] + q[2] * 3.0),
+            // The rod and the plane z = 0: independent.
+            _ => (h[0], h[1]) = (rod, q[2]),
+        }
+    }
+}
+
+#[test]
+fn a_redundant_holonomic_constraint_is_named_not_blamed_on_the_lagrangian() {
+    let start = || (vec![2.0f64.sqrt(), -(2.0f64.sqrt()), 0.0], vec![0.0; 3]);
+    for (case, index, on) in [(0, 2, vec![1]), (1, 2, vec![1])] {
+        let (q0, qd0) = start();
+        let err = Problem::dynamic(Redundant { case }, 0.0, q0, qd0).expect_err("redundant");
+        let text = err.to_string();
+        assert!(
+            matches!(&err, Error::RedundantHolonomic { index: i, dependent_on, .. } if *i == index && *dependent_on == on),
+            "case {case}: {err:?}"
+        );
+        assert!(
+            text.contains("holonomic constraints 1 and 2")
+                && text.contains("remove constraint 2")
+                && !text.contains("∂²L/∂q̇²"),
+            "{text}"
+        );
+    }
+    // Three planes through one line: the third is 1·(z) + 1·(x − y) of the first two.
+    let err = Problem::dynamic(
+        Redundant { case: 2 },
+        0.0,
+        vec![1.0, 1.0, 0.0],
+        vec![0.0; 3],
+    )
+    .expect_err("redundant");
+    assert!(
+        matches!(&err, Error::RedundantHolonomic { index: 3, dependent_on, .. } if *dependent_on == [1, 2]),
+        "{err:?}"
+    );
+    assert!(
+        err.to_string().contains("holonomic constraints 1, 2 and 3"),
+        "{err}"
+    );
+    // Independent constraints are accepted.
+    let (q0, qd0) = start();
+    assert!(Problem::dynamic(Redundant { case: 3 }, 0.0, q0, qd0).is_ok());
+}
+
+/// `K` counts the velocity constraints, `H` the holonomic ones, and `k = K + H` the multipliers,
+/// wherever a count is given.
+#[test]
+fn the_counts_of_constraints_say_which_kind_they_count() -> Result<(), Error> {
+    // The sled: one velocity constraint (the speed) and one holonomic (the plane).
+    let problem = Problem::new(
+        Sled::GUIDE,
+        0.0,
+        SVector::from([0.0, 0.0, 3.0]),
+        SVector::from([Sled::GUIDE.v0, 0.0, 0.0]),
+    )?;
+    assert_eq!(problem.sizes(), (3, 2));
+    assert_eq!(problem.multiplier_count(), 2);
+    assert_eq!(problem.velocity_constraint_count(), 1);
+    assert_eq!(problem.holonomic_count(), 1);
+    let sol = solve(&problem, Dop853::default(), &Options::until(0.1))?;
+    assert_eq!((sol.k(), sol.multiplier_count()), (2, 2));
+    assert_eq!(sol.mu.width(), 2);
+    // A run-time-sized model gives K alone in its own sizes; its problem counts k = K + H.
+    let model = Redundant { case: 3 };
+    assert_eq!(DynModel::sizes(&model), (3, 0));
+    let q0 = vec![2.0f64.sqrt(), -(2.0f64.sqrt()), 0.0];
+    let problem = Problem::dynamic(model, 0.0, q0, vec![0.0; 3])?;
+    assert_eq!(problem.sizes(), (3, 2));
+    assert_eq!(
+        (
+            problem.velocity_constraint_count(),
+            problem.holonomic_count()
+        ),
+        (0, 2)
     );
     Ok(())
 }

@@ -385,8 +385,10 @@ macro_rules! with_problem {
 }
 
 /// A model with its initial state `(t0, q0, q̇0)`, checked: finite, the holonomic constraints and
-/// the velocity constraints satisfied (or the velocity projected onto them with
-/// `project_velocity=True`), the block system regular.
+/// the velocity constraints satisfied, the block system regular. With `project_velocity=True` the
+/// state is made consistent first (`Problem::with_projected_state` in Rust): the position projected
+/// onto the holonomic constraints `h = 0`, then the velocity onto the velocity constraints and
+/// `ḣ = 0`, each the smallest change in the metric `∂²L/∂q̇²`.
 #[pyclass(module = "chetaev._chetaev", frozen)]
 struct Problem {
     inner: Inner,
@@ -448,7 +450,7 @@ impl Problem {
         let problem = py
             .detach(|| {
                 if project_velocity {
-                    RustProblem::dynamic_with_projected_velocity(graph_model, t0, q0, qd0)
+                    RustProblem::dynamic_with_projected_state(graph_model, t0, q0, qd0)
                 } else {
                     RustProblem::dynamic(graph_model, t0, q0, qd0)
                 }
@@ -1705,6 +1707,13 @@ impl Solution {
             Status::Terminated { .. } => "terminated",
             Status::Failed(_) => "failed",
         }
+    }
+
+    /// What the run did that one may not expect, though nothing failed, as sentences (an event
+    /// zero at the start, armed only once it left zero); empty for an ordinary run.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.inner.warnings.iter().map(|w| w.to_string()).collect()
     }
 
     /// The index of the terminal event that ended the run, or None.

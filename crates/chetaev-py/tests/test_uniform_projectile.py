@@ -59,6 +59,23 @@ def test_the_impact_is_found_at_t_equal_v0_over_g_arccosh_exp_g_h0_over_v0_squar
     assert abs(hit.q[1]) <= 8 * GLOBAL
 
 
+def test_an_event_zero_at_the_start_does_not_end_the_run_and_is_named_in_the_warnings(
+    particle_problem, particle_sympy
+):
+    # The horizontal launch has y_dot = 0 at the start and y_dot < 0 at once: no apex is
+    # reported there, the run goes on to its end, and the solution says why.
+    apex = chetaev.Event("apex", particle_sympy["qd"][1], direction="falling", terminal=True)
+    sol = chetaev.solve(particle_problem, 0.5, events=[apex])
+    assert sol.status == "success"
+    assert sol.t[-1] == 0.5 and len(sol.t) > 2
+    assert len(sol.events) == 0
+    assert len(sol.warnings) == 1
+    assert '"apex" (index 0) is zero at the start' in sol.warnings[0]
+    # An ordinary run warns of nothing.
+    impact = chetaev.Event("impact", "y", direction="falling", terminal=True)
+    assert chetaev.solve(particle_problem, 10.0, events=[impact]).warnings == []
+
+
 def test_the_range_is_x_at_the_impact_v0_squared_over_g_atan_sinh_g_t_over_v0(paper_run):
     hit = paper_run.events[0]
     # x' = 6 m/s at impact: the error in T moves x by 6 * GLOBAL at most, plus x's own error.

@@ -16,7 +16,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use chetaev::prelude::Status;
+use chetaev::prelude::{Status, Warning};
 use chetaev_scene::output::{self, count, Plan, MANIFEST};
 use chetaev_scene::{Error, Scene};
 
@@ -179,9 +179,10 @@ fn check(scene: &Path, out: Option<PathBuf>, force: bool) -> ExitCode {
         Err(e) => return fail(&e),
     };
     warn(&s);
-    if let Err(e) = s.check() {
-        return fail(&e);
-    }
+    let warnings = match s.check_with_warnings() {
+        Ok(w) => w,
+        Err(e) => return fail(&e),
+    };
     let plan = match plan(&s, out, force) {
         Ok(p) => p,
         Err(e) => return fail(&e),
@@ -197,6 +198,16 @@ fn check(scene: &Path, out: Option<PathBuf>, force: bool) -> ExitCode {
         count(s.output.tables.len(), "table", "tables"),
         count(s.output.pictures.len(), "picture", "pictures"),
     ));
+    for w in &warnings {
+        let text = match w {
+            Warning::EventZeroAtStart { name, .. } => format!(
+                "event '{name}' is zero at the start: a run does not stop there; the event is \
+                 armed once its expression leaves zero, and crossings after that count"
+            ),
+            other => other.to_string(),
+        };
+        stdout.print(&format!("  warning  {text}\n"));
+    }
     if !plan.is_empty() {
         let mut line = format!(
             "  output   would write {} and {MANIFEST} into {}",

@@ -6,6 +6,7 @@
 //! compiling, for any `N ≥ 1` and `0 ≤ K ≤ N`.
 
 use chetaev::prelude::*;
+use chetaev::Warning;
 
 use std::ops::Range;
 
@@ -65,6 +66,11 @@ impl Scene {
     /// state against the constraints, the block system at the start, the options, and the events
     /// and output quantities at the initial state.
     pub fn check(&self) -> Result<(), Error> {
+        self.check_with_warnings().map(|_| ())
+    }
+
+    /// [`Scene::check`], with what a run would warn of at the start (an event zero there).
+    pub fn check_with_warnings(&self) -> Result<Vec<Warning>, Error> {
         let problem = self.problem()?;
         self.check_at_start()?;
         // An integration over no time validates the options and evaluates the block system at the
@@ -76,7 +82,7 @@ impl Scene {
         let sol = solve(&problem, self.solve.method, &options).map_err(|e| self.setup_error(e))?;
         match sol.status {
             Status::Failed(e) => Err(self.setup_error(e)),
-            _ => Ok(()),
+            _ => Ok(sol.warnings),
         }
     }
 

@@ -137,6 +137,30 @@ pub enum Error {
         tolerance: f64,
     },
 
+    /// The holonomic constraints are redundant at the initial position: the gradient
+    /// `∂h_b/∂q` of one is a combination of the others' (the same constraint given twice, or `h`
+    /// and `2h`), so the constraints hold no more than the others do and their multipliers are
+    /// not determined.
+    #[error(
+        "holonomic constraints {list} (numbered from 1 among the holonomic ones) are redundant at \
+         the initial position, t = {t}: the gradient ∂h/∂q of constraint {index} is a combination \
+         of those of {others} (the same constraint given twice, or one a multiple of another, such \
+         as h and 2h), so their multipliers are not determined; remove constraint {index}, or \
+         another of them",
+        t = Num(*.t),
+        list = Numbers(&std::iter::once(*.index).chain(.dependent_on.iter().copied()).collect::<Vec<_>>()),
+        others = Numbers(.dependent_on),
+    )]
+    RedundantHolonomic {
+        /// Initial time.
+        t: f64,
+        /// The holonomic constraint whose gradient depends on the others', numbered from 1.
+        index: usize,
+        /// The holonomic constraints (numbered from 1, before `index`) whose gradients it is a
+        /// combination of.
+        dependent_on: Vec<usize>,
+    },
+
     /// The block system for `q̈` and `μ` is singular.
     #[error(
         "the Chetaev block system is singular at t = {t} (pivot ratio {pivot_ratio:e}) with q = {q:?}, q̇ = {qd:?}: \
@@ -392,22 +416,14 @@ pub enum Error {
     },
 
     /// A seed of the sensitivities moves the initial state off the constraints to first order.
+    /// The message names what moves it off (the seed's position, velocity or parameter, the
+    /// largest part of the residual) and how to move the rest of the state with it.
     #[error(
         "sensitivity seed \"{seed}\" moves the initial state off {row}{through}: its first-order \
-         residual is {residual:e}; move the initial state with the parameter, with Seed::with_position and \
-         Seed::with_velocity ({example})",
+         residual is {residual:e}, {cause}",
         row = Row(*.constraint, *.holonomic),
         through = if *.position { ", in position (h itself)" } else if .holonomic.is_some() { ", through its rate ḣ" } else { "" },
-        example = if *.position {
-            "for h = x² + y² − l², seed l with the position that keeps h = 0: \
-             Seed::parameter(\"l\").with_position(i, dq_i/dl), and the velocity that keeps ḣ = 0"
-        } else if .holonomic.is_some() {
-            "for h = y − x tan ωt, whose ḣ = ẏ − ẋ tan ωt − ω x sec² ωt depends on ω, seed ω with \
-             the velocity that keeps ḣ = 0: Seed::parameter(\"omega\").with_velocity(i, dq̇_i/dω)"
-        } else {
-            "for f = |q̇|² − v0², seed v0 with the velocity's direction too: \
-             Seed::parameter(\"v0\").with_velocity(i, dq̇_i/dv0)"
-        }
+        cause = seed_cause(*.moved_by, *.position, .holonomic.is_some()),
     )]
     InconsistentSeed {
         /// The seed's name.
@@ -423,7 +439,71 @@ pub enum Error {
         /// `δf_a = ∂f_a/∂q δq0 + ∂f_a/∂q̇ δq̇0 + ∂f_a/∂p δp` (for a holonomic constraint, the
         /// same of `ḣ_b`, or, where `position`, `δh_b = ∂h_b/∂q δq0 + ∂h_b/∂p δp`).
         residual: f64,
+        /// Which part of the seed makes the largest term of the residual.
+        moved_by: SeedPart,
     },
+}
+
+/// The part of a sensitivity seed that moves the initial state off a constraint
+/// ([`Error::InconsistentSeed`]): the term `∂f/∂q δq0`, `∂f/∂q̇ δq̇0` or `∂f/∂p δp` of its
+/// first-order residual that is largest.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum SeedPart {
+    /// The initial positions it moves (`Seed::position`, `Seed::with_position`).
+    Position,
+    /// The initial velocities it moves (`Seed::velocity`, `Seed::with_velocity`).
+    Velocity,
+    /// The parameters it moves (`Seed::parameter`, `Seed::with_parameter`).
+    Parameter,
+}
+
+/// What moves a seed off a constraint and what to do, for [`Error::InconsistentSeed`]: by the part
+/// of the seed that does, and the kind of residual (`h` itself, `ḣ` of a holonomic constraint, or a
+/// velocity constraint `f`).
+fn seed_cause(part: SeedPart, position: bool, holonomic: bool) -> &'static str {
+    match (part, position, holonomic) {
+        (SeedPart::Position, true, _) => {
+            "through the initial position it moves, which leaves h = 0 (∂h/∂q·δq0 ≠ 0): move q0 \
+             along the constraint only, with Seed::with_position for the other coordinates (for \
+             h = x² + y² − l², a δq0 with x δx + y δy = 0)"
+        }
+        (SeedPart::Position, false, true) => {
+            "through the initial position it moves, which changes ḣ = ∂h/∂q·q̇ + ∂h/∂t at the \
+             initial velocity: move q̇0 with it (Seed::with_velocity) so that ḣ stays 0"
+        }
+        (SeedPart::Position, false, false) => {
+            "through the initial position it moves, on which f depends: move q̇0 with it \
+             (Seed::with_velocity) so that f stays 0"
+        }
+        (SeedPart::Velocity, _, true) => {
+            "through the initial velocity it moves, which is not along the constraint \
+             (∂h/∂q·δq̇0 ≠ 0): move q̇0 only along h = 0, with Seed::with_velocity for the other \
+             coordinates (for h = x² + y² − l², a δq̇0 with x δẋ + y δẏ = 0; Seed::velocity(i) \
+             alone is along it only where ∂h/∂q_i = 0)"
+        }
+        (SeedPart::Velocity, _, false) => {
+            "through the initial velocity it moves, which leaves f = 0 (∂f/∂q̇·δq̇0 ≠ 0): move q̇0 \
+             only in directions that keep f = 0, with Seed::with_velocity for the other components \
+             (for f = |q̇|² − v0², a δq̇0 perpendicular to q̇0)"
+        }
+        (SeedPart::Parameter, true, _) => {
+            "through the parameter it moves, which h reads: move q0 with it (for h = x² + y² − l², \
+             seed l with the position that keeps h = 0: Seed::parameter(\"l\").with_position(i, \
+             dq_i/dl), and the velocity that keeps ḣ = 0)"
+        }
+        (SeedPart::Parameter, false, true) => {
+            "through the parameter it moves, which ḣ reads (a constraint that moves in time: for \
+             h = y − x tan ωt, ḣ = ẏ − ẋ tan ωt − ω x sec² ωt): move q̇0 with it, with the \
+             velocity that keeps ḣ = 0 (Seed::parameter(\"omega\").with_velocity(i, dq̇_i/dω))"
+        }
+        (SeedPart::Parameter, false, false) => {
+            "through the parameter it moves, which f reads: move q̇0 with it (for f = |q̇|² − v0², \
+             seed v0 with the velocity's direction too: Seed::parameter(\"v0\").with_velocity(i, \
+             dq̇_i/dv0))"
+        }
+    }
 }
 
 /// What made the equations singular at an [`Error::SingularPoint`].
@@ -465,6 +545,23 @@ impl std::fmt::Display for Row {
                 "holonomic constraint {b} (numbered from 1 among the holonomic ones)"
             ),
         }
+    }
+}
+
+/// A list of constraint numbers in a message: `1`, `1 and 2`, `1, 2 and 3`.
+struct Numbers<'a>(&'a [usize]);
+
+impl std::fmt::Display for Numbers<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut sorted = self.0.to_vec();
+        sorted.sort_unstable();
+        for (i, b) in sorted.iter().enumerate() {
+            if i > 0 {
+                write!(f, "{}", if i + 1 == sorted.len() { " and " } else { ", " })?;
+            }
+            write!(f, "{b}")?;
+        }
+        Ok(())
     }
 }
 

@@ -74,7 +74,7 @@ pub mod problem;
 pub mod sensitivity;
 pub mod solution;
 
-pub use error::{Error, Singularity};
+pub use error::{Error, SeedPart, Singularity};
 pub use integrate::driver::solve;
 /// The linear algebra the model traits are written in, re-exported so a user's version cannot clash.
 pub use nalgebra;
@@ -82,7 +82,7 @@ pub use nalgebra;
 pub use num_dual;
 pub use problem::{Problem, Route};
 pub use sensitivity::{EventSensitivity, Seed, Sensitivities};
-pub use solution::{Solution, Status};
+pub use solution::{Solution, Status, Warning};
 
 /// Common imports.
 pub mod prelude {
@@ -95,7 +95,7 @@ pub mod prelude {
     };
     pub use crate::model::{Constraints, DynModel, Lagrangian, Model, Real, Unconstrained};
     pub use crate::solution::Series;
-    pub use crate::{solve, Error, Problem, Route, Seed, Singularity, Solution, Status};
+    pub use crate::{solve, Error, Problem, Route, Seed, Singularity, Solution, Status, Warning};
     pub use nalgebra::{SMatrix, SVector};
 }
 

@@ -276,7 +276,10 @@ impl<M, const N: usize> Constraints<N, 0> for Unconstrained<M> {}
 /// # Ok::<(), chetaev::Error>(())
 /// ```
 pub trait DynModel {
-    /// `(N, K)`: the number of coordinates and of constraints. Fixed for the model's lifetime.
+    /// `(N, K)`: the number of coordinates and of velocity constraints `f = 0` (those written by
+    /// [`DynModel::constraints`]); the holonomic ones are counted apart, by
+    /// [`DynModel::holonomic_count`] (`H`). Fixed for the model's lifetime. The problem's `k`
+    /// ([`Problem::sizes`](crate::Problem::sizes), the number of multipliers) is `K + H`.
     fn sizes(&self) -> (usize, usize);
     /// `L(t, q, q̇)`; `q` and `q̇` have length `N`.
     fn lagrangian<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> R;
@@ -376,8 +379,9 @@ impl<T: Real> Functions<T> {
 /// numbers on the stack for static sizes, scalar dual numbers for run-time sizes); see
 /// [`derivatives`].
 pub trait Model {
-    /// `(n, k)`: coordinates and constraints, the velocity constraints first and then the
-    /// holonomic ones, each of those entering as its time derivative `ḣ = 0`.
+    /// `(n, k)`: coordinates and multipliers, `k = K + H`: the `K` velocity constraints first and
+    /// then the `H` holonomic ones, each of those entering as its time derivative `ḣ = 0`. (A
+    /// [`DynModel`]'s own `sizes` gives `K` alone.)
     fn sizes(&self) -> (usize, usize);
 
     /// How many of the `k` constraints are holonomic (the last ones).

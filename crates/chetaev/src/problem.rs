@@ -65,11 +65,21 @@ where
         )
     }
 
-    /// Builds a problem whose initial velocity is first projected onto `f(t0, q0, ·) = 0`: the
-    /// smallest change of `q̇0` in the metric `W = ∂²L/∂q̇²`, by Newton iteration. This is an explicit
-    /// opt-in; [`Problem::new`] never changes the state it is given. The applied correction is
+    /// Builds a problem whose initial state is first made consistent with the constraints, in
+    /// two steps ([`Problem::from_model_projected`]):
+    ///
+    /// 1. the position: with holonomic constraints, `q0` is projected onto `h(t0, ·) = 0`, the
+    ///    smallest change of `q0` in the metric `W = ∂²L/∂q̇²`, by Newton iteration (without
+    ///    holonomic constraints `q0` is kept as given);
+    /// 2. the velocity: `q̇0` is projected onto the velocity constraints `f(t0, q0, ·) = 0` and the
+    ///    rates `ḣ(t0, q0, ·) = 0` of the holonomic ones, at the projected position, the smallest
+    ///    change of `q̇0` in the same metric.
+    ///
+    /// Both to a relative residual of `1e-14`, in at most 20 iterations each
+    /// ([`Error::InitialProjectionFailed`] otherwise). This is an explicit opt-in; [`Problem::new`]
+    /// never changes the state it is given. The corrections applied are `problem.q0() − q0` and
     /// `problem.qd0() − qd0`.
-    pub fn with_projected_velocity(
+    pub fn with_projected_state(
         model: M,
         t0: f64,
         q0: SVector<f64, N>,
@@ -81,6 +91,17 @@ where
             q0.as_slice().to_vec(),
             qd0.as_slice().to_vec(),
         )
+    }
+
+    /// The same as [`Problem::with_projected_state`], under its older name: it projects the
+    /// position onto the holonomic constraints too, not only the velocity.
+    pub fn with_projected_velocity(
+        model: M,
+        t0: f64,
+        q0: SVector<f64, N>,
+        qd0: SVector<f64, N>,
+    ) -> Result<Self, Error> {
+        Self::with_projected_state(model, t0, q0, qd0)
     }
 }
 
@@ -104,8 +125,20 @@ impl<M: DynModel> Problem<M> {
         Self::from_model(model, t0, q0, qd0)
     }
 
-    /// [`Problem::dynamic`] with the initial velocity first projected onto the constraints (the
-    /// explicit opt-in of [`Problem::with_projected_velocity`]).
+    /// [`Problem::dynamic`] with the initial state first made consistent: the position projected
+    /// onto the holonomic constraints, then the velocity onto the velocity constraints and `ḣ = 0`
+    /// (the explicit opt-in of [`Problem::with_projected_state`], which says how).
+    pub fn dynamic_with_projected_state(
+        model: M,
+        t0: f64,
+        q0: Vec<f64>,
+        qd0: Vec<f64>,
+    ) -> Result<Self, Error> {
+        Self::from_model_projected(model, t0, q0, qd0)
+    }
+
+    /// The same as [`Problem::dynamic_with_projected_state`], under its older name: it projects
+    /// the position onto the holonomic constraints too, not only the velocity.
     pub fn dynamic_with_projected_velocity(
         model: M,
         t0: f64,
@@ -157,7 +190,9 @@ impl<M: Model> Problem<M> {
             .as_deref()
     }
 
-    /// [`Problem::from_model`] with the initial velocity first projected onto the constraints.
+    /// [`Problem::from_model`] with the initial state first made consistent: the position
+    /// projected onto the holonomic constraints `h(t0, ·) = 0`, then the velocity onto the velocity
+    /// constraints and `ḣ = 0` at that position (see [`Problem::with_projected_state`]).
     pub fn from_model_projected(
         model: M,
         t0: f64,
@@ -204,9 +239,28 @@ impl<M: Model> Problem<M> {
     pub fn qd0(&self) -> &[f64] {
         &self.qd0
     }
-    /// `(n, k)`: coordinates and constraints.
+    /// `(n, k)`: the number of coordinates `N` and of multipliers `k = K + H`, one per
+    /// constraint of either kind: the `K` velocity constraints (of [`Constraints`] or
+    /// [`DynModel::sizes`]) and the `H` holonomic ones. `k` is the width of
+    /// [`Solution::mu`](crate::Solution::mu); for `K` and `H` apart, see
+    /// [`Problem::velocity_constraint_count`] and [`Problem::holonomic_count`].
     pub fn sizes(&self) -> (usize, usize) {
         self.model.sizes()
+    }
+
+    /// The number of multipliers `k = K + H` (the `k` of [`Problem::sizes`]).
+    pub fn multiplier_count(&self) -> usize {
+        self.model.sizes().1
+    }
+
+    /// The number `K` of velocity constraints `f(t, q, q̇) = 0`.
+    pub fn velocity_constraint_count(&self) -> usize {
+        self.model.sizes().1 - self.model.holonomic_count()
+    }
+
+    /// The number `H` of holonomic constraints `h(t, q) = 0`.
+    pub fn holonomic_count(&self) -> usize {
+        self.model.holonomic_count()
     }
 
     /// The Chetaev equations at a state `(t, q, q̇)`, without a solve: `q̈`, `μ`, `Φ`, the residual
@@ -356,6 +410,13 @@ impl<M: Model> Problem<M> {
                     });
                 }
             }
+            if let Some((index, dependent_on)) = redundant_rows(&hq, holonomic, n) {
+                return Err(Error::RedundantHolonomic {
+                    t: t0,
+                    index,
+                    dependent_on,
+                });
+            }
         }
         // Large models are checked through their compiled equations: the dual-number path takes
         // O(n³) there (n(n + 1)/2 passes for W), minutes at a few thousand coordinates.
@@ -394,6 +455,67 @@ impl<M: Model> Problem<M> {
         }
         Ok(())
     }
+}
+
+/// Relative size below which a gradient's part outside the span of others counts as none
+/// ([`redundant_rows`]).
+const REDUNDANCY_TOLERANCE: f64 = 1e-10;
+
+/// The first row of `rows` (`count × n`, row-major: the holonomic gradients `∂h/∂q`) that is a
+/// combination of the rows before it, to [`REDUNDANCY_TOLERANCE`] of its size, with the earlier
+/// rows that take part in the combination; all numbered from 1. A zero row is left out (a
+/// gradient that vanishes is a degenerate constraint of its own, told as such by the block
+/// system's check).
+fn redundant_rows(rows: &[f64], count: usize, n: usize) -> Option<(usize, Vec<usize>)> {
+    // Orthonormal basis of the rows kept so far, and for each basis vector its expression in
+    // those rows (so that a dependent row's combination is known in the rows themselves).
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    let mut in_rows: Vec<Vec<f64>> = Vec::new();
+    let mut kept: Vec<usize> = Vec::new();
+    for b in 0..count {
+        let row = &rows[b * n..(b + 1) * n];
+        let size = norm(row);
+        if size == 0.0 {
+            continue;
+        }
+        let mut r = row.to_vec();
+        // The row in terms of the kept rows: row = Σ c_k kept_k + r.
+        let mut c = vec![0.0; kept.len()];
+        // Twice, for orthogonality to rounding (classical Gram–Schmidt, reorthogonalised).
+        for _ in 0..2 {
+            for (e, coeffs) in basis.iter().zip(&in_rows) {
+                let p: f64 = e.iter().zip(&r).map(|(a, x)| a * x).sum();
+                for (ri, ei) in r.iter_mut().zip(e) {
+                    *ri -= p * ei;
+                }
+                for (ck, wk) in c.iter_mut().zip(coeffs) {
+                    *ck += p * wk;
+                }
+            }
+        }
+        let rest = norm(&r);
+        if rest <= REDUNDANCY_TOLERANCE * size {
+            let involved = kept
+                .iter()
+                .zip(&c)
+                .filter(|(k, ck)| {
+                    ck.abs() * norm(&rows[**k * n..(**k + 1) * n]) > REDUNDANCY_TOLERANCE * size
+                })
+                .map(|(k, _)| k + 1)
+                .collect();
+            return Some((b + 1, involved));
+        }
+        // The new basis vector e = (row − Σ c_k kept_k) / rest, in the kept rows and this one.
+        let mut coeffs: Vec<f64> = c.iter().map(|ck| -ck / rest).collect();
+        coeffs.push(1.0 / rest);
+        for w in &mut in_rows {
+            w.push(0.0);
+        }
+        basis.push(r.iter().map(|x| x / rest).collect());
+        in_rows.push(coeffs);
+        kept.push(b);
+    }
+    None
 }
 
 /// How many units of roundoff of a holonomic constraint's rounding scale

@@ -31,7 +31,7 @@ use num_dual::HyperDual64;
 use crate::equations::compiled::{Compiled, CompiledFailure};
 use crate::equations::graph::{record_with_parameters, Graph, Sym, DEP_P, DEP_Q, DEP_QD, DEP_T};
 use crate::equations::{evaluate_compiled, lane, lanes, Dynamics, Lanes, Need, Workspace, LANES};
-use crate::error::Error;
+use crate::error::{Error, SeedPart};
 use crate::integrate::events::{Event, EventFunction};
 use crate::integrate::system::locate;
 use crate::model::{Functions, Model, Point};
@@ -271,7 +271,7 @@ fn position_off_holonomic<M: Model + ?Sized>(
     seeds: &[Seed],
     s0: &[f64],
     scales: &[f64],
-) -> Option<(usize, usize, f64)> {
+) -> Option<(usize, usize, f64, SeedPart)> {
     let (n, k) = model.sizes();
     let holonomic = model.holonomic_count();
     if holonomic == 0 {
@@ -306,14 +306,20 @@ fn position_off_holonomic<M: Model + ?Sized>(
             .max(g.value(hb).abs());
         for (j, seed) in seeds.iter().enumerate() {
             let dq = &s0[2 * n * j..2 * n * j + n];
-            let moved = grad[..n].iter().zip(dq).map(|(a, b)| a * b).sum::<f64>()
-                + params
-                    .iter()
-                    .zip(&grad[n..])
-                    .map(|(p, d)| d * seed.rate(&p.0))
-                    .sum::<f64>();
+            let by_position = grad[..n].iter().zip(dq).map(|(a, b)| a * b).sum::<f64>();
+            let by_parameter = params
+                .iter()
+                .zip(&grad[n..])
+                .map(|(p, d)| d * seed.rate(&p.0))
+                .sum::<f64>();
+            let moved = by_position + by_parameter;
             if moved.abs() > 1e-8 * scales[j] * size.max(1.0) {
-                return Some((j, b, moved));
+                let part = if by_position.abs() >= by_parameter.abs() {
+                    SeedPart::Position
+                } else {
+                    SeedPart::Parameter
+                };
+                return Some((j, b, moved, part));
             }
         }
     }
@@ -457,7 +463,7 @@ impl Variational {
             .collect();
         // The position first: a seed that moves it off `h = 0` would be reported, less clearly,
         // through `ḣ`, or not at all.
-        if let Some((j, b, residual)) =
+        if let Some((j, b, residual, moved_by)) =
             position_off_holonomic(model, (t0, q0, qd0), seeds, &s0, &scales)
         {
             return Err(Error::InconsistentSeed {
@@ -466,10 +472,16 @@ impl Variational {
                 holonomic: Some(b + 1),
                 position: true,
                 residual,
+                moved_by,
             });
         }
         // The rows of `f` are the velocity constraints, then `ḣ` of the holonomic ones.
         let velocity = k - model.holonomic_count();
+        // Whether each seed moves a parameter that the equations read.
+        let moves_parameters: Vec<bool> =
+            v.dp.iter()
+                .map(|rates| rates.iter().any(|r| *r != 0.0))
+                .collect();
         for first in (0..seeds.len()).step_by(LANES) {
             let d = v.lanes(model, Point::new(t0, q0, qd0), &s0, first, Need::All)?;
             for (a, fa) in d.f.iter().enumerate() {
@@ -478,12 +490,26 @@ impl Variational {
                 for (l, j) in (first..seeds.len().min(first + LANES)).enumerate() {
                     let rate = lane(fa, l);
                     if rate.abs() > 1e-8 * scales[j] * size.max(1.0) {
+                        // The velocity's term is `∂f_a/∂q̇·δq̇0`; the rest is the position's or the
+                        // parameters', told apart by what the seed moves.
+                        let dqd = &s0[2 * n * j + n..2 * n * (j + 1)];
+                        let by_velocity: f64 = row.iter().zip(dqd).map(|(a, b)| a * b).sum();
+                        let rest = rate - by_velocity;
+                        let seed = &seeds[j];
+                        let moved_by = if by_velocity.abs() >= rest.abs() {
+                            SeedPart::Velocity
+                        } else if moves_parameters[j] {
+                            SeedPart::Parameter
+                        } else {
+                            SeedPart::Position
+                        };
                         return Err(Error::InconsistentSeed {
-                            seed: seeds[j].name.clone(),
+                            seed: seed.name.clone(),
                             constraint: a + 1,
                             holonomic: a.checked_sub(velocity).map(|b| b + 1),
                             position: false,
                             residual: rate,
+                            moved_by,
                         });
                     }
                 }

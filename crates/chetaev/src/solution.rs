@@ -22,6 +22,60 @@ pub enum Status {
     Failed(Error),
 }
 
+/// Something the run did that a user may not expect, though nothing failed: carried by the
+/// solution ([`Solution::warnings`]), in the order it happened. Its text says what happened and
+/// what it means for the results.
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Warning {
+    /// An event function was zero at the start time (exactly, or within the rounding of the
+    /// initial state), so it was not armed there: no crossing is reported at the start, and the
+    /// event counts crossings only once the function has left zero (see
+    /// [`Event`](crate::prelude::Event)).
+    EventZeroAtStart {
+        /// The event's index, from 0, in the order of `Options::event`.
+        index: usize,
+        /// The event's name.
+        name: String,
+        /// The function's value at the start.
+        value: f64,
+        /// The end of the first stretch of the motion by which the function had left zero, where
+        /// the event was armed; `None` when it had not left zero when the run ended.
+        armed_by: Option<f64>,
+    },
+}
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Warning::EventZeroAtStart {
+                index,
+                name,
+                value,
+                armed_by,
+            } => {
+                write!(
+                    f,
+                    "event \"{name}\" (index {index}) is zero at the start (g = {value:e}, within \
+                     the rounding of the initial state): a crossing there is not reported, and the event is armed \
+                     only once its function leaves zero; "
+                )?;
+                match armed_by {
+                    Some(t) => write!(
+                        f,
+                        "it had left zero by t = {t}, and crossings after that count as usual"
+                    ),
+                    None => write!(
+                        f,
+                        "it had not left zero when the run ended, so no crossing of it was counted"
+                    ),
+                }
+            }
+        }
+    }
+}
+
 /// A sequence of vectors of one width (`q`, `μ`, ...), one per recorded point, stored in one flat
 /// buffer so that recording never allocates a vector per point.
 ///
@@ -190,8 +244,8 @@ impl std::ops::Index<usize> for Series {
     }
 }
 
-/// The motion and everything recorded along it, for a model of `n` coordinates and `k`
-/// constraints of any flavour. Series of diagnostics are empty when the [`Record`] level did not
+/// The motion and everything recorded along it, for a model of `n` coordinates and `k = K + H`
+/// constraints: `K` velocity constraints and `H` holonomic ones, one multiplier each. Series of diagnostics are empty when the [`Record`] level did not
 /// ask for them.
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[derive(Clone, Debug)]
@@ -209,12 +263,13 @@ pub struct Solution {
     pub qd: Series,
     /// `q̈` ([`Record::Dynamics`] and above; width `n`).
     pub qdd: Series,
-    /// Multipliers `μ`, Newton form ([`Record::Dynamics`] and above; width `k`).
+    /// Multipliers `μ`, Newton form ([`Record::Dynamics`] and above; width `k = K + H`: the `K`
+    /// multipliers of the velocity constraints, then the `H` of the holonomic ones).
     pub mu: Series,
     /// The Chetaev force `Φ = Jᵀμ` ([`Record::Dynamics`] and above; width `n`).
     pub phi: Series,
-    /// The constraint residual `f(t, q, q̇)` ([`Record::Dynamics`] and above; width `k`): the
-    /// velocity constraints, then `ḣ` of the holonomic ones.
+    /// The constraint residual ([`Record::Dynamics`] and above; width `k = K + H`): the `K`
+    /// velocity constraints `f(t, q, q̇)`, then `ḣ` of the `H` holonomic ones.
     pub residual: Series,
     /// How far `q̇` misses the velocity constraints, relative to the terms that make them up
     /// ([`Record::Dynamics`] and above): `max_a |f_a| / (Σ_i |∂f_a/∂q̇_i · q̇_i| + |f_a|)`, the
@@ -248,10 +303,14 @@ pub struct Solution {
     pub stats: Stats,
     /// Why it stopped.
     pub status: Status,
+    /// What the run did that a user may not expect, though nothing failed (an event zero at the
+    /// start, armed only when it left zero); empty for an ordinary run.
+    pub warnings: Vec<Warning>,
 }
 
 impl Solution {
-    /// An empty solution for a model with `n` coordinates and `k` constraints, recording at the
+    /// An empty solution for a model with `n` coordinates and `k = K + H` multipliers (velocity and
+    /// holonomic constraints), recording at the
     /// level `record`: for integrators outside the crate, which fill it with [`Solution::record`].
     pub fn empty(method: &'static str, record: Record, n: usize, k: usize) -> Self {
         Self::with_capacity(method, record, n, k, 0)
@@ -289,6 +348,7 @@ impl Solution {
             sensitivities: None,
             stats: Stats::default(),
             status: Status::Success,
+            warnings: Vec::new(),
         }
     }
 
@@ -440,8 +500,14 @@ impl Solution {
         self.q.width()
     }
 
-    /// Number of constraints `k`.
+    /// Number of multipliers `k = K + H`: the `K` velocity constraints and the `H` holonomic
+    /// ones (the width of [`Solution::mu`]); the same as [`Solution::multiplier_count`].
     pub fn k(&self) -> usize {
+        self.mu.width()
+    }
+
+    /// Number of multipliers `k = K + H`, one per velocity constraint and per holonomic one.
+    pub fn multiplier_count(&self) -> usize {
         self.mu.width()
     }
 

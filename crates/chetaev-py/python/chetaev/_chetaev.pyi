@@ -97,7 +97,9 @@ class Problem:
         complete: bool = False,
     ) -> None:
         """Naming independent coordinates or speeds (or ``complete=True``) solves the dependent
-        ones from the constraints first (see ``complete``)."""
+        ones from the constraints first (see ``complete``). ``project_velocity=True`` makes the
+        state consistent: it projects the position onto the holonomic constraints ``h = 0``, then
+        the velocity onto the velocity constraints and ``ḣ = 0``."""
     @property
     def model(self) -> Optional[Model]: ...
     @property
@@ -228,6 +230,7 @@ class Solution:
     sensitivities: Optional[dict[str, dict[str, Array]]]
     stats: dict[str, int]
     status: Literal["success", "terminated", "failed"]
+    warnings: list[str]
     terminated_by: Optional[int]
     message: Optional[str]
     success: bool

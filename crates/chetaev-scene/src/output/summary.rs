@@ -446,18 +446,10 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
                 let _ = writeln!(s, "  advice   {}", f.advice);
             }
         }
-        // A terminal event at the start: its expression was zero there and left zero in a
-        // direction it counts, which is a crossing (a launch from the ground stops at once).
-        Status::Terminated { .. } if out.t.last().is_some_and(|&t| t == scene.t0) => {
-            let _ = writeln!(
-                s,
-                "  advice   the event's expression is zero at the start and leaving zero counts \
-                 as a crossing; to stop at its next crossing instead, give the event the \
-                 direction of that one (a launch upward from the level y = 0: direction = \
-                 \"falling\")"
-            );
-        }
         _ => {}
+    }
+    for w in &out.warnings {
+        let _ = writeln!(s, "  warning  {w}");
     }
     for line in event_lines(scene, out) {
         let _ = writeln!(s, "{line}");

@@ -766,8 +766,9 @@ fn option_values_in_messages_are_written_as_numbers_are() {
 }
 
 #[test]
-fn a_terminal_event_at_the_start_says_why_and_what_to_give() {
-    // A projectile launched upward from y = 0: `y` leaves zero rising, which `either` counts.
+fn a_terminal_event_zero_at_the_start_does_not_stop_the_run_and_is_named() {
+    // A projectile launched upward from y = 0: `y` leaves zero rising, which is not a crossing;
+    // in either direction, the landing at 2 v_y / g = 0.8 is.
     let launch = |direction: &str| {
         let text = BASE
             .replace("lagrangian = \"0.5*(x_dot^2 + y_dot^2) - g*y\"\nconstraints = [\"x_dot^2 + y_dot^2 - v0^2\"]",
@@ -778,20 +779,25 @@ fn a_terminal_event_at_the_start_says_why_and_what_to_give() {
                 "[[events]]\nname = \"land\"\nexpression = \"y\"\nterminal = true\n{direction}\n"
             );
         let scene = Scene::parse(&text, "launch.toml").unwrap_or_else(|e| panic!("{e}"));
+        let warnings = scene.check_with_warnings().expect("checks");
+        assert!(
+            matches!(warnings.as_slice(), [chetaev::Warning::EventZeroAtStart { name, .. }] if name == "land"),
+            "{warnings:?}"
+        );
         let outcome = scene.solve().expect("solves");
         (output::summary(&scene, &outcome), outcome)
     };
-    let (summary, outcome) = launch("");
-    assert_eq!(outcome.t.last(), Some(&0.0), "{summary}");
-    assert!(
-        summary.contains("at t = 0") && summary.contains("direction = \"falling\""),
-        "{summary}"
-    );
-    // With the landing's direction it lands at 2 v_y / g = 0.8.
-    let (summary, outcome) = launch("direction = \"falling\"");
-    let t = *outcome.t.last().expect("recorded");
-    assert!((t - 0.8).abs() < 1e-9, "{summary}");
-    assert!(!summary.contains("advice"), "{summary}");
+    for direction in ["", "direction = \"falling\""] {
+        let (summary, outcome) = launch(direction);
+        let t = *outcome.t.last().expect("recorded");
+        assert!((t - 0.8).abs() < 1e-9, "{summary}");
+        assert!(
+            summary.contains("warning")
+                && summary.contains("\"land\" (index 0) is zero at the start"),
+            "{summary}"
+        );
+        assert!(!summary.contains("advice"), "{summary}");
+    }
 }
 
 #[test]

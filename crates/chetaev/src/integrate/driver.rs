@@ -10,7 +10,7 @@ use crate::error::{Error, Singularity};
 use crate::model::Model;
 use crate::problem::{check_finite, Problem};
 use crate::sensitivity::{Sensitivities, Variational};
-use crate::solution::{Solution, Status};
+use crate::solution::{Solution, Status, Warning};
 
 /// Integrates `problem` with `method` as `options` ask.
 ///
@@ -260,6 +260,65 @@ pub(crate) trait Hooks<S: OdeSystem> {
     fn terminated(&mut self, i: usize);
     /// Projects `y` onto the constraints; returns whether it changed.
     fn project(&mut self, sys: &mut S, t: f64, y: &mut [f64]) -> Result<bool, Error>;
+    /// How far from zero event function `i` may be at `(t, y)` by the rounding of the state
+    /// alone ([`start_rounding`]); 0 where no state is known to the hooks.
+    fn event_rounding(&mut self, i: usize, t: f64, y: &[f64], value: f64) -> f64 {
+        let _ = (i, t, y, value);
+        0.0
+    }
+    /// Event `i` is zero at the start, where its function is `value`: it is not armed until it
+    /// leaves zero.
+    fn unarmed_at_start(&mut self, i: usize, value: f64) {
+        let _ = (i, value);
+    }
+    /// Event `i`, zero at the start, had left zero by `t`: it is armed from then on.
+    fn armed(&mut self, i: usize, t: f64) {
+        let _ = (i, t);
+    }
+}
+
+/// How far from zero an event function `g` may be at `(t, q, q̇)` by the rounding of the state
+/// alone: `Σ_x |g(x + δx) − g(x)|` over `t` and each component of `q` and of `q̇`, each moved by
+/// `δx` of 4 units of roundoff of the largest magnitude of its kind (`|t|`, `max |q_i|`,
+/// `max |q̇_i|`). A function that is zero only up to the rounding of a computed initial state
+/// (`ẏ0 = v0 sin π`, `1.2e-15 v0`) is within it; a value that the state's rounding cannot
+/// reach is not. Evaluations that are not finite add nothing.
+fn start_rounding(
+    g: &mut impl FnMut(f64, &[f64], &[f64]) -> f64,
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+    value: f64,
+) -> f64 {
+    let ulps = 4.0 * f64::EPSILON;
+    let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let change = |v: f64| {
+        let d = (v - value).abs();
+        if d.is_finite() {
+            d
+        } else {
+            0.0
+        }
+    };
+    let mut band = 0.0;
+    let dt = ulps * t.abs();
+    if dt > 0.0 {
+        band += change(g(t + dt, q, qd));
+    }
+    let n = q.len();
+    let (dq, dqd) = (ulps * largest(q), ulps * largest(qd));
+    let mut x = [q, qd].concat();
+    for i in 0..2 * n {
+        let dx = if i < n { dq } else { dqd };
+        if dx == 0.0 {
+            continue;
+        }
+        let kept = x[i];
+        x[i] = kept + dx;
+        band += change(g(t, &x[..n], &x[n..]));
+        x[i] = kept;
+    }
+    band
 }
 
 /// The Chetaev driver's hooks: the solution being recorded and the user's options.
@@ -355,6 +414,44 @@ impl<M: Model + ?Sized> Hooks<ReducedOde<'_, M>> for ChetaevHooks<'_> {
 
     fn terminated(&mut self, i: usize) {
         self.sol.status = Status::Terminated { event: i };
+    }
+
+    fn event_rounding(&mut self, i: usize, t: f64, y: &[f64], value: f64) -> f64 {
+        let n = self.n;
+        let g = &self.options.events[i].g;
+        let mut calls = 0;
+        let band = start_rounding(
+            &mut |t, q, qd| {
+                calls += 1;
+                g(t, q, qd)
+            },
+            t,
+            &y[..n],
+            &y[n..2 * n],
+            value,
+        );
+        self.event_evaluations += calls;
+        band
+    }
+
+    fn unarmed_at_start(&mut self, i: usize, value: f64) {
+        self.sol.warnings.push(Warning::EventZeroAtStart {
+            index: i,
+            name: self.options.events[i].name.clone(),
+            value,
+            armed_by: None,
+        });
+    }
+
+    fn armed(&mut self, i: usize, t: f64) {
+        for w in &mut self.sol.warnings {
+            match w {
+                Warning::EventZeroAtStart {
+                    index, armed_by, ..
+                } if *index == i => *armed_by = Some(t),
+                _ => {}
+            }
+        }
     }
 
     fn project(
@@ -509,11 +606,13 @@ fn left_domain(trial: &Result<f64, Error>, y_new: &[f64]) -> bool {
     }
 }
 
-/// Per-event state of the step loop: the value at the last step end, and whether the function was
-/// exactly zero at the start and has not left zero yet.
+/// Per-event state of the step loop: the value at the last step end, whether the function was
+/// zero at the start (within the rounding of the state) and has not left zero yet, and that
+/// rounding.
 struct EventState {
     g: Vec<f64>,
     zero_at_start: Vec<bool>,
+    rounding: Vec<f64>,
     /// Scratch for the samples of one step.
     pts: Vec<(f64, f64)>,
 }
@@ -561,19 +660,13 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
     let info = &settings.info;
     let controller = &settings.controller;
     hooks.record(sys, t0, y)?;
-    if t_end == t0 {
-        return Ok(());
-    }
-    let dir = (t_end - t0).signum();
-    let dim = y.len();
-    let mut stepper = method.stepper(dim);
+    // The events at the start, also for a run over no time (a check of the start): one zero
+    // there, within the rounding of the state, is not armed until it leaves zero.
     let n_events = hooks.n_events();
-    stepper.set_dense_output(n_events > 0 || matches!(options.output, Output::Times(_)));
-    stepper.reset(sys, t0, y)?;
-
     let mut events = EventState {
         g: vec![0.0; n_events],
         zero_at_start: vec![false; n_events],
+        rounding: vec![0.0; n_events],
         pts: Vec::with_capacity(if n_events > 0 {
             options.event_samples + 2
         } else {
@@ -581,9 +674,24 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
         }),
     };
     for i in 0..n_events {
-        events.g[i] = hooks.event_value(i, t0, y)?;
-        events.zero_at_start[i] = events.g[i] == 0.0;
+        let g0 = hooks.event_value(i, t0, y)?;
+        let rounding = hooks.event_rounding(i, t0, y, g0);
+        events.rounding[i] = rounding;
+        if g0.abs() <= rounding {
+            events.zero_at_start[i] = true;
+            hooks.unarmed_at_start(i, g0);
+        } else {
+            events.g[i] = g0;
+        }
     }
+    if t_end == t0 {
+        return Ok(());
+    }
+    let dir = (t_end - t0).signum();
+    let dim = y.len();
+    let mut stepper = method.stepper(dim);
+    stepper.set_dense_output(n_events > 0 || matches!(options.output, Output::Times(_)));
+    stepper.reset(sys, t0, y)?;
     let mut pending_times: Vec<f64> = match &options.output {
         Output::Times(ts) => {
             let mut v: Vec<f64> = ts
@@ -824,9 +932,9 @@ pub(crate) fn step_loop<S: OdeSystem, H: Hooks<S>, Me: Method>(
 /// missed only when both zeros and the extremum lie within one sampling interval at a step's end.
 /// Non-terminal events are reported in time order; returns the first terminal one.
 ///
-/// An event function exactly zero at the start time fires there when it leaves zero in a counted
-/// direction (a projectile launched downward from the ground hits it at once), and otherwise counts
-/// its crossings from the sign it takes when it leaves zero.
+/// An event function zero at the start time (within the rounding of the state) does not fire as
+/// it leaves zero, in either direction: it is armed at the first sample beyond that rounding and
+/// counts its crossings from the sign it has there.
 #[allow(clippy::too_many_arguments)]
 fn find_events<S: OdeSystem, H: Hooks<S>, St: Stepper>(
     sys: &mut S,
@@ -860,21 +968,14 @@ fn find_events<S: OdeSystem, H: Hooks<S>, St: Stepper>(
 
         let mut start = 0;
         if events.zero_at_start[i] {
-            let Some(j) = pts.iter().position(|p| p.1 != 0.0) else {
+            // Leaving zero is not a crossing, in whichever direction: the event is armed at the
+            // first sample beyond the rounding of the start, and counts crossings from there.
+            let rounding = events.rounding[i];
+            let Some(j) = pts.iter().position(|p| p.1.abs() > rounding) else {
                 continue;
             };
             events.zero_at_start[i] = false;
-            let leaves_counted = match direction {
-                Direction::Either => true,
-                Direction::Rising => pts[j].1 > 0.0,
-                Direction::Falling => pts[j].1 < 0.0,
-            };
-            if leaves_counted {
-                hits.push((i, pts[j - 1].0));
-                if terminal {
-                    continue;
-                }
-            }
+            hooks.armed(i, pts[j].0);
             start = j;
         }
 

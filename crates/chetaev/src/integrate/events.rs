@@ -44,11 +44,17 @@ pub enum Direction {
 /// An event: a function `g(t, q, q̇)` whose zeros are located, a direction, and whether it stops
 /// the integration.
 ///
-/// A function exactly zero at the start time crosses there when it leaves zero in a direction
-/// the event counts: a projectile launched from the ground (`g = y`, `y = 0` at `t0`) hits it at
-/// once, upward as well as downward, unless the event counts only the crossing it wants
-/// ([`Event::falling`] for the landing). Leaving zero in a direction not counted is not a
-/// crossing, and later crossings are counted from the sign taken then.
+/// A run never ends at its start time because of an event. A function zero at the start time
+/// (exactly, or within the rounding of the initial state: a `q̇0` computed as `v0 sin π`) is not
+/// armed there: leaving zero is not a crossing, in whichever direction it leaves, so no event is
+/// reported at the start. The event is armed once the function has left zero, and from then on its
+/// crossings count as usual, from the sign it has taken. The solution says so with a
+/// [`Warning::EventZeroAtStart`](crate::Warning::EventZeroAtStart).
+///
+/// So the apex `ẏ` falling of a horizontal launch (`ẏ0 = 0`, and `ẏ < 0` at once) is not
+/// reported at `t0`, nor ever after unless `ẏ` becomes positive and falls again; the landing
+/// `y` falling of a launch upward from the ground (`y0 = 0`) is the landing, not the start; and
+/// `x = sin t` rising is first reported at `2π`, not at `0`.
 ///
 /// A function that touches zero and keeps its sign (`g = (t − a)²`) does not cross, also where a
 /// sample or the search between samples lands on the zero exactly; only a zero exactly at the end

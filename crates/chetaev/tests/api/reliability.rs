@@ -625,19 +625,54 @@ fn with_projection_the_state_of_every_crossing_is_projected() {
 }
 
 #[test]
-fn an_event_zero_at_the_start_fires_when_it_leaves_zero_in_its_direction() {
-    // x = sin t starts at 0 moving up.
+fn an_event_zero_at_the_start_is_armed_when_it_leaves_zero_and_counts_later_crossings() {
+    use std::f64::consts::PI;
+    // x = sin t starts at 0 moving up: leaving zero upward is not a crossing, even for an event
+    // counting rising ones; the first rising crossing is at 2π.
+    let o = Options::until(10.0).tolerances(1e-10, 1e-10);
     let rising = Event::new("x", |_t, q, _qd| q[0]).rising().terminal();
-    let sol = dopri5_on_oscillator(&Options::until(10.0).event(rising)).expect("valid");
+    let sol = dopri5_on_oscillator(&o.clone().event(rising)).expect("valid");
     assert_eq!(sol.status, Status::Terminated { event: 0 });
-    assert_eq!(sol.events[0].t, 0.0);
+    assert_eq!(sol.events.len(), 1);
+    assert!(
+        (sol.events[0].t - 2.0 * PI).abs() < 1e-8,
+        "{}",
+        sol.events[0].t
+    );
+    // The solution says the event was zero at the start and when it was armed.
+    assert_eq!(sol.warnings.len(), 1, "{:?}", sol.warnings);
+    let Warning::EventZeroAtStart {
+        index,
+        value,
+        armed_by,
+        ..
+    } = &sol.warnings[0]
+    else {
+        panic!("{:?}", sol.warnings[0]);
+    };
+    assert_eq!((*index, *value), (0, 0.0));
+    assert!(armed_by.is_some_and(|t| t > 0.0 && t < 1.0), "{armed_by:?}");
+    assert!(sol.warnings[0].to_string().contains("zero at the start"));
 
-    // Falling: not at the start (it moves up), but at t = π.
+    // Falling: at t = π.
     let falling = Event::new("x", |_t, q, _qd| q[0]).falling().terminal();
-    let sol = dopri5_on_oscillator(&Options::until(10.0).tolerances(1e-10, 1e-10).event(falling))
-        .expect("valid");
+    let sol = dopri5_on_oscillator(&o.clone().event(falling)).expect("valid");
     assert_eq!(sol.status, Status::Terminated { event: 0 });
-    assert!((sol.events[0].t - std::f64::consts::PI).abs() < 1e-8);
+    assert!((sol.events[0].t - PI).abs() < 1e-8);
+
+    // Either direction, not terminal: π, 2π, 3π, none at 0.
+    let either = Event::new("x", |_t, q, _qd| q[0]);
+    let sol = dopri5_on_oscillator(&o.clone().event(either)).expect("valid");
+    let times: Vec<f64> = sol.events.iter().map(|e| e.t).collect();
+    assert_eq!(times.len(), 3, "{times:?}");
+    for (t, k) in times.iter().zip(1..) {
+        assert!((t - k as f64 * PI).abs() < 1e-8, "{times:?}");
+    }
+
+    // An event away from zero at the start warns of nothing.
+    let shifted = Event::new("x + 1/2", |_t, q, _qd| q[0] + 0.5);
+    let sol = dopri5_on_oscillator(&o.event(shifted)).expect("valid");
+    assert!(sol.warnings.is_empty(), "{:?}", sol.warnings);
 }
 
 #[test]

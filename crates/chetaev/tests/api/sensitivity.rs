@@ -4,6 +4,7 @@
 
 use chetaev::num_dual::{Dual64, DualNum};
 use chetaev::prelude::*;
+use chetaev::SeedPart;
 
 /// The paper's model (42.2), (42.23), with `g` and `v0` read as parameters.
 struct Uniform {
@@ -238,6 +239,26 @@ fn a_holonomic_pendulums_quarter_period_moves_as_the_square_root_of_l_over_g() -
     assert!(text.contains("off holonomic constraint 1"), "{text}");
     assert!(text.contains("through its rate ḣ"), "{text}");
     assert!(!text.contains("|q̇|² − v0²"), "{text}");
+    // The pendulum at rest has no parameter moved and no constraint moving in time: the hint is
+    // about the velocity the seed moves, not about ω of a time-dependent constraint.
+    assert!(
+        matches!(
+            e,
+            Error::InconsistentSeed {
+                moved_by: SeedPart::Velocity,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(
+        text.contains("through the initial velocity it moves") && text.contains("x δẋ + y δẏ = 0"),
+        "{text}"
+    );
+    assert!(
+        !text.contains('ω') && !text.contains("with the parameter"),
+        "{text}"
+    );
     // ℓ moved without the position that keeps h = x² + y² − ℓ² = 0 (δh = −2ℓ), or x0 moved alone
     // (δh = 2 x0): refused in position, for static and run-time sizes, where the derivatives
     // would otherwise be those of a rod whose length does not change.
@@ -267,6 +288,17 @@ fn a_holonomic_pendulums_quarter_period_moves_as_the_square_root_of_l_over_g() -
                 "{residual} vs {expected}"
             );
             assert!(e.to_string().contains("in position (h itself)"), "{e}");
+            // Named by what the seed moves: ℓ, a parameter; x0, a position.
+            let (part, says) = if seed.name == "l" {
+                (SeedPart::Parameter, "through the parameter it moves")
+            } else {
+                (SeedPart::Position, "through the initial position it moves")
+            };
+            assert!(
+                matches!(&e, Error::InconsistentSeed { moved_by, .. } if *moved_by == part),
+                "{e}"
+            );
+            assert!(e.to_string().contains(says), "{e}");
         }
     }
     Ok(())
@@ -403,6 +435,17 @@ fn bad_seeds_are_typed_errors() -> Result<(), Error> {
         "{e}"
     );
     assert!(e.to_string().contains("off velocity constraint 1"), "{e}");
+    assert!(
+        matches!(
+            e,
+            Error::InconsistentSeed {
+                moved_by: SeedPart::Parameter,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("Seed::parameter(\"v0\")"), "{e}");
     // Out-of-range coordinate, duplicate names, projection.
     let e = solve(
         &problem,
