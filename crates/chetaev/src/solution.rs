@@ -326,6 +326,19 @@ impl Solution {
             if let Some(h) = &h {
                 finite(t, "h", h)?;
             }
+            // The multipliers' and the force's sensitivities first: `ode.evaluate` lends its
+            // workspace until the end of the recording.
+            let moved = match ode.sens.as_mut() {
+                Some(v) => {
+                    let (mut dmu, mut dphi) = (Vec::new(), Vec::new());
+                    let x = crate::model::Point::new(t, q, qd);
+                    v.multipliers(ode.model, x, &y[2 * n..e], (&mut dmu, &mut dphi))?;
+                    finite(t, "dμ/dθ", &dmu)?;
+                    finite(t, "dΦ/dθ", &dphi)?;
+                    Some((dmu, dphi))
+                }
+                None => None,
+            };
             let d = ode.evaluate(t, q, qd)?;
             finite(t, "q̈", &d.qdd)?;
             finite(t, "μ", &d.mu)?;
@@ -339,6 +352,10 @@ impl Solution {
             self.relative_residual
                 .push(relative_residual(&d.f[..d.f.len() - holonomic], &d.j, qd));
             self.energy.push(d.energy);
+            if let (Some(s), Some((dmu, dphi))) = (&mut self.sensitivities, moved) {
+                s.mu.push(&dmu);
+                s.phi.push(&dphi);
+            }
             if let Some(h) = h {
                 if self.position_residual.width() != h.len() {
                     self.position_residual = Series::new(h.len());
@@ -367,7 +384,8 @@ impl Solution {
     /// Writes the recorded motion as CSV: a header, then one row per recorded point with `t`, the
     /// coordinates `q_1..q_n`, the velocities `qd_1..qd_n`, and, where recorded, `qdd_i`, `mu_a`,
     /// `phi_i`, `f_a`, `E`, `W_Phi`, `W_Q`, `int_dLdt`, and `balance` (the energy balance), then with
-    /// sensitivities `d(q_i)/d(θ)` and `d(qd_i)/d(θ)` for each seed `θ` by its name. Numbers are
+    /// sensitivities `d(q_i)/d(θ)` and `d(qd_i)/d(θ)` for each seed `θ` by its name, and where the
+    /// multipliers are recorded `d(mu_a)/d(θ)` and `d(phi_i)/d(θ)` for each seed. Numbers are
     /// written with full precision (Rust's shortest round-trip form).
     pub fn write_csv<W: std::io::Write>(&self, mut w: W) -> std::io::Result<()> {
         let (n, k) = (self.n(), self.k());
@@ -390,17 +408,23 @@ impl Solution {
             header.extend(["W_Phi", "W_Q", "int_dLdt", "balance"].map(String::from));
         }
         if let Some(s) = &self.sensitivities {
+            // A name with a comma or a quote is quoted, as CSV wants.
+            let quoted = |x: String| {
+                if x.contains([',', '"']) {
+                    format!("\"{}\"", x.replace('"', "\"\""))
+                } else {
+                    x
+                }
+            };
             for seed in &s.names {
-                // A name with a comma or a quote is quoted, as CSV wants.
-                let quoted = |x: String| {
-                    if x.contains([',', '"']) {
-                        format!("\"{}\"", x.replace('"', "\"\""))
-                    } else {
-                        x
-                    }
-                };
                 header.extend((1..=n).map(|i| quoted(format!("d(q_{i})/d({seed})"))));
                 header.extend((1..=n).map(|i| quoted(format!("d(qd_{i})/d({seed})"))));
+            }
+            if !s.mu.is_empty() {
+                for seed in &s.names {
+                    header.extend((1..=k).map(|a| quoted(format!("d(mu_{a})/d({seed})"))));
+                    header.extend((1..=n).map(|i| quoted(format!("d(phi_{i})/d({seed})"))));
+                }
             }
         }
         writeln!(w, "{}", header.join(","))?;
@@ -428,6 +452,12 @@ impl Solution {
             }
             if let Some(s) = &self.sensitivities {
                 row.extend_from_slice(&s.values[i]);
+                if let (Some(mu), Some(phi)) = (s.mu.get(i), s.phi.get(i)) {
+                    for j in 0..s.names.len() {
+                        row.extend_from_slice(&mu[k * j..k * (j + 1)]);
+                        row.extend_from_slice(&phi[n * j..n * (j + 1)]);
+                    }
+                }
             }
             let text: Vec<String> = row.iter().map(|v| v.to_string()).collect();
             writeln!(w, "{}", text.join(","))?;
