@@ -1,5 +1,7 @@
 //! What happened: the recorded motion, its diagnostics, statistics and why it stopped.
 
+use nalgebra::SVectorView;
+
 use crate::error::Error;
 use crate::integrate::events::EventHit;
 use crate::integrate::options::Record;
@@ -133,6 +135,33 @@ impl Series {
     /// The vectors as owned `Vec`s.
     pub fn to_vecs(&self) -> Vec<Vec<f64>> {
         self.iter().map(<[f64]>::to_vec).collect()
+    }
+
+    /// Vector `i` as a fixed-size nalgebra view of length `N`, for sizes known at compile time
+    /// (`sol.q.fixed::<2>(i)` for a model of `Lagrangian<2>`): it borrows the series' storage,
+    /// and reads and computes as an `SVector` does (`.norm()`, `.dot(..)`, `into_owned()` for an
+    /// `SVector<f64, N>`). `None` if there is no vector `i` or the width is not `N`.
+    ///
+    /// ```
+    /// use chetaev::prelude::*;
+    /// let mut q = Series::new(2);
+    /// q.push(&[3.0, 4.0]);
+    /// assert_eq!(q.fixed::<2>(0).map(|v| v.norm()), Some(5.0));
+    /// assert!(q.fixed::<3>(0).is_none() && q.fixed::<2>(1).is_none());
+    /// ```
+    pub fn fixed<const N: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, N>> {
+        (self.width == N)
+            .then(|| self.get(i))
+            .flatten()
+            .map(SVectorView::<f64, N>::from_slice)
+    }
+
+    /// Every vector in order as a fixed-size view of length `N` ([`Series::fixed`]); `None` if the
+    /// width is not `N`.
+    pub fn fixed_iter<const N: usize>(
+        &self,
+    ) -> Option<impl ExactSizeIterator<Item = SVectorView<'_, f64, N>> + '_> {
+        (self.width == N).then(|| self.iter().map(SVectorView::<f64, N>::from_slice))
     }
 }
 
@@ -463,6 +492,37 @@ impl Solution {
             writeln!(w, "{}", text.join(","))?;
         }
         Ok(())
+    }
+
+    /// `q` at recorded point `i` as a fixed-size view ([`Series::fixed`]), for a model of `N`
+    /// coordinates known at compile time: `sol.q_row::<2>(i)`. `None` if there is no point `i` or
+    /// the model has not `N` coordinates.
+    pub fn q_row<const N: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, N>> {
+        self.q.fixed(i)
+    }
+
+    /// `q̇` at recorded point `i` as a fixed-size view, as [`Solution::q_row`].
+    pub fn qd_row<const N: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, N>> {
+        self.qd.fixed(i)
+    }
+
+    /// `q̈` at recorded point `i` as a fixed-size view, as [`Solution::q_row`] (`None` also where
+    /// the accelerations were not recorded, below [`Record::Dynamics`]).
+    pub fn qdd_row<const N: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, N>> {
+        self.qdd.fixed(i)
+    }
+
+    /// The multipliers `μ` at recorded point `i` as a fixed-size view of the `K` constraints:
+    /// `sol.mu_row::<1>(i)`. `None` if there is no point `i`, the model has not `K` constraints,
+    /// or `μ` was not recorded (below [`Record::Dynamics`]).
+    pub fn mu_row<const K: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, K>> {
+        self.mu.fixed(i)
+    }
+
+    /// The Chetaev force `Φ` at recorded point `i` as a fixed-size view, as [`Solution::mu_row`]
+    /// (length `N`, the number of coordinates).
+    pub fn phi_row<const N: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, N>> {
+        self.phi.fixed(i)
     }
 
     /// Number of coordinates `n`.
