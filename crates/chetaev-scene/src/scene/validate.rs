@@ -1314,6 +1314,18 @@ fn method_names(keep: impl Fn(&chetaev::integrate::AnyMethod) -> bool) -> String
         .join(", ")
 }
 
+/// The names an output quantity may use: those of the motion, and the recorded multipliers
+/// `mu_1..mu_k` and Chetaev force `Phi_<coordinate>` (the columns of `multipliers.csv` and
+/// `force.csv`), in the order of [`crate::output::recorded`].
+fn quantity_symbols(motion: &Symbols, k: usize) -> Symbols {
+    let mut along = motion.clone();
+    along.recorded = (1..=k)
+        .map(|a| format!("mu_{a}"))
+        .chain(motion.coordinates.iter().map(|c| format!("Phi_{c}")))
+        .collect();
+    along
+}
+
 #[cfg(test)]
 mod tests {
     use crate::Scene;
@@ -1352,16 +1364,4 @@ mod tests {
             "{e}"
         );
     }
-}
-
-/// The names an output quantity may use: those of the motion, and the recorded multipliers
-/// `mu_1..mu_k` and Chetaev force `Phi_<coordinate>` (the columns of `multipliers.csv` and
-/// `force.csv`), in the order of [`crate::output::recorded`].
-fn quantity_symbols(motion: &Symbols, k: usize) -> Symbols {
-    let mut along = motion.clone();
-    along.recorded = (1..=k)
-        .map(|a| format!("mu_{a}"))
-        .chain(motion.coordinates.iter().map(|c| format!("Phi_{c}")))
-        .collect();
-    along
 }
