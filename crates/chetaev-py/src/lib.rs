@@ -1642,7 +1642,9 @@ impl Solution {
         })
     }
 
-    /// The sensitivities: `{seed name: {"q": (m, n), "qd": (m, n)}}`, or None without seeds.
+    /// The sensitivities: `{seed name: {"q": (m, n), "qd": (m, n), "mu": (m, k), "phi": (m, n)}}`
+    /// (`mu`, `phi`: the total derivatives of the multipliers and the Chetaev force, present where
+    /// they are recorded, `record="dynamics"` and above), or None without seeds.
     #[getter]
     fn sensitivities(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         cached(py, &self.cache.sensitivities, || {
@@ -1663,6 +1665,18 @@ impl Solution {
                 let entry = PyDict::new(py);
                 entry.set_item("q", PyArray1::from_vec(py, dq).reshape([rows, n])?)?;
                 entry.set_item("qd", PyArray1::from_vec(py, dqd).reshape([rows, n])?)?;
+                // dμ/dθ and dΦ/dθ where the multipliers are recorded.
+                if sens.mu.len() == rows {
+                    let k = s.k();
+                    let (mut dmu, mut dphi) =
+                        (Vec::with_capacity(rows * k), Vec::with_capacity(rows * n));
+                    for i in 0..rows {
+                        dmu.extend_from_slice(sens.mu(i, j).unwrap_or_default());
+                        dphi.extend_from_slice(sens.phi(i, j).unwrap_or_default());
+                    }
+                    entry.set_item("mu", PyArray1::from_vec(py, dmu).reshape([rows, k])?)?;
+                    entry.set_item("phi", PyArray1::from_vec(py, dphi).reshape([rows, n])?)?;
+                }
                 d.set_item(name, entry)?;
             }
             Ok(d.into_any().unbind())

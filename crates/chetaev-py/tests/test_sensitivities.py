@@ -101,3 +101,34 @@ def test_the_repr_of_a_velocity_seed_shows_its_name_as_python_would():
     seed = chetaev.Seed.velocity(0)
     assert seed.name == "q\u0307" + "1(t0)"  # q̇1(t0)
     assert seed.name in repr(seed), repr(seed)
+
+
+@pytest.mark.parametrize("wrt", ["g", "v0"])
+def test_the_multiplier_and_the_chetaev_force_move_as_the_closed_form_says(
+    particle_problem, impact, wrt
+):
+    # mu = -(m g / (2 v0)) tanh(g t / v0) (42.40), Phi = 2 mu q', differentiated by sympy
+    m, g, v0, t = sp.symbols("m g v0 t", positive=True)
+    u = g * t / v0
+    mu = -(m * g / (2 * v0)) * sp.tanh(u)
+    phi = [2 * mu * v0 / sp.cosh(u), -2 * mu * v0 * sp.tanh(u)]
+    symbol = {"g": g, "v0": v0}[wrt]
+    values = {m: 1.0, g: G, v0: V0}
+    exact = [sp.lambdify(t, sp.diff(e, symbol).subs(values), "numpy") for e in [mu, *phi]]
+    seed = (chetaev.Seed.parameter("g") if wrt == "g"
+            else chetaev.Seed("v0", parameters={"v0": 1.0}, velocities=[(0, 1.0)]))
+    sol = chetaev.solve(particle_problem, 10.0, rtol=TOL, atol=TOL, events=[impact],
+                        sensitivities=[seed], sensitivity_control=True, record="dynamics")
+    s = sol.sensitivities[seed.name]
+    assert s["mu"].shape == (len(sol), 1) and s["phi"].shape == (len(sol), 2)
+    times = np.asarray(sol.t)
+    size = max(np.max(np.abs(np.broadcast_to(f(times), times.shape))) for f in exact)
+    np.testing.assert_allclose(s["mu"][:, 0], exact[0](times), rtol=0, atol=1e-10 * size)
+    for i in range(2):
+        np.testing.assert_allclose(s["phi"][:, i], exact[i + 1](times), rtol=0, atol=1e-10 * size)
+
+
+def test_without_the_multipliers_recorded_their_sensitivities_are_absent(particle_problem, impact):
+    sol = chetaev.solve(particle_problem, 10.0, events=[impact], record="state",
+                        sensitivities=[chetaev.Seed.parameter("g")])
+    assert set(sol.sensitivities["g"]) == {"q", "qd"}

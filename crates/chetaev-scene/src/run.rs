@@ -344,7 +344,9 @@ impl Scene {
                 ));
             }
         }
-        for (i, (name, q)) in self.output.quantities.iter().enumerate() {
+        // Those that read μ or Φ are evaluated where these are recorded.
+        let along = self.output.quantities.iter().enumerate();
+        for (i, (name, q)) in along.filter(|(_, (_, q))| !q.reads_recorded()) {
             let v = q.eval(&env);
             if !v.is_finite() {
                 return Err(self.error_at(

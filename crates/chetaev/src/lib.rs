@@ -68,6 +68,7 @@
 pub mod equations;
 pub mod error;
 pub mod integrate;
+pub mod loads;
 pub mod manifold;
 pub mod model;
 pub mod problem;

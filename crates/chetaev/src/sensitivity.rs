@@ -130,7 +130,8 @@ pub struct EventSensitivity {
 }
 
 /// The sensitivities of a solution ([`Solution::sensitivities`](crate::Solution::sensitivities)):
-/// `∂q/∂θ` and `∂q̇/∂θ` at every recorded point for each seed `θ`, and how each event moved.
+/// `∂q/∂θ` and `∂q̇/∂θ` at every recorded point for each seed `θ`, with `∂μ/∂θ` and `∂Φ/∂θ` where
+/// the multipliers are recorded, and how each event moved.
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sensitivities {
@@ -138,6 +139,13 @@ pub struct Sensitivities {
     pub names: Vec<String>,
     /// At each recorded point, for each seed in turn, `∂q/∂θ` (n) then `∂q̇/∂θ` (n).
     pub values: Series,
+    /// At each recorded point, for each seed in turn, the total derivative of the multipliers
+    /// `dμ/dθ` (k, Newton form as [`Solution::mu`](crate::Solution::mu)); recorded with `μ`
+    /// ([`Record::Dynamics`](crate::integrate::options::Record::Dynamics) and above), empty otherwise.
+    pub mu: Series,
+    /// At each recorded point, for each seed in turn, the total derivative of the Chetaev force
+    /// `dΦ/dθ = d(Jᵀμ)/dθ` (n); recorded with `Φ`, empty otherwise.
+    pub phi: Series,
     /// For each hit of [`Solution::events`](crate::Solution::events), in the same order, how it
     /// moved; `None` for an event made by [`Event::new`] (its function is a plain closure that
     /// cannot be differentiated: make it with [`Event::smooth`]) or one crossed tangentially
@@ -146,9 +154,11 @@ pub struct Sensitivities {
 }
 
 impl Sensitivities {
-    pub(crate) fn new(names: Vec<String>, n: usize) -> Self {
+    pub(crate) fn new(names: Vec<String>, n: usize, k: usize) -> Self {
         Self {
             values: Series::new(2 * n * names.len()),
+            mu: Series::new(k * names.len()),
+            phi: Series::new(n * names.len()),
             names,
             events: Vec::new(),
         }
@@ -183,6 +193,27 @@ impl Sensitivities {
     pub fn qd(&self, point: usize, seed: usize) -> &[f64] {
         let n = self.n();
         &self.values[point][2 * n * seed + n..2 * n * (seed + 1)]
+    }
+
+    /// `dμ/dθ` at recorded point `point` for seed `seed` (length `k`): the total derivative of the
+    /// multipliers, through the motion (`∂μ/∂q · ∂q/∂θ + ∂μ/∂q̇ · ∂q̇/∂θ`) and through the
+    /// parameters (`∂μ/∂p · δp`). `None` where the multipliers were not recorded (below
+    /// [`Record::Dynamics`](crate::integrate::options::Record::Dynamics)) or `point` or `seed` is out of range.
+    pub fn mu(&self, point: usize, seed: usize) -> Option<&[f64]> {
+        let k = self.mu.width() / self.names.len().max(1);
+        (seed < self.names.len())
+            .then(|| self.mu.get(point))
+            .flatten()
+            .map(|row| &row[k * seed..k * (seed + 1)])
+    }
+
+    /// `dΦ/dθ` at recorded point `point` for seed `seed` (length `n`), as [`Sensitivities::mu`].
+    pub fn phi(&self, point: usize, seed: usize) -> Option<&[f64]> {
+        let n = self.n();
+        (seed < self.names.len())
+            .then(|| self.phi.get(point))
+            .flatten()
+            .map(|row| &row[n * seed..n * (seed + 1)])
     }
 }
 
@@ -624,6 +655,35 @@ impl Variational {
         Err(invalid(format!(
             "the model's branches at t = {t} are not those of its own recording there"
         )))
+    }
+
+    /// The total derivatives `dμ/dθ = ∂μ/∂y · S + ∂μ/∂p · δp` (k per seed, into `dmu`) and
+    /// `dΦ/dθ` (n per seed, into `dphi`) at `(t, q, q̇)` given `S` there: the equations evaluated
+    /// with the same dual numbers as the right-hand side, [`LANES`] seeds per evaluation.
+    pub(crate) fn multipliers<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        x: Point<f64>,
+        s: &[f64],
+        (dmu, dphi): (&mut Vec<f64>, &mut Vec<f64>),
+    ) -> Result<(), Error> {
+        let (n, m, k) = (self.n, self.seeds.len(), model.sizes().1);
+        dmu.clear();
+        dmu.resize(k * m, 0.0);
+        dphi.clear();
+        dphi.resize(n * m, 0.0);
+        for first in (0..m).step_by(LANES) {
+            let d = self.lanes(model, x, s, first, Need::All)?;
+            for (l, j) in (first..m.min(first + LANES)).enumerate() {
+                for (a, mu) in d.mu.iter().enumerate() {
+                    dmu[k * j + a] = lane(mu, l);
+                }
+                for (i, phi) in d.phi.iter().enumerate() {
+                    dphi[n * j + i] = lane(phi, l);
+                }
+            }
+        }
+        Ok(())
     }
 
     /// `dS = (S_q̇, ∂F/∂y · S + ∂F/∂p · δp)` for every seed at `(t, q, q̇)`, [`LANES`] seeds per

@@ -1,5 +1,7 @@
 //! What happened: the recorded motion, its diagnostics, statistics and why it stopped.
 
+use nalgebra::SVectorView;
+
 use crate::error::Error;
 use crate::integrate::events::EventHit;
 use crate::integrate::options::Record;
@@ -187,6 +189,33 @@ impl Series {
     /// The vectors as owned `Vec`s.
     pub fn to_vecs(&self) -> Vec<Vec<f64>> {
         self.iter().map(<[f64]>::to_vec).collect()
+    }
+
+    /// Vector `i` as a fixed-size nalgebra view of length `N`, for sizes known at compile time
+    /// (`sol.q.fixed::<2>(i)` for a model of `Lagrangian<2>`): it borrows the series' storage,
+    /// and reads and computes as an `SVector` does (`.norm()`, `.dot(..)`, `into_owned()` for an
+    /// `SVector<f64, N>`). `None` if there is no vector `i` or the width is not `N`.
+    ///
+    /// ```
+    /// use chetaev::prelude::*;
+    /// let mut q = Series::new(2);
+    /// q.push(&[3.0, 4.0]);
+    /// assert_eq!(q.fixed::<2>(0).map(|v| v.norm()), Some(5.0));
+    /// assert!(q.fixed::<3>(0).is_none() && q.fixed::<2>(1).is_none());
+    /// ```
+    pub fn fixed<const N: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, N>> {
+        (self.width == N)
+            .then(|| self.get(i))
+            .flatten()
+            .map(SVectorView::<f64, N>::from_slice)
+    }
+
+    /// Every vector in order as a fixed-size view of length `N` ([`Series::fixed`]); `None` if the
+    /// width is not `N`.
+    pub fn fixed_iter<const N: usize>(
+        &self,
+    ) -> Option<impl ExactSizeIterator<Item = SVectorView<'_, f64, N>> + '_> {
+        (self.width == N).then(|| self.iter().map(SVectorView::<f64, N>::from_slice))
     }
 }
 
@@ -386,6 +415,19 @@ impl Solution {
             if let Some(h) = &h {
                 finite(t, "h", h)?;
             }
+            // The multipliers' and the force's sensitivities first: `ode.evaluate` lends its
+            // workspace until the end of the recording.
+            let moved = match ode.sens.as_mut() {
+                Some(v) => {
+                    let (mut dmu, mut dphi) = (Vec::new(), Vec::new());
+                    let x = crate::model::Point::new(t, q, qd);
+                    v.multipliers(ode.model, x, &y[2 * n..e], (&mut dmu, &mut dphi))?;
+                    finite(t, "dμ/dθ", &dmu)?;
+                    finite(t, "dΦ/dθ", &dphi)?;
+                    Some((dmu, dphi))
+                }
+                None => None,
+            };
             let d = ode.evaluate(t, q, qd)?;
             finite(t, "q̈", &d.qdd)?;
             finite(t, "μ", &d.mu)?;
@@ -399,6 +441,10 @@ impl Solution {
             self.relative_residual
                 .push(relative_residual(&d.f[..d.f.len() - holonomic], &d.j, qd));
             self.energy.push(d.energy);
+            if let (Some(s), Some((dmu, dphi))) = (&mut self.sensitivities, moved) {
+                s.mu.push(&dmu);
+                s.phi.push(&dphi);
+            }
             if let Some(h) = h {
                 if self.position_residual.width() != h.len() {
                     self.position_residual = Series::new(h.len());
@@ -427,7 +473,8 @@ impl Solution {
     /// Writes the recorded motion as CSV: a header, then one row per recorded point with `t`, the
     /// coordinates `q_1..q_n`, the velocities `qd_1..qd_n`, and, where recorded, `qdd_i`, `mu_a`,
     /// `phi_i`, `f_a`, `E`, `W_Phi`, `W_Q`, `int_dLdt`, and `balance` (the energy balance), then with
-    /// sensitivities `d(q_i)/d(θ)` and `d(qd_i)/d(θ)` for each seed `θ` by its name. Numbers are
+    /// sensitivities `d(q_i)/d(θ)` and `d(qd_i)/d(θ)` for each seed `θ` by its name, and where the
+    /// multipliers are recorded `d(mu_a)/d(θ)` and `d(phi_i)/d(θ)` for each seed. Numbers are
     /// written with full precision (Rust's shortest round-trip form).
     pub fn write_csv<W: std::io::Write>(&self, mut w: W) -> std::io::Result<()> {
         let (n, k) = (self.n(), self.k());
@@ -450,17 +497,23 @@ impl Solution {
             header.extend(["W_Phi", "W_Q", "int_dLdt", "balance"].map(String::from));
         }
         if let Some(s) = &self.sensitivities {
+            // A name with a comma or a quote is quoted, as CSV wants.
+            let quoted = |x: String| {
+                if x.contains([',', '"']) {
+                    format!("\"{}\"", x.replace('"', "\"\""))
+                } else {
+                    x
+                }
+            };
             for seed in &s.names {
-                // A name with a comma or a quote is quoted, as CSV wants.
-                let quoted = |x: String| {
-                    if x.contains([',', '"']) {
-                        format!("\"{}\"", x.replace('"', "\"\""))
-                    } else {
-                        x
-                    }
-                };
                 header.extend((1..=n).map(|i| quoted(format!("d(q_{i})/d({seed})"))));
                 header.extend((1..=n).map(|i| quoted(format!("d(qd_{i})/d({seed})"))));
+            }
+            if !s.mu.is_empty() {
+                for seed in &s.names {
+                    header.extend((1..=k).map(|a| quoted(format!("d(mu_{a})/d({seed})"))));
+                    header.extend((1..=n).map(|i| quoted(format!("d(phi_{i})/d({seed})"))));
+                }
             }
         }
         writeln!(w, "{}", header.join(","))?;
@@ -488,11 +541,48 @@ impl Solution {
             }
             if let Some(s) = &self.sensitivities {
                 row.extend_from_slice(&s.values[i]);
+                if let (Some(mu), Some(phi)) = (s.mu.get(i), s.phi.get(i)) {
+                    for j in 0..s.names.len() {
+                        row.extend_from_slice(&mu[k * j..k * (j + 1)]);
+                        row.extend_from_slice(&phi[n * j..n * (j + 1)]);
+                    }
+                }
             }
             let text: Vec<String> = row.iter().map(|v| v.to_string()).collect();
             writeln!(w, "{}", text.join(","))?;
         }
         Ok(())
+    }
+
+    /// `q` at recorded point `i` as a fixed-size view ([`Series::fixed`]), for a model of `N`
+    /// coordinates known at compile time: `sol.q_row::<2>(i)`. `None` if there is no point `i` or
+    /// the model has not `N` coordinates.
+    pub fn q_row<const N: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, N>> {
+        self.q.fixed(i)
+    }
+
+    /// `q̇` at recorded point `i` as a fixed-size view, as [`Solution::q_row`].
+    pub fn qd_row<const N: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, N>> {
+        self.qd.fixed(i)
+    }
+
+    /// `q̈` at recorded point `i` as a fixed-size view, as [`Solution::q_row`] (`None` also where
+    /// the accelerations were not recorded, below [`Record::Dynamics`]).
+    pub fn qdd_row<const N: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, N>> {
+        self.qdd.fixed(i)
+    }
+
+    /// The multipliers `μ` at recorded point `i` as a fixed-size view of the `K` constraints:
+    /// `sol.mu_row::<1>(i)`. `None` if there is no point `i`, the model has not `K` constraints,
+    /// or `μ` was not recorded (below [`Record::Dynamics`]).
+    pub fn mu_row<const K: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, K>> {
+        self.mu.fixed(i)
+    }
+
+    /// The Chetaev force `Φ` at recorded point `i` as a fixed-size view, as [`Solution::mu_row`]
+    /// (length `N`, the number of coordinates).
+    pub fn phi_row<const N: usize>(&self, i: usize) -> Option<SVectorView<'_, f64, N>> {
+        self.phi.fixed(i)
     }
 
     /// Number of coordinates `n`.

@@ -96,6 +96,11 @@ pub struct Symbols {
     /// Whether `t`, the coordinates and the velocities may be used (the model, events and output
     /// quantities), or only parameters and constants (parameters, initial values, times).
     pub motion: bool,
+    /// Names of quantities recorded along the motion that an expression may read, by their index
+    /// in the values given to [`Expr::eval_recorded`]: for output quantities, the multipliers
+    /// `mu_1`, `mu_2`, ... and the Chetaev force `Phi_<coordinate>`. A parameter of the same name
+    /// is read instead. Empty for every other expression.
+    pub recorded: Vec<String>,
 }
 
 impl Symbols {
@@ -109,6 +114,7 @@ impl Symbols {
             coordinates: coordinates.iter().map(|c| c.to_string()).collect(),
             varying: BTreeMap::new(),
             motion: true,
+            recorded: Vec::new(),
         }
     }
 
@@ -125,6 +131,7 @@ impl Symbols {
             coordinates: Vec::new(),
             varying: BTreeMap::new(),
             motion: false,
+            recorded: Vec::new(),
         }
     }
 }
@@ -226,6 +233,23 @@ impl Expr {
         self.node.eval(env, &Slots(parameters))
     }
 
+    /// Whether it reads a recorded quantity ([`Symbols::recorded`]).
+    pub fn reads_recorded(&self) -> bool {
+        self.node.reads_recorded()
+    }
+
+    /// The value at `env` with the recorded quantities ([`Symbols::recorded`]) taken from
+    /// `recorded`, by their index there; NaN for one that `recorded` does not hold (the
+    /// multipliers where they were not recorded).
+    ///
+    /// # Panics
+    ///
+    /// As [`Expr::eval`].
+    pub fn eval_recorded(&self, env: &Env<'_, f64>, recorded: &[f64]) -> f64 {
+        self.check_env(env);
+        self.node.eval(env, &Recorded(recorded))
+    }
+
     /// The value at `env`, for `f64` or any dual number.
     ///
     /// # Panics
@@ -234,6 +258,13 @@ impl Expr {
     /// [`Symbols::coordinates`] it was resolved with is always enough).
     #[inline]
     pub fn eval<R: Real>(&self, env: &Env<'_, R>) -> R {
+        self.check_env(env);
+        self.node.eval(env, &Named)
+    }
+
+    /// Panics unless `env` has every coordinate the expression uses.
+    #[inline]
+    fn check_env<R>(&self, env: &Env<'_, R>) {
         if let Some(i) = self.max_index {
             assert!(
                 i < env.q.len() && i < env.qd.len(),
@@ -242,13 +273,31 @@ impl Expr {
                 env.q.len().min(env.qd.len())
             );
         }
-        self.node.eval(env, &Named)
     }
 }
 
 /// Where a parameter node takes its value.
-trait ParameterValues<R> {
+trait ParameterValues<R: Real> {
     fn value(&self, name: &str, index: usize, value: f64) -> R;
+
+    /// The recorded quantity `index` ([`Symbols::recorded`]): none outside output quantities.
+    fn recorded(&self, _index: usize) -> R {
+        R::from(f64::NAN)
+    }
+}
+
+/// `R::parameter` for the parameter nodes, and the recorded quantities from a slice.
+struct Recorded<'a>(&'a [f64]);
+
+impl ParameterValues<f64> for Recorded<'_> {
+    #[inline]
+    fn value(&self, name: &str, _index: usize, value: f64) -> f64 {
+        f64::parameter(name, value)
+    }
+
+    fn recorded(&self, index: usize) -> f64 {
+        self.0.get(index).copied().unwrap_or(f64::NAN)
+    }
 }
 
 /// `R::parameter(name, value)`: the constant, except where `chetaev` records the equations with
@@ -265,7 +314,7 @@ impl<R: Real> ParameterValues<R> for Named {
 /// Values given by the parameter's index.
 struct Slots<'a, R>(&'a [R]);
 
-impl<R: Copy> ParameterValues<R> for Slots<'_, R> {
+impl<R: Real> ParameterValues<R> for Slots<'_, R> {
     #[inline]
     fn value(&self, _name: &str, index: usize, _value: f64) -> R {
         self.0[index]
@@ -396,6 +445,8 @@ enum Node {
     Time,
     Coord(usize),
     Vel(usize),
+    /// A quantity recorded along the motion, by its index in [`Symbols::recorded`].
+    Recorded(usize),
     Neg(Box<Node>),
     /// `a ± b ± c ...`, evaluated left to right; `true` subtracts. A chain of sums is one node, so
     /// the depth of the tree (and of the recursion that evaluates it) follows the nesting of
@@ -431,6 +482,7 @@ impl Node {
             Node::Time => env.t,
             Node::Coord(i) => env.q[*i],
             Node::Vel(i) => env.qd[*i],
+            Node::Recorded(i) => v.recorded(*i),
             Node::Neg(a) => -a.eval(env, v),
             Node::Sum(first, rest) => rest.iter().fold(first.eval(env, v), |acc, (minus, term)| {
                 match (minus, term) {
@@ -466,9 +518,12 @@ impl Node {
 
     fn children(&self) -> Vec<&Node> {
         match self {
-            Node::Const(_) | Node::Param(..) | Node::Time | Node::Coord(_) | Node::Vel(_) => {
-                Vec::new()
-            }
+            Node::Const(_)
+            | Node::Param(..)
+            | Node::Time
+            | Node::Coord(_)
+            | Node::Vel(_)
+            | Node::Recorded(_) => Vec::new(),
             Node::Sum(first, rest) | Node::Product(first, rest) => std::iter::once(&**first)
                 .chain(rest.iter().map(|(_, n)| n))
                 .collect(),
@@ -508,6 +563,10 @@ impl Node {
 
     fn uses_velocities(&self) -> bool {
         matches!(self, Node::Vel(_)) || self.children().into_iter().any(Node::uses_velocities)
+    }
+
+    fn reads_recorded(&self) -> bool {
+        matches!(self, Node::Recorded(_)) || self.children().into_iter().any(Node::reads_recorded)
     }
 }
 
@@ -647,6 +706,9 @@ fn resolve_name(name: &str, span: Span, sym: &Symbols) -> Result<Node, ExprError
     if let Some(v) = sym.parameters.get(name) {
         return Ok(Node::Const(*v));
     }
+    if let Some(i) = sym.recorded.iter().position(|r| r == name) {
+        return Ok(Node::Recorded(i));
+    }
     let coordinate = sym.coordinates.iter().position(|c| c == name);
     let velocity = name
         .strip_suffix("_dot")
@@ -703,6 +765,7 @@ fn unknown_name(name: &str, sym: &Symbols) -> String {
             known.push(c.clone());
             known.push(format!("{c}_dot"));
         }
+        known.extend(sym.recorded.iter().cloned());
     }
     // A velocity written another way: xdot, xd, x_d, dx, vx, x', ...
     if sym.motion {

@@ -131,7 +131,24 @@ fn writes_quantities(scene: &Scene) -> bool {
 /// An output quantity at output point `i`, if the state there was recorded.
 fn quantity_at(e: &Expr, out: &Outcome, i: usize) -> Option<f64> {
     let (t, q, qd) = (out.t.get(i)?, out.q.get(i)?, out.qd.get(i)?);
-    Some(e.eval(&Env { t: *t, q, qd }))
+    let env = Env { t: *t, q, qd };
+    if !e.reads_recorded() {
+        return Some(e.eval(&env));
+    }
+    let mut values = Vec::new();
+    recorded(out, i, &mut values);
+    Some(e.eval_recorded(&env, &values))
+}
+
+/// The quantities an output quantity may read at output point `i`, in the order of the names
+/// [`Symbols::recorded`](crate::expr::Symbols::recorded) gives them: the multipliers `μ` (`mu_1`,
+/// ...), then the Chetaev force `Φ` (`Phi_<coordinate>`); empty where they were not recorded.
+pub(crate) fn recorded(out: &Outcome, i: usize, values: &mut Vec<f64>) {
+    values.clear();
+    if let (Some(mu), Some(phi)) = (out.mu.get(i), out.phi.get(i)) {
+        values.extend_from_slice(mu);
+        values.extend_from_slice(phi);
+    }
 }
 
 /// An output quantity along the recorded motion, evaluated as it is read.

@@ -111,13 +111,19 @@ pub(super) fn write_table<W: Write>(
                 .collect(),
         ),
         Table::Sensitivities => {
-            let values = out
-                .sensitivities
-                .as_ref()
-                .map_or(&no_sensitivities, |s| &s.values);
-            let header = sensitivity_names(scene, false).collect::<Vec<_>>();
-            let width = header.len();
-            (header, vec![Part::Rows(values, width)])
+            let s = out.sensitivities.as_ref();
+            let values = s.map_or(&no_sensitivities, |s| &s.values);
+            let mut header = sensitivity_names(scene, false).collect::<Vec<_>>();
+            let mut parts = vec![Part::Rows(values, header.len())];
+            // With constraints, those of the multipliers and of the Chetaev force follow.
+            if k > 0 {
+                let (mu, phi) = force_sensitivity_names(scene);
+                let (kp, np) = (mu.len(), phi.len());
+                header.extend(mu.into_iter().chain(phi));
+                parts.push(Part::Rows(s.map_or(&no_sensitivities, |s| &s.mu), kp));
+                parts.push(Part::Rows(s.map_or(&no_sensitivities, |s| &s.phi), np));
+            }
+            (header, parts)
         }
         Table::Events => return write_events(w, scene, out),
     };
@@ -172,6 +178,31 @@ pub(crate) fn sensitivity_names(
             .chain(c.iter().map(|x| format!("{x}_dot")))
             .map(move |x| format!("d({x})/d({p})"))
     })
+}
+
+/// The names of the columns of the multipliers' and the Chetaev force's sensitivities: for each
+/// parameter `p` of `[sensitivities]` in turn `d(mu_a)/d(p)` for every constraint, then for each
+/// `p` in turn `d(Phi_x)/d(p)` for every coordinate, the orders of
+/// [`chetaev::Sensitivities::mu`] and [`chetaev::Sensitivities::phi`].
+fn force_sensitivity_names(scene: &Scene) -> (Vec<String>, Vec<String>) {
+    let parameters = scene
+        .sensitivities
+        .as_ref()
+        .map_or(&[][..], |s| &s.parameters[..]);
+    let mu = parameters
+        .iter()
+        .flat_map(|p| (1..=scene.k()).map(move |a| format!("d(mu_{a})/d({p})")))
+        .collect();
+    let phi = parameters
+        .iter()
+        .flat_map(|p| {
+            scene
+                .coordinates
+                .iter()
+                .map(move |x| format!("d(Phi_{x})/d({p})"))
+        })
+        .collect();
+    (mu, phi)
 }
 
 /// One row per located event: its name, `t`, the coordinates and the velocities; with

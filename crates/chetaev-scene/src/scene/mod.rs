@@ -115,7 +115,23 @@ impl Scene {
     pub fn record(&self) -> Record {
         let tables = self.output.tables.iter().map(|t| t.record());
         let pictures = self.output.pictures.iter().map(|p| p.record());
-        tables.chain(pictures).max().unwrap_or(Record::State)
+        // Output quantities that read `μ` or `Φ`, and the sensitivities of `μ` and `Φ` (with
+        // constraints), need them recorded.
+        let quantities = self.output.tables.contains(&Table::Quantities)
+            || self.output.pictures.contains(&Picture::Quantities);
+        let reads = quantities
+            && self
+                .output
+                .quantities
+                .iter()
+                .any(|(_, e)| e.reads_recorded());
+        let sensitivities = self.output.tables.contains(&Table::Sensitivities) && self.k() > 0;
+        let dynamics = (reads || sensitivities).then_some(Record::Dynamics);
+        tables
+            .chain(pictures)
+            .chain(dynamics)
+            .max()
+            .unwrap_or(Record::State)
     }
 
     /// Whether anything is sampled along the motion (a table or a picture other than the events

@@ -139,6 +139,7 @@ impl Builder {
                                         .collect(),
                                     varying: BTreeMap::new(),
                                     motion: false,
+                                    recorded: Vec::new(),
                                 });
                                 check_name(&n, span, symbols)
                                     .map_err(|e| self.expr_error(&spanned, e))?;
@@ -161,6 +162,7 @@ impl Builder {
             coordinates: Vec::new(),
             varying: BTreeMap::new(),
             motion: false,
+            recorded: Vec::new(),
         };
         let mut values = vec![0.0; entries.len()];
         for &i in &order {
@@ -302,6 +304,7 @@ impl Builder {
             parameters: values,
             coordinates: Vec::new(),
             motion: false,
+            recorded: Vec::new(),
         };
         let mut varying = vec![None; entries.len()];
         for (i, e) in entries.iter().enumerate() {

@@ -272,6 +272,7 @@ impl Builder {
             coordinates: coordinates.clone(),
             varying: BTreeMap::new(),
             motion: true,
+            recorded: Vec::new(),
         };
         let varying_motion = (!varying.is_empty()).then(|| Symbols {
             varying: varying.clone(),
@@ -895,6 +896,7 @@ impl Builder {
         entries.sort_by_key(|(k, _)| k.span().start);
         let mut quantities = Vec::new();
         let mut spans = Vec::new();
+        let along = quantity_symbols(motion, k);
         for (name, value) in entries {
             if !is_identifier(name.get_ref()) {
                 return Err(self.err(
@@ -913,7 +915,7 @@ impl Builder {
                      quantity name, such as 'time'",
                 ));
             }
-            quantities.push((name.get_ref().clone(), self.expr(value, motion)?));
+            quantities.push((name.get_ref().clone(), self.expr(value, &along)?));
             spans.push(value.span());
         }
         let wants_quantities =
@@ -1355,6 +1357,18 @@ fn method_names(keep: impl Fn(&chetaev::integrate::AnyMethod) -> bool) -> String
         .map(|m| m.info().name.to_lowercase())
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// The names an output quantity may use: those of the motion, and the recorded multipliers
+/// `mu_1..mu_k` and Chetaev force `Phi_<coordinate>` (the columns of `multipliers.csv` and
+/// `force.csv`), in the order of [`crate::output::recorded`].
+fn quantity_symbols(motion: &Symbols, k: usize) -> Symbols {
+    let mut along = motion.clone();
+    along.recorded = (1..=k)
+        .map(|a| format!("mu_{a}"))
+        .chain(motion.coordinates.iter().map(|c| format!("Phi_{c}")))
+        .collect();
+    along
 }
 
 #[cfg(test)]

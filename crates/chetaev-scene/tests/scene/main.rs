@@ -12,6 +12,7 @@ mod parameters;
 mod parser;
 mod pictures;
 mod powers;
+mod recorded_quantities;
 mod rust_and_scene_agree;
 mod scenes;
 mod sensitivities;

@@ -413,10 +413,19 @@ fn the_command_writes_the_sensitivities_and_lists_them() {
     let table = read("sensitivities.csv");
     let header = table.lines().next().expect("a header");
     assert!(header.starts_with("t,d(x)/d(v0),d(y)/d(v0),d(x_dot)/d(v0),d(y_dot)/d(v0),d(x)/d(g)"));
-    assert_eq!(header.split(',').count(), 1 + 3 * 4);
+    // Then those of the multiplier and of the Chetaev force, for each parameter in turn.
+    assert!(header.ends_with(
+        ",d(mu_1)/d(v0),d(mu_1)/d(g),d(mu_1)/d(h0),d(Phi_x)/d(v0),d(Phi_y)/d(v0),d(Phi_x)/d(g),\
+         d(Phi_y)/d(g),d(Phi_x)/d(h0),d(Phi_y)/d(h0)"
+    ));
+    assert_eq!(header.split(',').count(), 1 + 3 * 4 + 3 * (1 + 2));
     assert_eq!(table.lines().count(), 1 + 101);
-    // The first row: y(0) = h0 moves with h0, x_dot(0) = v0 with v0.
-    assert_eq!(table.lines().nth(1), Some("0,0,0,1,0,0,0,0,0,0,1,0,0"));
+    // The first row: y(0) = h0 moves with h0, x_dot(0) = v0 with v0; μ(0) = 0 for every v0, g,
+    // h0 (42.40), and so Φ(0) = 2μ(0)q̇(0).
+    assert_eq!(
+        table.lines().nth(1),
+        Some("0,0,0,1,0,0,0,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0")
+    );
     let events = read("events.csv");
     let header = events.lines().next().expect("a header");
     assert!(header.contains(",d(t)/d(v0),d(x)/d(v0),"), "{header}");

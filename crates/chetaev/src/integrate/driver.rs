@@ -93,7 +93,7 @@ where
     let mut sol = Solution::with_capacity(settings.info.name, options.record, n, k, rows);
     if let Some(v) = &sys.sens {
         v.initial(&mut y[2 * n..sys.quadratures()]);
-        let mut s = Sensitivities::new(v.names(), n);
+        let mut s = Sensitivities::new(v.names(), n, k);
         s.values.reserve(rows);
         sol.sensitivities = Some(s);
     }

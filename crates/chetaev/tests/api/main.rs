@@ -4,6 +4,8 @@ mod common;
 
 mod compiled;
 mod describe;
+mod loads;
 mod manifold;
 mod reliability;
+mod rows;
 mod sensitivity;

@@ -724,3 +724,105 @@ fn one_parameter_name_read_with_two_values_by_the_model_and_an_event_is_refused(
     );
     Ok(())
 }
+
+/// The paper's model with the mass read as a parameter too.
+struct UniformMass {
+    m: f64,
+    g: f64,
+    v0: f64,
+}
+
+impl Lagrangian<2> for UniformMass {
+    fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 2>, qd: &SVector<R, 2>) -> R {
+        let m = R::parameter("m", self.m);
+        qd.dot(qd) * m * 0.5 - q[1] * R::parameter("g", self.g) * m
+    }
+}
+
+impl Constraints<2, 1> for UniformMass {
+    fn constraints<R: Real>(&self, _t: R, _q: &SVector<R, 2>, qd: &SVector<R, 2>) -> SVector<R, 1> {
+        let v0 = R::parameter("v0", self.v0);
+        SVector::from([qd.dot(qd) - v0 * v0])
+    }
+}
+
+/// `μ(t) = −(m g / 2 v0) tanh(g t / v0)` (42.40) and `Φ = 2μ q̇` with `q̇` of (42.30), for any
+/// scalar: `(μ, Φ_x, Φ_y)`.
+fn multiplier<D: DualNum<f64> + Copy>(t: f64, m: D, g: D, v0: D) -> (D, D, D) {
+    let s = g * t / v0;
+    let mu = -(m * g / (v0 * 2.0)) * s.tanh();
+    (mu, mu * v0 * 2.0 / s.cosh(), -(mu * v0 * 2.0) * s.tanh())
+}
+
+#[test]
+fn the_multipliers_and_the_chetaev_force_move_with_the_parameters_as_the_closed_form_says(
+) -> Result<(), Error> {
+    let (m, g, v0, h0) = (2.0, 9.81, 7.0, 5.0);
+    let problem = Problem::new(
+        UniformMass { m, g, v0 },
+        0.0,
+        SVector::from([0.0, h0]),
+        SVector::from([v0, 0.0]),
+    )?;
+    let options = Options::until(10.0)
+        .tolerances(1e-12, 1e-12)
+        .record(Record::Dynamics)
+        .event(Event::smooth("impact", Ground).falling().terminal())
+        .sensitivity(Seed::parameter("v0").with_velocity(0, 1.0))
+        .sensitivity(Seed::parameter("g"))
+        .sensitivity(Seed::parameter("m"))
+        .sensitivity(Seed::new("h0").with_position(1, 1.0))
+        .sensitivity_control(true);
+    for sol in [
+        solve(&problem, Dop853::default(), &options)?,
+        solve(&problem, Rodas4, &options)?,
+    ] {
+        assert!(sol.is_success(), "{:?}", sol.status);
+        let s = sol.sensitivities.as_ref().expect("sensitivities recorded");
+        assert_eq!(s.mu.len(), sol.len());
+        assert_eq!(s.phi.len(), sol.len());
+        // Per seed: the largest error of dμ/dθ, dΦ/dθ and the largest closed-form value.
+        for (j, name) in ["v0", "g", "m", "h0"].iter().enumerate() {
+            let seed = s.seed(name).expect("seed by name");
+            let (mut error, mut size) = (0.0f64, 0.0f64);
+            for (i, &t) in sol.t.iter().enumerate() {
+                let d = |k: usize, x: f64| Dual64::new(x, if j == k { 1.0 } else { 0.0 });
+                let (mu, px, py) = multiplier(t, d(2, m), d(1, g), d(0, v0));
+                let dmu = s.mu(i, seed).expect("recorded with μ");
+                let dphi = s.phi(i, seed).expect("recorded with Φ");
+                error = error
+                    .max((dmu[0] - mu.eps).abs())
+                    .max((dphi[0] - px.eps).abs())
+                    .max((dphi[1] - py.eps).abs());
+                size = size.max(mu.eps.abs()).max(px.eps.abs()).max(py.eps.abs());
+                // The value part is the motion's own μ and Φ.
+                assert!((sol.mu[i][0] - mu.re).abs() < 1e-9 * m * g);
+            }
+            println!("dμ/d{name}, dΦ/d{name}: largest error {error:.1e} of {size:.3e}");
+            if *name == "h0" {
+                // Before the impact μ does not depend on the height.
+                assert!(error < 1e-12, "{name}: {error:e}");
+            } else {
+                assert!(
+                    size > 0.1 && error < 1e-10 * size,
+                    "{name}: {error:e} of {size:e}"
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn without_the_multipliers_recorded_their_sensitivities_are_absent() -> Result<(), Error> {
+    let sol = solve(
+        &paper_problem()?,
+        Dop853::default(),
+        &paper_options(false).record(Record::State),
+    )?;
+    let s = sol.sensitivities.as_ref().expect("sensitivities recorded");
+    assert!(s.mu.is_empty() && s.phi.is_empty());
+    assert_eq!(s.mu(0, 0), None);
+    assert!(!s.values.is_empty());
+    Ok(())
+}
