@@ -354,9 +354,17 @@ impl<M: Model> Problem<M> {
             crate::equations::compiled::Compiled::with_parameters(&self.model, t, q, qd).ok()
         });
         let shown = symbolic.as_ref().or(compiled);
-        let (equations, reduced) =
+        let (mut equations, text_reduced) =
             shown.map_or((Vec::new(), false), |c| c.describe_rows(names, false));
-        let latex = shown.map_or(Vec::new(), |c| c.describe_rows(names, true).0);
+        let (mut latex, latex_reduced) =
+            shown.map_or((Vec::new(), false), |c| c.describe_rows(names, true));
+        // μ and q̈ are written out only where both forms print them in full.
+        let reduced = text_reduced && latex_reduced;
+        for (rows, had) in [(&mut equations, text_reduced), (&mut latex, latex_reduced)] {
+            if had && !reduced {
+                rows.truncate(rows.len().saturating_sub(n + k));
+            }
+        }
         let inputs = std::iter::once("t".to_string())
             .chain(names.q.iter().cloned())
             .chain(names.qd.iter().cloned())
