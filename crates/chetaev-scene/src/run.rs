@@ -87,24 +87,19 @@ impl Scene {
     }
 
     /// The equations the library derived for the scene, described at its initial state
-    /// ([`chetaev::Problem::describe`]), as plain text.
+    /// ([`chetaev::Problem::describe_named`]), as plain text: the coordinates by their names
+    /// (`x`, `x_dot`) and the parameters as symbols.
     pub fn describe(&self) -> Result<String, Error> {
-        let problem = self.problem()?;
-        let d = problem
-            .describe(self.t0, problem.q0(), problem.qd0())
-            .map_err(|e| self.setup_error(e))?;
+        let d = self.description()?;
         let names = self.coordinates.join(", ");
         Ok(format!("coordinates q = ({names})\n{d}"))
     }
 
     /// The equations the library derived for the scene, as one LaTeX `align*` environment, with
-    /// the coordinates numbered in the scene's order (`q_1` is the first of
-    /// `coordinates`); an explanation where the scene's model cannot be recorded.
+    /// the coordinates and parameters by their names (`theta` as `\theta`, `v0` as `v_{0}`); an
+    /// explanation where the scene's model cannot be recorded.
     pub fn describe_latex(&self) -> Result<String, Error> {
-        let problem = self.problem()?;
-        let d = problem
-            .describe(self.t0, problem.q0(), problem.qd0())
-            .map_err(|e| self.setup_error(e))?;
+        let d = self.description()?;
         let names = self.coordinates.join(", ");
         let latex = d.latex();
         if latex.is_empty() {
@@ -113,6 +108,53 @@ impl Scene {
         Ok(format!(
             "% coordinates q = ({names}); r = dL/dq - g + Q (Q with -dD/dqdot), the right side of W qdd - J^T mu = r\n{latex}"
         ))
+    }
+
+    /// The description at the initial state, of the model with every parameter a symbol
+    /// ([`Scene::symbolic_model`]) where it can be made, else of the scene's own.
+    fn description(&self) -> Result<chetaev::equations::structure::Description, Error> {
+        let problem = self.problem()?;
+        let names = chetaev::equations::structure::Names::coordinates(&self.coordinates);
+        let (t0, q0, qd0) = (self.t0, problem.q0().to_vec(), problem.qd0().to_vec());
+        let symbolic = self
+            .symbolic_model()
+            .and_then(|m| Problem::dynamic(m, t0, q0.clone(), qd0.clone()).ok());
+        match &symbolic {
+            Some(p) => p.describe_named(t0, &q0, &qd0, &names),
+            None => problem.describe_named(t0, &q0, &qd0, &names),
+        }
+        .map_err(|e| self.setup_error(e))
+    }
+
+    /// The scene's model with every parameter read by its name
+    /// ([`Real::parameter`](chetaev::prelude::Real::parameter)), so that a description shows
+    /// `tan(alpha)` where the model would fold it to its value; its values are the scene's.
+    /// `None` where an expression does not resolve so.
+    fn symbolic_model(&self) -> Option<ExprModel> {
+        let symbols = crate::expr::Symbols {
+            parameters: self.parameters.iter().cloned().collect(),
+            varying: self
+                .parameters
+                .iter()
+                .enumerate()
+                .map(|(i, (name, _))| (name.clone(), i))
+                .collect(),
+            coordinates: self.coordinates.clone(),
+            motion: true,
+        };
+        let again = |e: &Expr| Expr::parse(e.source(), &symbols).ok();
+        let all = |list: &[Expr]| list.iter().map(again).collect::<Option<Vec<Expr>>>();
+        Some(ExprModel {
+            n: self.n(),
+            lagrangian: again(&self.lagrangian)?,
+            constraints: all(&self.constraints)?,
+            holonomic: all(&self.holonomic)?,
+            forces: all(&self.forces)?,
+            dissipation: match &self.dissipation {
+                Some(d) => Some(again(d)?),
+                None => None,
+            },
+        })
     }
 
     /// Integrates the scene, recording only what its tables and pictures need. A problem found

@@ -341,8 +341,59 @@ impl<M: Model> Problem<M> {
         q: &[f64],
         qd: &[f64],
     ) -> Result<crate::equations::structure::Description, Error> {
+        let n = self.model.sizes().0;
+        self.describe_named(t, q, qd, &crate::equations::structure::Names::numbered(n))
+    }
+
+    /// [`Problem::describe`] with the coordinates and velocities named by `names` in the
+    /// expressions, and the parameters the model reads by [`Real::parameter`](crate::Real) kept
+    /// as symbols there, by their names (the expressions are recorded once more for this, with
+    /// the parameters as inputs; the structure and the numbers are those of the problem).
+    ///
+    /// ```
+    /// use chetaev::equations::structure::Names;
+    /// use chetaev::prelude::*;
+    ///
+    /// struct Fall;
+    /// impl Lagrangian<1> for Fall {
+    ///     fn lagrangian<R: Real>(&self, _t: R, q: &SVector<R, 1>, qd: &SVector<R, 1>) -> R {
+    ///         let (m, g) = (R::parameter("m", 2.0), R::parameter("g", 9.81));
+    ///         qd[0] * qd[0] * m * 0.5 - m * g * q[0]
+    ///     }
+    /// }
+    /// let problem = Problem::new(Fall, 0.0, SVector::from([1.0]), SVector::from([0.0]))?;
+    /// let d = problem.describe_named(0.0, &[1.0], &[0.0], &Names::coordinates(&["y"]))?;
+    /// let row = |name: &str| d.equations.iter().find(|(k, _)| k == name).map(|(_, e)| e.clone());
+    /// assert_eq!(row("L").as_deref(), Some("m·y_dot^2/2 - m·g·y"));
+    /// assert_eq!(row("q̈[1]").as_deref(), Some("-g"));
+    /// # Ok::<(), chetaev::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// As [`Problem::describe`]; and [`Error::InvalidModel`] where `names` does not name `n`
+    /// coordinates.
+    pub fn describe_named(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        names: &crate::equations::structure::Names,
+    ) -> Result<crate::equations::structure::Description, Error> {
         let dynamics = self.equations_at(t, q, qd)?;
         let (n, k) = self.model.sizes();
+        if [&names.q, &names.qd, &names.q_latex, &names.qd_latex]
+            .iter()
+            .any(|v| v.len() != n)
+        {
+            return Err(Error::InvalidModel {
+                what: format!(
+                    "the names of a description name {} coordinates, the model has N = {n}; give \
+                     one name per coordinate",
+                    names.q.len()
+                ),
+            });
+        }
         let mut lagrangian = crate::equations::derivatives::LagrangianBlocks::new(n);
         let x = Point::new(t, q, qd);
         self.model.lagrangian_blocks(x, &mut lagrangian);
@@ -351,6 +402,37 @@ impl<M: Model> Problem<M> {
             self.model.constraint_blocks(x, true, &mut constraints);
         }
         let compiled = self.compiled();
+        // The expressions with the parameters as symbols; the problem's own where the model
+        // reads none or cannot be recorded so.
+        let symbolic = compiled.and_then(|_| {
+            crate::equations::compiled::Compiled::with_parameters(&self.model, t, q, qd).ok()
+        });
+        let shown = symbolic.as_ref().or(compiled);
+        let (mut equations, text_reduced) =
+            shown.map_or((Vec::new(), false), |c| c.describe_rows(names, false));
+        let (mut latex, latex_reduced) =
+            shown.map_or((Vec::new(), false), |c| c.describe_rows(names, true));
+        // μ and q̈ are written out only where both forms print them in full.
+        let reduced = text_reduced && latex_reduced;
+        for (rows, had) in [(&mut equations, text_reduced), (&mut latex, latex_reduced)] {
+            if had && !reduced {
+                rows.truncate(rows.len().saturating_sub(n + k));
+            }
+        }
+        let inputs = std::iter::once("t".to_string())
+            .chain(names.q.iter().cloned())
+            .chain(names.qd.iter().cloned())
+            .chain(
+                shown
+                    .map(|c| {
+                        c.parameters()
+                            .iter()
+                            .map(|(p, _)| p.clone())
+                            .collect::<Vec<_>>()
+                    })
+                    .unwrap_or_default(),
+            )
+            .collect();
         Ok(crate::equations::structure::Description {
             structure: match compiled {
                 Some(c) => c.structure().clone(),
@@ -358,10 +440,10 @@ impl<M: Model> Problem<M> {
             },
             proved: compiled.is_some(),
             guards: compiled.map_or(0, |c| c.branches()),
-            equations: compiled
-                .map(|c| c.equations_text(false))
-                .unwrap_or_default(),
-            latex: compiled.map(|c| c.equations_text(true)).unwrap_or_default(),
+            equations,
+            latex,
+            reduced,
+            inputs,
             jacobian_passes: compiled
                 .and_then(|c| c.jacobian_passes())
                 .map(|p| (p, 2 * n + 1)),

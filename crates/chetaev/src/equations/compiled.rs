@@ -36,12 +36,12 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, OnceLock};
 
 use super::graph::{
-    record, record_with_parameters, Deps, Graph, GuardFlip, ParameterConflict, Sym, Tape, DEP_Q,
-    DEP_QD, DEP_T,
+    latex_symbol, record, record_with_parameters, Deps, Fun, Graph, GuardFlip, ParameterConflict,
+    Printer, Style, Sym, Tape, DEP_Q, DEP_QD, DEP_T,
 };
 use super::native::{Colouring, NativeEquations, NativeJacobian};
 use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
-use super::structure::{Dependence, Structure};
+use super::structure::{dotted, Dependence, Names, Structure};
 use super::{Dynamics, Need};
 use crate::error::Error;
 use crate::model::{Functions, Model, Point, Real};
@@ -768,57 +768,202 @@ impl Compiled {
     }
 
     /// The derived equations as text, with the inputs named `t`, `q1…qn`, `q̇1…q̇n` (plain) or
-    /// `t`, `q_1…`, `\dot q_1…` (LaTeX): `L`, `∂L/∂q`, `W`, `g`, `f`, `J`, `c`, `Q`, and the right-hand
-    /// side `r` of `W q̈ − Jᵀμ = r`, each entry as an expression (zero entries left out).
+    /// `t`, `q_1…`, `\dot q_1…` (LaTeX): the rows of [`Compiled::describe_rows`].
     pub fn equations_text(&self, latex: bool) -> Vec<(String, String)> {
-        let n = self.n;
-        let names: Vec<String> = std::iter::once("t".to_string())
-            .chain((1..=n).map(|i| {
-                if latex {
-                    format!("q_{{{i}}}")
-                } else {
-                    format!("q{i}")
-                }
-            }))
-            .chain((1..=n).map(|i| {
-                if latex {
-                    format!("\\dot q_{{{i}}}")
-                } else {
-                    format!("q̇{i}")
-                }
-            }))
-            .collect();
-        let show = |id: u32| {
-            if latex {
-                self.graph.to_latex(id, &names)
-            } else {
-                self.graph.to_text(id, &names)
-            }
+        self.describe_rows(&Names::numbered(self.n), latex).0
+    }
+
+    /// The names of the graph's inputs in `style`: `t`, the coordinates, the velocities, then the
+    /// parameters that are inputs (by their names, in LaTeX as [`latex_symbol`] writes them).
+    fn input_names(&self, names: &Names, style: Style) -> Vec<String> {
+        let (q, qd) = match style {
+            Style::Text => (&names.q, &names.qd),
+            Style::Latex => (&names.q_latex, &names.qd_latex),
         };
+        std::iter::once("t".to_string())
+            .chain(q.iter().cloned())
+            .chain(qd.iter().cloned())
+            .chain(self.parameters.iter().map(|(p, _)| match style {
+                Style::Text => p.clone(),
+                Style::Latex => latex_symbol(p),
+            }))
+            .collect()
+    }
+
+    /// The derived equations as `(label, expression)` rows, plain text or LaTeX, with the inputs named by
+    /// `names` (and the parameters that are inputs by their own names): `L`, `∂L/∂q`, `W`, `g`,
+    /// `f`, `J`, `c`, `Q`, the right-hand side `r` of `W q̈ − Jᵀμ = r`, each entry an expression
+    /// (zero entries left out), then the multipliers `μ` and the accelerations `q̈` as
+    /// expressions where the block system is small enough to solve symbolically
+    /// ([`Compiled::reduced_nodes`]); the flag says whether it was. LaTeX labels are LaTeX
+    /// (`W_{1,2}`, `\mu_{1}`, `\ddot{x}`).
+    pub fn describe_rows(&self, names: &Names, latex: bool) -> (Vec<(String, String)>, bool) {
+        let n = self.n;
+        let style = if latex { Style::Latex } else { Style::Text };
+        let inputs = self.input_names(names, style);
+        let mut graph = self.graph.clone();
+        let reduced = self.reduced_nodes(&mut graph);
+        let mut printer = Printer::new(&graph, &inputs, style);
         let b = &self.blocks;
-        let mut out = vec![("L".to_string(), show(b.l))];
-        let mut vector = |name: &str, ids: &[u32], cols: usize| {
+        let mut out = vec![("L".to_string(), printer.print(b.l))];
+        let vector = |out: &mut Vec<(String, String)>,
+                      name: &str,
+                      ids: &[u32],
+                      cols: usize,
+                      printer: &mut Printer<'_>| {
             for (e, &id) in ids.iter().enumerate() {
-                if self.graph.is_zero(id) {
+                if graph.is_zero(id) {
                     continue;
                 }
-                let label = match e.checked_div(cols) {
-                    None => format!("{name}[{}]", e + 1),
-                    Some(row) => format!("{name}[{},{}]", row + 1, e % cols + 1),
+                let label = match (e.checked_div(cols), latex) {
+                    (None, false) => format!("{name}[{}]", e + 1),
+                    (None, true) => format!("{name}_{{{}}}", e + 1),
+                    (Some(row), false) => format!("{name}[{},{}]", row + 1, e % cols + 1),
+                    (Some(row), true) => format!("{name}_{{{},{}}}", row + 1, e % cols + 1),
                 };
-                out.push((label, show(id)));
+                out.push((label, printer.print(id)));
             }
         };
-        vector("∂L/∂q", &b.dl_dq, 0);
-        vector("W", &b.w, n);
-        vector("g", &b.g, 0);
-        vector("f", &b.f, 0);
-        vector("J", &b.j, n);
-        vector("c", &b.c, 0);
-        vector("Q", &b.forces, 0);
-        vector("r", &b.r, 0);
+        if latex {
+            for (i, &id) in b.dl_dq.iter().enumerate() {
+                if !graph.is_zero(id) {
+                    let label = format!("\\frac{{\\partial L}}{{\\partial {}}}", names.q_latex[i]);
+                    out.push((label, printer.print(id)));
+                }
+            }
+        } else {
+            vector(&mut out, "∂L/∂q", &b.dl_dq, 0, &mut printer);
+        }
+        vector(&mut out, "W", &b.w, n, &mut printer);
+        vector(&mut out, "g", &b.g, 0, &mut printer);
+        vector(&mut out, "f", &b.f, 0, &mut printer);
+        vector(&mut out, "J", &b.j, n, &mut printer);
+        vector(&mut out, "c", &b.c, 0, &mut printer);
+        vector(&mut out, "Q", &b.forces, 0, &mut printer);
+        vector(&mut out, "r", &b.r, 0, &mut printer);
         let _ = (&b.p, b.dl_dt, b.energy, b.power_forces);
-        out
+        let Some((mu, qdd)) = reduced else {
+            return (out, false);
+        };
+        // Expressions too long to print in full are stated as solved numerically instead.
+        let whole: Option<Vec<String>> = mu
+            .iter()
+            .chain(&qdd)
+            .map(|&id| printer.print_whole(id))
+            .collect();
+        let Some(whole) = whole else {
+            return (out, false);
+        };
+        let (mu, qdd) = whole.split_at(mu.len());
+        for (a, e) in mu.iter().enumerate() {
+            let label = match (latex, self.k) {
+                (true, 1) => "\\mu".to_string(),
+                (true, _) => format!("\\mu_{{{}}}", a + 1),
+                (false, _) => format!("μ[{}]", a + 1),
+            };
+            out.push((label, e.clone()));
+        }
+        for (i, e) in qdd.iter().enumerate() {
+            let label = if latex {
+                dotted(&names.q_latex[i], "\\ddot")
+            } else {
+                format!("q̈[{}]", i + 1)
+            };
+            out.push((label, e.clone()));
+        }
+        (out, true)
+    }
+
+    /// The multipliers `μ` (`k`) and accelerations `q̈` (`n`) as expressions added to `graph` (a
+    /// copy of these equations' graph), where the block system is small enough to write out:
+    /// at most two constraints, and `W` diagonal or at most `2 × 2`. With `a = W⁻¹ r`,
+    /// `Y = W⁻¹ Jᵀ` and `S = J Y`,
+    ///
+    /// ```text
+    /// μ = S⁻¹ (−c − J a),   q̈ = a + Y μ
+    /// ```
+    ///
+    /// (`S⁻¹` and a `2 × 2` `W⁻¹` by their adjugates over their determinants). `None` for larger
+    /// systems, which are solved numerically at each evaluation.
+    pub(crate) fn reduced_nodes(&self, graph: &mut Graph) -> Option<(Vec<u32>, Vec<u32>)> {
+        let (n, k) = (self.n, self.k);
+        let b = &self.blocks;
+        let w = |i: usize, m: usize| b.w[i * n + m];
+        let diagonal = (0..n).all(|i| (0..n).all(|m| i == m || graph.is_zero(w(i, m))));
+        if k > 2 || !(diagonal || n <= 2) {
+            return None;
+        }
+        let g = graph;
+        let zero = g.constant_node(0.0);
+        // W⁻¹, row-major.
+        let mut winv = vec![zero; n * n];
+        if diagonal {
+            for i in 0..n {
+                winv[i * n + i] = g.fun(Fun::Recip, w(i, i));
+            }
+        } else {
+            // n = 2: the adjugate over the determinant.
+            let d1 = g.mul(w(0, 0), w(1, 1));
+            let d2 = g.mul(w(0, 1), w(1, 0));
+            let det = g.sub(d1, d2);
+            winv[0] = g.div(w(1, 1), det);
+            winv[3] = g.div(w(0, 0), det);
+            let off01 = g.neg(w(0, 1));
+            let off10 = g.neg(w(1, 0));
+            winv[1] = g.div(off01, det);
+            winv[2] = g.div(off10, det);
+        }
+        let dot = |g: &mut Graph, x: &[u32], y: &[u32]| {
+            x.iter().zip(y).fold(zero, |acc, (&u, &v)| {
+                let p = g.mul(u, v);
+                g.add(acc, p)
+            })
+        };
+        let a: Vec<u32> = (0..n)
+            .map(|i| dot(g, &winv[i * n..(i + 1) * n], &b.r))
+            .collect();
+        // Y row `a` is W⁻¹ J_aᵀ.
+        let y: Vec<Vec<u32>> = (0..k)
+            .map(|c| {
+                (0..n)
+                    .map(|i| dot(g, &winv[i * n..(i + 1) * n], &b.j[c * n..(c + 1) * n]))
+                    .collect()
+            })
+            .collect();
+        let s: Vec<u32> = (0..k * k)
+            .map(|e| dot(g, &b.j[(e / k) * n..(e / k + 1) * n], &y[e % k]))
+            .collect();
+        let rhs: Vec<u32> = (0..k)
+            .map(|c| {
+                let ja = dot(g, &b.j[c * n..(c + 1) * n], &a);
+                let sum = g.add(b.c[c], ja);
+                g.neg(sum)
+            })
+            .collect();
+        let mu: Vec<u32> = match k {
+            0 => Vec::new(),
+            1 => vec![g.div(rhs[0], s[0])],
+            _ => {
+                let d1 = g.mul(s[0], s[3]);
+                let d2 = g.mul(s[1], s[2]);
+                let det = g.sub(d1, d2);
+                let m0a = g.mul(s[3], rhs[0]);
+                let m0b = g.mul(s[1], rhs[1]);
+                let m0 = g.sub(m0a, m0b);
+                let m1a = g.mul(s[0], rhs[1]);
+                let m1b = g.mul(s[2], rhs[0]);
+                let m1 = g.sub(m1a, m1b);
+                vec![g.div(m0, det), g.div(m1, det)]
+            }
+        };
+        let qdd: Vec<u32> = (0..n)
+            .map(|i| {
+                let yi: Vec<u32> = y.iter().map(|row| row[i]).collect();
+                let ymu = dot(g, &yi, &mu);
+                g.add(a[i], ymu)
+            })
+            .collect();
+        Some((mu, qdd))
     }
 
     /// Evaluates the reduced equations at `(t, q, q̇)` into `d`, what `need` asks for: `q̈`, `μ`,
@@ -1332,7 +1477,7 @@ pub(crate) fn cholesky_solve<T: Real>(l: impl Fn(usize, usize) -> T, n: usize, b
 
 #[cfg(test)]
 mod tests {
-    use super::{cholesky, Compiled, CompiledWorkspace, Metric};
+    use super::{cholesky, Compiled, CompiledWorkspace, Metric, Names, Printer, Style};
     use crate::equations::{Need, Workspace};
     use crate::model::{DynModel, Real};
     use num_dual::Dual64;
@@ -1418,5 +1563,177 @@ mod tests {
         assert!((r / (a[3] - 1.0) - 1.0).abs() < 1e-14, "{r}");
         let mut a = [1.0, 2.0, 2.0, 1.0];
         assert_eq!(cholesky(&mut a, 2), Err(0.0));
+    }
+
+    /// The paper's particle (Swaczyna and Volný (42.2), (42.23)) with `m`, `g`, `v0` read as
+    /// parameters: `L = ½ m (ẋ² + ẏ²) − m g y`, `f = ẋ² + ẏ² − v0²`.
+    #[derive(Clone)]
+    struct Paper;
+    impl DynModel for Paper {
+        fn sizes(&self) -> (usize, usize) {
+            (2, 1)
+        }
+        fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+            let (m, g) = (R::parameter("m", 1.5), R::parameter("g", 10.0));
+            m * 0.5 * (qd[0] * qd[0] + qd[1] * qd[1]) - m * g * q[1]
+        }
+        fn constraints<R: Real>(&self, _t: R, _q: &[R], qd: &[R], f: &mut [R]) {
+            let v0 = R::parameter("v0", 10.0);
+            f[0] = qd[0] * qd[0] + qd[1] * qd[1] - v0 * v0;
+        }
+    }
+
+    /// Two coordinates, two constraints, a metric that is not diagonal, and constraints that
+    /// depend on `t` and `q`: every part of the symbolic solve is used.
+    #[derive(Clone)]
+    struct Coupled;
+    impl DynModel for Coupled {
+        fn sizes(&self) -> (usize, usize) {
+            (2, 2)
+        }
+        fn lagrangian<R: Real>(&self, t: R, q: &[R], qd: &[R]) -> R {
+            (qd[0] * qd[0] + qd[1] * qd[1]) * 0.5 + qd[0] * qd[1] * 0.3 - q[1] * t.sin()
+        }
+        fn constraints<R: Real>(&self, t: R, q: &[R], qd: &[R], f: &mut [R]) {
+            f[0] = qd[0] * qd[1] - q[0];
+            f[1] = qd[0] + t * qd[1] * qd[1] - q[1].exp();
+        }
+    }
+
+    /// Three coordinates with a diagonal metric that varies, two constraints.
+    #[derive(Clone)]
+    struct Diagonal;
+    impl DynModel for Diagonal {
+        fn sizes(&self) -> (usize, usize) {
+            (3, 2)
+        }
+        fn lagrangian<R: Real>(&self, _t: R, q: &[R], qd: &[R]) -> R {
+            let k = R::parameter("k", 2.0);
+            (q[1] * q[1] + 1.0) * qd[0] * qd[0] * 0.5 + qd[1] * qd[1] + qd[2] * qd[2] * 1.5
+                - k * q[0] * q[2]
+        }
+        fn constraints<R: Real>(&self, _t: R, q: &[R], qd: &[R], f: &mut [R]) {
+            f[0] = qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2] - 4.0;
+            f[1] = qd[2] - q[0] * qd[1];
+        }
+    }
+
+    /// `μ` and `q̈` as printed (their normal forms, [`Printer::eval`]) at `(t, q, q̇)`.
+    fn printed<M: DynModel>(model: &M, t: f64, q: &[f64], qd: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let c = Compiled::with_parameters(model, t, q, qd).expect("recorded");
+        let mut graph = c.graph.clone();
+        let (mu, qdd) = c.reduced_nodes(&mut graph).expect("small enough");
+        let names = c.input_names(&Names::numbered(c.n), Style::Text);
+        let mut printer = Printer::new(&graph, &names, Style::Text);
+        let inputs: Vec<f64> = std::iter::once(t)
+            .chain(q.iter().copied())
+            .chain(qd.iter().copied())
+            .chain(c.parameters().iter().map(|p| p.1))
+            .collect();
+        let mut at = |ids: &[u32]| ids.iter().map(|&id| printer.eval(id, &inputs)).collect();
+        (at(&mu), at(&qdd))
+    }
+
+    fn close(a: &[f64], b: &[f64], what: &str) {
+        assert_eq!(a.len(), b.len());
+        for (x, y) in a.iter().zip(b) {
+            assert!(
+                (x - y).abs() <= 1e-12 * y.abs().max(1.0),
+                "{what}: printed {a:?}, solved {b:?}"
+            );
+        }
+    }
+
+    /// The printed `μ`, `q̈` against the solver's at each state (`Problem::equations_at`).
+    fn check<M: DynModel + Clone>(model: M, states: &[(f64, Vec<f64>, Vec<f64>)]) {
+        let (t0, q0, qd0) = &states[0];
+        let problem = crate::Problem::dynamic(model.clone(), *t0, q0.clone(), qd0.clone())
+            .expect("consistent start");
+        for (t, q, qd) in states {
+            let (mu, qdd) = printed(&model, *t, q, qd);
+            let d = problem.equations_at(*t, q, qd).expect("evaluates");
+            close(&mu, &d.mu, "μ");
+            close(&qdd, &d.qdd, "q̈");
+        }
+    }
+
+    #[test]
+    fn the_printed_multiplier_of_the_paper_is_its_eliminated_multiplier() {
+        let (m, g, v0) = (1.5, 10.0, 10.0);
+        let mut states = Vec::new();
+        for yd in [0.0, -3.0, -7.5, 4.0] {
+            let xd = f64::sqrt(v0 * v0 - yd * yd);
+            states.push((0.0, vec![1.0, 2.0], vec![xd, yd]));
+        }
+        for (_, q, qd) in &states {
+            let (mu, qdd) = printed(&Paper, 0.0, q, qd);
+            // (42.28) ÿ = −g (v0² − ẏ²)/v0², then (42.27) μ = −m ẏ ÿ / (2 (v0² − ẏ²)).
+            let yd = qd[1];
+            let ydd = -g * (v0 * v0 - yd * yd) / (v0 * v0);
+            let paper_mu = m * g * yd / (2.0 * v0 * v0);
+            close(&mu, &[paper_mu], "μ against (42.27)");
+            close(&qdd[1..], &[ydd], "ÿ against (42.28)");
+        }
+        let c =
+            Compiled::with_parameters(&Paper, 0.0, &[1.0, 2.0], &[10.0, 0.0]).expect("recorded");
+        let names = Names::coordinates(&["x", "y"]);
+        let row = |rows: &[(String, String)], label: &str| {
+            rows.iter()
+                .find(|(k, _)| k == label)
+                .map(|(_, e)| e.clone())
+                .unwrap_or_else(|| panic!("no {label} in {rows:?}"))
+        };
+        let (text, reduced) = c.describe_rows(&names, false);
+        assert!(reduced);
+        assert_eq!(row(&text, "μ[1]"), "m·g·y_dot/(2·(x_dot^2 + y_dot^2))");
+        assert_eq!(row(&text, "J[1,2]"), "2·y_dot");
+        assert_eq!(row(&text, "f[1]"), "x_dot^2 + y_dot^2 - v0^2");
+        let (latex, _) = c.describe_rows(&names, true);
+        assert_eq!(
+            row(&latex, "\\mu"),
+            "\\frac{m g \\dot{y}}{2 \\left(\\dot{x}^{2} + \\dot{y}^{2}\\right)}"
+        );
+        assert_eq!(
+            row(&latex, "f_{1}"),
+            "\\dot{x}^{2} + \\dot{y}^{2} - v_{0}^{2}"
+        );
+        assert_eq!(row(&latex, "\\frac{\\partial L}{\\partial y}"), "-m g");
+        // The velocity stays off the constraint here: the printed μ is the solver's there too.
+        check(
+            Paper,
+            &[
+                (0.0, vec![0.0, 5.0], vec![10.0, 0.0]),
+                (0.3, vec![1.0, 2.0], vec![6.0, -8.0]),
+                (0.3, vec![1.0, 2.0], vec![7.0, 9.0]),
+            ],
+        );
+    }
+
+    #[test]
+    fn the_printed_solution_of_two_constraints_is_the_solvers() {
+        check(
+            Coupled,
+            &[
+                (0.0, vec![0.3, 0.0], vec![1.0, 0.3]),
+                (0.4, vec![0.3, -0.2], vec![1.1, 0.7]),
+                (1.3, vec![-0.8, 0.5], vec![0.6, -1.4]),
+            ],
+        );
+        check(
+            Diagonal,
+            &[
+                (0.0, vec![0.5, 0.2, -0.3], vec![2.75f64.sqrt(), 1.0, 0.5]),
+                (0.0, vec![0.5, 0.2, -0.3], vec![1.2, 0.9, 0.45]),
+                (0.0, vec![-1.0, 0.7, 0.1], vec![0.4, 1.1, -1.1]),
+            ],
+        );
+    }
+
+    #[test]
+    fn a_large_block_system_is_stated_not_printed() {
+        let c = Compiled::with_parameters(&Band, 0.0, &[0.0; 8], &[0.6; 8]).expect("recorded");
+        let (rows, reduced) = c.describe_rows(&Names::numbered(8), false);
+        assert!(!reduced);
+        assert!(rows.iter().all(|(k, _)| !k.starts_with('μ')));
     }
 }

@@ -13,7 +13,68 @@
 use std::fmt;
 
 use super::derivatives::{ConstraintBlocks, LagrangianBlocks};
+pub use super::graph::latex_symbol;
+use super::graph::{number, Style};
 use crate::model::{Model, Point};
+
+/// The names a description prints the coordinates and velocities with, as plain text and as
+/// LaTeX. The parameters a model reads by [`Real::parameter`](crate::model::Real::parameter)
+/// print by their own names (in LaTeX as [`latex_symbol`] writes them).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Names {
+    /// The coordinates in plain text.
+    pub q: Vec<String>,
+    /// The velocities in plain text.
+    pub qd: Vec<String>,
+    /// The coordinates in LaTeX.
+    pub q_latex: Vec<String>,
+    /// The velocities in LaTeX.
+    pub qd_latex: Vec<String>,
+}
+
+impl Names {
+    /// `q1…qn`, `q̇1…q̇n`; in LaTeX `q_{1}…`, `\dot q_{1}…`.
+    pub fn numbered(n: usize) -> Self {
+        Self {
+            q: (1..=n).map(|i| format!("q{i}")).collect(),
+            qd: (1..=n).map(|i| format!("q̇{i}")).collect(),
+            q_latex: (1..=n).map(|i| format!("q_{{{i}}}")).collect(),
+            qd_latex: (1..=n).map(|i| format!("\\dot q_{{{i}}}")).collect(),
+        }
+    }
+
+    /// The coordinates by their names (`x`), the velocities as `x_dot`; in LaTeX as
+    /// [`latex_symbol`] writes them (`theta` is `\theta`, `\dot{\theta}` its velocity).
+    pub fn coordinates<S: AsRef<str>>(names: &[S]) -> Self {
+        let latex: Vec<String> = names.iter().map(|s| latex_symbol(s.as_ref())).collect();
+        Self::with_latex(names, &latex)
+    }
+
+    /// The coordinates by their names (`x`), the velocities as `x_dot`, with the coordinates'
+    /// LaTeX given (sympy's, for instance); the velocities' LaTeX is `\dot{…}` of it.
+    pub fn with_latex<S: AsRef<str>, T: AsRef<str>>(names: &[S], latex: &[T]) -> Self {
+        Self {
+            q: names.iter().map(|s| s.as_ref().to_string()).collect(),
+            qd: names
+                .iter()
+                .map(|s| format!("{}_dot", s.as_ref()))
+                .collect(),
+            q_latex: latex.iter().map(|s| s.as_ref().to_string()).collect(),
+            qd_latex: latex.iter().map(|s| dotted(s.as_ref(), "\\dot")).collect(),
+        }
+    }
+}
+
+/// `\dot{x}` of the LaTeX symbol `x` (`accent` is `\dot` or `\ddot`), with a subscript kept
+/// outside the accent (`\dot{x}_{1}`).
+pub(crate) fn dotted(symbol: &str, accent: &str) -> String {
+    match symbol.split_once("_{") {
+        Some((stem, sub)) if !stem.is_empty() && !stem.contains('{') => {
+            format!("{accent}{{{stem}}}_{{{sub}")
+        }
+        _ => format!("{accent}{{{symbol}}}"),
+    }
+}
 
 /// On which of `t`, `q`, `q̇` a block depends (as probed).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -213,10 +274,18 @@ pub struct Description {
     /// branches taken at the recorded state, and each evaluation re-checks them.
     pub guards: usize,
     /// The derived blocks as plain-text expressions, `(name, expression)`, zero entries left out
-    /// (empty where the model cannot be recorded).
+    /// (empty where the model cannot be recorded), then `μ` and `q̈` where
+    /// [`Description::reduced`].
     pub equations: Vec<(String, String)>,
-    /// The same in LaTeX.
+    /// The same in LaTeX, the names in LaTeX too (`W_{1,1}`, `\mu`, `\ddot{x}`).
     pub latex: Vec<(String, String)>,
+    /// Whether `μ` and `q̈` are among the expressions: where the block system is small (at most
+    /// two constraints, `W` diagonal or at most `2 × 2`). Otherwise they are solved numerically at
+    /// each evaluation, from `S μ = −c − J W⁻¹ r`, `S = J W⁻¹ Jᵀ`, `q̈ = W⁻¹ (r + Jᵀ μ)`.
+    pub reduced: bool,
+    /// The names of the expressions' inputs in plain text: `t`, the coordinates, the velocities,
+    /// then the parameters kept as symbols.
+    pub inputs: Vec<String>,
     /// The state `(t, q, q̇)`.
     pub state: (f64, Vec<f64>, Vec<f64>),
     /// `W` (row-major `n × n`), `∂L/∂q`, `g`, `∂L/∂t` at the state.
@@ -239,17 +308,17 @@ impl Description {
         if self.latex.is_empty() {
             return String::new();
         }
-        let rows: Vec<String> = self
+        let mut rows: Vec<String> = self
             .latex
             .iter()
-            .map(|(name, e)| {
-                let name = name
-                    .replace("∂L/∂q", "\\partial L/\\partial q")
-                    .replace('[', "_{")
-                    .replace(']', "}");
-                format!("  {name} &= {e}")
-            })
+            .map(|(name, e)| format!("  {name} &= {e}"))
             .collect();
+        if !self.reduced && self.structure.sizes.1 > 0 {
+            rows.push(
+                "  S \\mu &= -c - J W^{-1} r, \\quad S = J W^{-1} J^{T}, \\quad \\ddot q = W^{-1} \\left(r + J^{T} \\mu\\right) \\quad \\text{(solved numerically)}"
+                    .to_string(),
+            );
+        }
         format!(
             "\\begin{{align*}}\n{}\n\\end{{align*}}",
             rows.join(" \\\\\n")
@@ -258,8 +327,7 @@ impl Description {
 }
 
 fn vector(v: &[f64]) -> String {
-    // `x + 0.0` prints a negative zero (a product with a zero factor) as 0.
-    let items: Vec<String> = v.iter().map(|x| format!("{:.6e}", x + 0.0)).collect();
+    let items: Vec<String> = v.iter().map(|&x| number(x, Style::Text)).collect();
     format!("[{}]", items.join(", "))
 }
 
@@ -351,14 +419,28 @@ impl fmt::Display for Description {
         if !self.equations.is_empty() {
             writeln!(
                 f,
-                "  derived    (inputs t, q1…, q̇1…; r = ∂L/∂q − g + Q (Q with −∂D/∂q̇), the right side of W q̈ − Jᵀμ = r; \
-                 zero entries left out)"
+                "  derived    (inputs {}; r = ∂L/∂q − g + Q (Q with −∂D/∂q̇), the right side of W q̈ − Jᵀμ = r; \
+                 zero entries left out)",
+                self.inputs.join(", ")
             )?;
             for (name, e) in &self.equations {
                 writeln!(f, "    {name:<10} = {e}")?;
             }
+            if !self.reduced && k > 0 {
+                writeln!(
+                    f,
+                    "    μ, q̈ solved numerically at each evaluation: S μ = −c − J W⁻¹ r with S = J W⁻¹ Jᵀ, \
+                     q̈ = W⁻¹ (r + Jᵀ μ)"
+                )?;
+            }
         }
-        writeln!(f, "  at t = {t}, q = {}, q̇ = {}", vector(q), vector(qd))?;
+        writeln!(
+            f,
+            "  at t = {}, q = {}, q̇ = {}",
+            number(*t, Style::Text),
+            vector(q),
+            vector(qd)
+        )?;
         writeln!(f, "    W     = {}", matrix(&self.lagrangian.w, n))?;
         writeln!(f, "    ∂L/∂q = {}", vector(&self.lagrangian.dl_dq))?;
         writeln!(f, "    g     = {}", vector(&self.lagrangian.g))?;
@@ -373,7 +455,12 @@ impl fmt::Display for Description {
             writeln!(f, "    μ     = {}", vector(&d.mu))?;
             writeln!(f, "    Φ     = {}", vector(&d.phi))?;
         }
-        writeln!(f, "    E     = {:.6e}, ∂L/∂t = {:.6e}", d.energy, d.dl_dt)?;
+        writeln!(
+            f,
+            "    E     = {}, ∂L/∂t = {}",
+            number(d.energy, Style::Text),
+            number(d.dl_dt, Style::Text)
+        )?;
         write!(
             f,
             "    block system: smallest over largest pivot {:.3e} (1 is perfect, below 1.4e-14 singular)",

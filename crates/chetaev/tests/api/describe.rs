@@ -75,7 +75,7 @@ fn a_negative_zero_is_reported_as_zero() -> Result<(), Error> {
     let d = problem.describe(0.0, &q0, &qd0)?;
     assert_eq!(d.dynamics.mu[0], 0.0);
     let text = d.to_string();
-    assert!(!text.contains("-0.000000e0"), "{text}");
-    assert!(text.contains("μ     = [0.000000e0]"), "{text}");
+    assert!(!text.contains("-0"), "{text}");
+    assert!(text.contains("μ     = [0]"), "{text}");
     Ok(())
 }

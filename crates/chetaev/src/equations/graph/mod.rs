@@ -30,6 +30,8 @@ mod text;
 
 pub use sym::Sym;
 pub use tape::{GuardFlip, Tape};
+pub(crate) use text::Printer;
+pub use text::{latex_symbol, number, Style};
 
 use std::cell::RefCell;
 use std::collections::HashMap;
