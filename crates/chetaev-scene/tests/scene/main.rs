@@ -2,6 +2,7 @@
 
 mod autodiff;
 mod cli;
+mod describe;
 mod forces;
 mod fuzz;
 mod guide;
