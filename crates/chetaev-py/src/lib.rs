@@ -15,6 +15,7 @@
 
 use std::sync::{Arc, OnceLock};
 
+use chetaev::equations::structure::Names;
 use chetaev::integrate::events::{Direction, Event};
 use chetaev::prelude::{AnyMethod, Atol, Options, Output, Projection, Record};
 use chetaev::{Problem as RustProblem, Seed as RustSeed, Solution as RustSolution, Status};
@@ -559,24 +560,25 @@ impl Problem {
     ) -> PyResult<Description> {
         let inner = self.inner.clone();
         let names = self.coordinates.join(", ");
+        let latex_names = self
+            .model
+            .as_ref()
+            .and_then(|m| m.get().latex.clone())
+            .unwrap_or_else(|| self.coordinates.clone());
+        let symbols = Names::with_latex(&self.coordinates, &latex_names);
         let d = py
             .detach(|| {
                 with_problem!(&inner, p => {
                     let t = t.unwrap_or(p.t0());
                     let q = q.unwrap_or_else(|| p.q0().to_vec());
                     let qd = qd.unwrap_or_else(|| p.qd0().to_vec());
-                    p.describe(t, &q, &qd)
+                    p.describe_named(t, &q, &qd, &symbols)
                 })
             })
             .map_err(chetaev_error)?;
-        let latex_names = self
-            .model
-            .as_ref()
-            .and_then(|m| m.get().latex.clone())
-            .unwrap_or_else(|| self.coordinates.clone());
         Ok(Description {
             text: format!("coordinates q = ({names})\n{d}"),
-            latex: named_latex(&d.latex(), &latex_names),
+            latex: d.latex(),
             coordinates: latex_names,
         })
     }
@@ -626,19 +628,6 @@ impl Problem {
             self.t0()
         )
     }
-}
-
-/// The library's LaTeX with the coordinates `q_{i}` and velocities `\dot q_{i}` written by their
-/// names.
-fn named_latex(latex: &str, names: &[String]) -> String {
-    let mut out = latex.to_string();
-    for (i, name) in names.iter().enumerate().rev() {
-        let index = i + 1;
-        out = out
-            .replace(&format!("\\dot q_{{{index}}}"), &format!("\\dot{{{name}}}"))
-            .replace(&format!("q_{{{index}}}"), &format!("{{{name}}}"));
-    }
-    out
 }
 
 /// The reduced equations linearised on the constraint manifold: `δż = A δz` in the independent

@@ -141,6 +141,7 @@ impl Scene {
                 .collect(),
             coordinates: self.coordinates.clone(),
             motion: true,
+            recorded: Vec::new(),
         };
         let again = |e: &Expr| Expr::parse(e.source(), &symbols).ok();
         let all = |list: &[Expr]| list.iter().map(again).collect::<Option<Vec<Expr>>>();

@@ -439,14 +439,11 @@ pub fn summary(scene: &Scene, out: &Outcome) -> String {
         let _ = writeln!(s, "  initial  {}", projection_text(scene, out));
     }
     let _ = writeln!(s, "  status   {}", status_text(scene, out));
-    match &out.status {
-        Status::Failed(e) => {
-            let f = failure(scene, e);
-            if !f.advice.is_empty() {
-                let _ = writeln!(s, "  advice   {}", f.advice);
-            }
+    if let Status::Failed(e) = &out.status {
+        let f = failure(scene, e);
+        if !f.advice.is_empty() {
+            let _ = writeln!(s, "  advice   {}", f.advice);
         }
-        _ => {}
     }
     for w in &out.warnings {
         let _ = writeln!(s, "  warning  {w}");
