@@ -361,7 +361,7 @@ impl<M: Model> Problem<M> {
     ///         qd[0] * qd[0] * m * 0.5 - m * g * q[0]
     ///     }
     /// }
-    /// let problem = Problem::new(Fall, 0.0, SVector::from([1.0]), SVector::from([0.0]))?;
+    /// let problem = Problem::unconstrained(Fall, 0.0, SVector::from([1.0]), SVector::from([0.0]))?;
     /// let d = problem.describe_named(0.0, &[1.0], &[0.0], &Names::coordinates(&["y"]))?;
     /// let row = |name: &str| d.equations.iter().find(|(k, _)| k == name).map(|(_, e)| e.clone());
     /// assert_eq!(row("L").as_deref(), Some("m·y_dot^2/2 - m·g·y"));
