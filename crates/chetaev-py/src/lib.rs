@@ -54,9 +54,16 @@ fn pythonic(message: &str) -> String {
             "Problem(..., project_velocity=True)",
         )
         .replace(
+            "Problem::with_projected_state",
+            "Problem(..., project_velocity=True)",
+        )
+        .replace(
             "with Seed::with_position and Seed::with_velocity",
             "with Seed(name, parameters={...}, positions=[(i, rate)], velocities=[(i, rate)])",
-        );
+        )
+        .replace("Seed::with_position", "Seed(..., positions=[(i, rate)])")
+        .replace("Seed::with_velocity", "Seed(..., velocities=[(i, rate)])")
+        .replace("Seed::with_parameter", "Seed(..., parameters={...})");
     // `Seed::parameter("l").with_position(i, rate)` is `Seed("l", parameters={l: 1}, positions=[(i, rate)])`.
     while let Some(at) = out.find("Seed::parameter(\"") {
         let rest = &out[at + "Seed::parameter(\"".len()..];
