@@ -346,7 +346,7 @@ impl<M: Model> Problem<M> {
     }
 
     /// [`Problem::describe`] with the coordinates and velocities named by `names` in the
-    /// expressions, and the parameters the model reads by [`Real::parameter`](crate::Real) kept
+    /// expressions, and the parameters the model reads by [`Real::parameter`](crate::model::Real::parameter) kept
     /// as symbols there, by their names (the expressions are recorded once more for this, with
     /// the parameters as inputs; the structure and the numbers are those of the problem).
     ///

@@ -795,7 +795,7 @@ impl Compiled {
     /// `f`, `J`, `c`, `Q`, the right-hand side `r` of `W q̈ − Jᵀμ = r`, each entry an expression
     /// (zero entries left out), then the multipliers `μ` and the accelerations `q̈` as
     /// expressions where the block system is small enough to solve symbolically
-    /// ([`Compiled::reduced_nodes`]); the flag says whether it was. LaTeX labels are LaTeX
+    /// (the reduced nodes); the flag says whether it was. LaTeX labels are LaTeX
     /// (`W_{1,2}`, `\mu_{1}`, `\ddot{x}`).
     pub fn describe_rows(&self, names: &Names, latex: bool) -> (Vec<(String, String)>, bool) {
         let n = self.n;
