@@ -48,10 +48,12 @@
 //!   narrowed by [`Figure::equal_aspect`] keeps the width of its title and of its legend.
 
 mod axis;
+mod heatmap;
 mod panels;
 mod render;
 mod thin;
 
+pub use heatmap::HeatMap;
 pub use panels::Panels;
 pub use thin::thin;
 

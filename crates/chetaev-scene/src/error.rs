@@ -58,6 +58,20 @@ pub enum Error {
         reason: String,
     },
 
+    /// A sweep that cannot be run as asked (`chetaev sweep`): a variable or quantity given on the
+    /// command line that is unknown or malformed, a range that is empty or runs through zero on
+    /// a logarithmic scale, more runs than allowed without `--yes`. A mistake in the scene file's
+    /// `[sweep]` table is an [`Error::Scene`] at its place.
+    #[error("sweep: {message}")]
+    Sweep {
+        /// What was wrong and what to write instead.
+        message: String,
+    },
+
+    /// The part files of a sharded sweep cannot be joined ([`chetaev_parts::merge`]).
+    #[error("{0}")]
+    Parts(String),
+
     /// The output directory cannot be used: it cannot be created or written, it is a file, or it
     /// holds files this run would leave beside its own or overwrite without having written them.
     #[error("output directory {path}: {reason}")]

@@ -14,6 +14,7 @@
 //! | solve | [`Scene::solve`], [`run`] | [`chetaev::solve`] on [`chetaev::Problem::dynamic`]; records only what the tables and pictures need |
 //! | sensitivities | `[sensitivities]`, [`scene::SensitivitySpec`] | derivatives of the motion and the events with respect to parameters, by `chetaev`'s seeds |
 //! | output | [`output`] | CSV tables, SVG pictures (`chetaev-plot`), the summary |
+//! | sweeps | [`sweep`] | the scene over a grid or a random sample of its parameters and initial values, in parallel, sharded (`chetaev sweep`) |
 //!
 //! Because the expressions are evaluated generically over `chetaev`'s scalar type, `chetaev`
 //! differentiates them with dual numbers, exactly as it does a model written in Rust: no symbolic
@@ -59,6 +60,7 @@ pub mod output;
 pub mod run;
 pub mod scene;
 pub mod source;
+pub mod sweep;
 
 pub use error::{Error, Warning};
 pub use model::ExprModel;

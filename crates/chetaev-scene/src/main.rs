@@ -9,6 +9,8 @@
 //! Standard output closed early (`chetaev run scene.toml | head`) ends the printing quietly; the
 //! run still writes its files and exits with its own code.
 
+mod command_sweep;
+
 use chetaev::integrate::Method;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
@@ -97,6 +99,14 @@ enum Command {
         #[arg(long, visible_alias = "overwrite")]
         force: bool,
     },
+    /// Run a scene over a grid or a random sample of its parameters and initial values, in
+    /// parallel, and collect event times, end states, extremes and sensitivities into a table
+    /// (docs/sweeps.md).
+    #[command(after_help = command_sweep::SWEEP_EXIT_CODES)]
+    Sweep(command_sweep::SweepCommand),
+    /// Join the part files of `chetaev sweep --shard K/N` runs into the whole sweep's table.
+    #[command(after_help = command_sweep::SWEEP_EXIT_CODES)]
+    Merge(command_sweep::MergeCommand),
 }
 
 /// Standard output that stops quietly when it is closed (a broken pipe), and remembers any other
@@ -338,5 +348,7 @@ fn main() -> ExitCode {
             force,
             quiet,
         } => run(&scene, out, force, quiet),
+        Command::Sweep(c) => command_sweep::sweep(c),
+        Command::Merge(c) => command_sweep::merge(c),
     }
 }

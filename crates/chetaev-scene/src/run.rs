@@ -216,7 +216,7 @@ impl Scene {
 
     /// A located error for a setup failure reported by `chetaev`, told by the scene's keys (the
     /// library's own messages name its Rust API).
-    fn setup_error(&self, e: chetaev::Error) -> Error {
+    pub(crate) fn setup_error(&self, e: chetaev::Error) -> Error {
         use chetaev::Error as E;
         let s = &self.spans;
         let v = self.constraints.len();
@@ -368,7 +368,7 @@ impl Scene {
 
     /// Evaluates the events and output quantities at the initial state: a NaN there is a mistake
     /// in the scene, found before integrating.
-    fn check_at_start(&self) -> Result<(), Error> {
+    pub(crate) fn check_at_start(&self) -> Result<(), Error> {
         let env = Env {
             t: self.t0,
             q: &self.q0,
@@ -429,7 +429,7 @@ impl Scene {
 
     /// The options every integration of the scene shares: end, tolerances, step bounds, events,
     /// projection.
-    fn options(&self, t_end: f64) -> Options {
+    pub(crate) fn options(&self, t_end: f64) -> Options {
         let s = &self.solve;
         let mut o = Options::until(t_end);
         o.rtol = s.rtol;

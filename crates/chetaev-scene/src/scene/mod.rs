@@ -16,6 +16,7 @@ mod schema;
 mod sensitivities;
 mod spec;
 mod validate;
+pub(crate) use schema::{Number, RawScene, RawSweep};
 pub(crate) use validate::adaptive_methods;
 
 use std::io::Read as _;
@@ -43,37 +44,8 @@ impl Scene {
     /// path to an endless stream (`/dev/zero`, a pipe) is refused instead of filling the memory.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, Error> {
         let path = path.as_ref();
-        let name = path.display().to_string();
-        let read_error = |source| Error::Read {
-            path: name.clone(),
-            source,
-        };
-        let file = std::fs::File::open(path).map_err(read_error)?;
-        let mut bytes = Vec::new();
-        file.take(MAX_SCENE_BYTES + 1)
-            .read_to_end(&mut bytes)
-            .map_err(read_error)?;
-        if bytes.len() as u64 > MAX_SCENE_BYTES {
-            return Err(Error::TooLarge {
-                path: name,
-                limit: MAX_SCENE_BYTES,
-            });
-        }
-        let text = String::from_utf8(bytes).map_err(|e| {
-            // Located in the text read so far, as a scene error is.
-            let at = e.utf8_error().valid_up_to();
-            let shown = String::from_utf8_lossy(e.as_bytes());
-            let file = SourceFile {
-                path: name.clone(),
-                text: Arc::from(shown.as_ref()),
-            };
-            file.error(
-                at..at + 1,
-                "this byte is not UTF-8 text; a scene file is TOML, which is UTF-8: save it as \
-                 UTF-8 (most editors offer it under the file's encoding)",
-            )
-        })?;
-        Self::parse(&text, &name)
+        let text = read_text(path)?;
+        Self::parse(&text, &path.display().to_string())
     }
 
     /// Validates a scene given as text; `path` names it in messages and gives the default output
@@ -85,14 +57,25 @@ impl Scene {
                 limit: MAX_SCENE_BYTES,
             });
         }
+        let (file, raw) = Self::read_raw(text, path)?;
+        Self::build(file, raw)
+    }
+
+    /// The scene as written: its TOML read into the raw structures, unchecked.
+    pub(crate) fn read_raw(text: &str, path: &str) -> Result<(SourceFile, RawScene), Error> {
         let file = SourceFile {
             path: path.to_string(),
             text: Arc::from(text),
         };
-        let raw: schema::RawScene = toml::from_str(text).map_err(|e| {
+        let raw: RawScene = toml::from_str(text).map_err(|e| {
             let span = e.span().unwrap_or(0..0);
             file.error(span, validate::toml_message(e.message()))
         })?;
+        Ok((file, raw))
+    }
+
+    /// The scene as written, validated.
+    pub(crate) fn build(file: SourceFile, raw: RawScene) -> Result<Self, Error> {
         validate::Builder {
             file,
             warnings: Default::default(),
@@ -143,4 +126,39 @@ impl Scene {
     pub(crate) fn error_at(&self, range: Range<usize>, message: impl Into<String>) -> Error {
         self.file.error(range, message)
     }
+}
+
+/// The text of the scene file at `path`: at most [`MAX_SCENE_BYTES`], UTF-8.
+pub(crate) fn read_text(path: &Path) -> Result<String, Error> {
+    let name = path.display().to_string();
+    let read_error = |source| Error::Read {
+        path: name.clone(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(read_error)?;
+    let mut bytes = Vec::new();
+    file.take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(read_error)?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(Error::TooLarge {
+            path: name,
+            limit: MAX_SCENE_BYTES,
+        });
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
+        // Located in the text read so far, as a scene error is.
+        let at = e.utf8_error().valid_up_to();
+        let shown = String::from_utf8_lossy(e.as_bytes());
+        let file = SourceFile {
+            path: name.clone(),
+            text: Arc::from(shown.as_ref()),
+        };
+        file.error(
+            at..at + 1,
+            "this byte is not UTF-8 text; a scene file is TOML, which is UTF-8: save it as \
+             UTF-8 (most editors offer it under the file's encoding)",
+        )
+    })?;
+    Ok(text)
 }

@@ -12,7 +12,7 @@ use toml::Spanned;
 
 use super::spec::{Picture, Table};
 
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawScene {
     pub(crate) scene: Option<RawMeta>,
@@ -25,10 +25,30 @@ pub(crate) struct RawScene {
     pub(crate) events: Vec<Spanned<RawEvent>>,
     pub(crate) sensitivities: Option<Spanned<RawSensitivities>>,
     pub(crate) output: Option<RawOutput>,
+    /// `[sweep]`: read by [`crate::sweep`], not by the scene itself.
+    pub(crate) sweep: Option<Spanned<RawSweep>>,
+}
+
+/// `[sweep]`: the variables to vary and the quantities to collect (docs/sweeps.md).
+#[derive(Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSweep {
+    /// `[sweep.vary]`: a variable (a parameter, `initial.x`, `initial.x_dot`) and how it varies;
+    /// each value is read by [`crate::sweep`], which locates its mistakes at the value.
+    #[serde(default)]
+    pub(crate) vary: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
+    /// Random samples of the ranges without `count`.
+    pub(crate) samples: Option<Spanned<i64>>,
+    /// The seed of the random samples.
+    pub(crate) seed: Option<Spanned<i64>>,
+    /// `"uniform"` (the default) or `"latin"`.
+    pub(crate) design: Option<Spanned<String>>,
+    /// The quantities to collect from each run.
+    pub(crate) collect: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
 /// `[sensitivities]`: the parameters to differentiate the motion with respect to.
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawSensitivities {
     pub(crate) parameters: Spanned<Vec<Spanned<String>>>,
@@ -36,14 +56,14 @@ pub(crate) struct RawSensitivities {
     pub(crate) control: Option<Spanned<bool>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMeta {
     pub(crate) name: Option<String>,
     pub(crate) description: Option<String>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawModel {
     pub(crate) coordinates: Spanned<Vec<Spanned<String>>>,
@@ -56,7 +76,7 @@ pub(crate) struct RawModel {
     pub(crate) units: Option<Spanned<BTreeMap<Spanned<String>, Spanned<String>>>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawInitial {
     pub(crate) t: Option<Spanned<Number>>,
@@ -70,7 +90,7 @@ pub(crate) struct RawInitial {
     pub(crate) independent_speeds: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawSolve {
     pub(crate) method: Option<Spanned<String>>,
@@ -86,7 +106,7 @@ pub(crate) struct RawSolve {
     pub(crate) stiffness_detection: Option<Spanned<bool>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawEvent {
     pub(crate) name: Spanned<String>,
@@ -104,7 +124,7 @@ pub(crate) enum RawDirection {
     Falling,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawOutput {
     pub(crate) directory: Option<String>,
@@ -125,6 +145,7 @@ pub(crate) struct RawOutput {
 /// `output.trajectory`: a list of panels, each a pair of coordinate names `["x", "y"]` or a list of
 /// such pairs drawn together `[["x1", "y1"], ["x2", "y2"]]`. Only the whole list keeps its place in
 /// the file; a name is found in it by its text.
+#[derive(Clone)]
 pub(crate) struct RawTrajectory(pub(crate) Vec<Vec<Vec<String>>>);
 
 /// One element of a panel: a name, or a list of names.
@@ -255,6 +276,7 @@ impl<'de> Deserialize<'de> for Number {
 }
 
 /// `atol`: one number, or one per component of `(q, q̇)`.
+#[derive(Clone)]
 pub(crate) enum RawAtol {
     Scalar(f64),
     List(Vec<f64>),
@@ -289,6 +311,7 @@ impl<'de> Deserialize<'de> for RawAtol {
 }
 
 /// `output.times`.
+#[derive(Clone)]
 pub(crate) enum RawTimes {
     Steps,
     /// Numbers, or constant expressions of the parameters.

@@ -17,3 +17,4 @@ mod recorded_quantities;
 mod rust_and_scene_agree;
 mod scenes;
 mod sensitivities;
+mod sweep;
