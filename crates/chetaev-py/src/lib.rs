@@ -12,6 +12,9 @@
 //! | `Scene.load(path)`, `Scene.parse(text)` | [`chetaev_scene::Scene`] |
 //! | `solve(problem, t_end, method=..., ...)` | [`chetaev::solve`] with [`Options`] |
 //! | `Solution` | [`chetaev::Solution`], its series as numpy arrays |
+//! | `Scene.sweep(...)`, `SweepTable`, `merge_sweeps` | [`chetaev_scene::sweep`] |
+
+mod sweep;
 
 use std::sync::{Arc, OnceLock};
 
@@ -962,6 +965,41 @@ impl Scene {
     fn coordinates(&self) -> Vec<String> {
         self.inner.coordinates.clone()
     }
+
+    /// Runs the scene over a grid or a random sample of its parameters and initial values
+    /// (docs/sweeps.md), in parallel over `jobs` threads (default: every core), and returns the
+    /// table of runs. `vary` adds to (or replaces entries of) the scene's `[sweep]`: a name (a
+    /// parameter, `initial.x`, `initial.x_dot`) with a list of values, a dict `{'from', 'to',
+    /// 'count', 'scale'}` (without `count`: sampled at random, `samples` times), or the command
+    /// line's string (`'1:100:5:log'`). `shard='k/n'` runs only that shard (write it, then
+    /// `merge_sweeps`).
+    #[pyo3(signature = (vary=None, *, samples=None, seed=None, design=None, collect=None, shard=None, jobs=None, yes=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn sweep(
+        &self,
+        py: Python<'_>,
+        vary: Option<&Bound<'_, PyDict>>,
+        samples: Option<usize>,
+        seed: Option<u64>,
+        design: Option<String>,
+        collect: Option<Vec<String>>,
+        shard: Option<String>,
+        jobs: Option<usize>,
+        yes: bool,
+    ) -> PyResult<sweep::SweepTable> {
+        sweep::run(
+            py,
+            &self.inner,
+            vary,
+            samples,
+            seed,
+            design,
+            collect,
+            shard,
+            jobs,
+            yes,
+        )
+    }
 }
 
 /// A seed for sensitivities: the derivative of the motion with respect to a direction in the
@@ -1796,6 +1834,7 @@ fn _chetaev(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Scene>()?;
     m.add_class::<Seed>()?;
     m.add_class::<Solution>()?;
+    sweep::register(m)?;
     m.add_function(wrap_pyfunction!(solve, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(complete, m)?)?;

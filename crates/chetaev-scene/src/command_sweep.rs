@@ -132,8 +132,8 @@ pub fn sweep(c: SweepCommand) -> ExitCode {
     );
     let done = AtomicUsize::new(0);
     let start = Instant::now();
-    let rows = pool.install(|| {
-        sweep.run(&items, &|| {
+    let ran = pool.install(|| {
+        sweep.run_part(shard, &|| {
             // Drawing is rate-limited by the bar itself; counting is cheap.
             let d = done.fetch_add(1, Ordering::Relaxed) + 1;
             bar.set_position(d as u64);
@@ -141,11 +141,10 @@ pub fn sweep(c: SweepCommand) -> ExitCode {
     });
     bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
-    let about = serde_json::json!({
-        "seconds": seconds,
-        "threads": pool.current_num_threads(),
-    });
-    let part = table::part(&sweep, shard, &rows, about);
+    let (part, table) = match ran {
+        Ok(x) => x,
+        Err(e) => return fail(&e),
+    };
     let mut stdout = Stdout::new();
     if !c.quiet {
         stdout.print(&format!(
@@ -168,10 +167,6 @@ pub fn sweep(c: SweepCommand) -> ExitCode {
             eprint(&format!("error: {e}\n"));
             return stdout.finish(2);
         }
-        let table = match Table::from_part(&part) {
-            Ok(t) => t,
-            Err(e) => return fail(&e),
-        };
         if !c.quiet {
             stdout.print(&outcome_lines(&table));
             stdout.print(&format!(
@@ -184,10 +179,6 @@ pub fn sweep(c: SweepCommand) -> ExitCode {
         }
         return stdout.finish(exit_code(&table));
     }
-    let table = match Table::from_part(&part) {
-        Ok(t) => t,
-        Err(e) => return fail(&e),
-    };
     finish(stdout, &out, &part, &table, c.quiet)
 }
 

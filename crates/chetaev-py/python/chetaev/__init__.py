@@ -36,8 +36,10 @@ from ._chetaev import (
     SceneError,
     Seed,
     Solution,
+    SweepTable,
     __version__,
     complete,
+    merge_sweeps,
     methods,
     solve,
 )
@@ -56,9 +58,11 @@ __all__ = [
     "SceneError",
     "Seed",
     "Solution",
+    "SweepTable",
     "__version__",
     "complete",
     "from_sympy",
+    "merge_sweeps",
     "methods",
     "solve",
 ]

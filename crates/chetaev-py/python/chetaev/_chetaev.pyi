@@ -13,7 +13,7 @@ import numpy.typing as npt
 
 __version__: str
 
-Array = npt.NDArray[np.float64]
+Array = npt.Array
 Direction = Literal["either", "rising", "falling"]
 
 class ChetaevError(ValueError):
@@ -250,6 +250,48 @@ class Scene:
     def describe(self, latex: bool = False) -> str: ...
     @property
     def coordinates(self) -> list[str]: ...
+    def sweep(
+        self,
+        vary: Optional[Mapping[str, Union[str, float, Sequence[float], Mapping[str, Any]]]] = None,
+        *,
+        samples: Optional[int] = None,
+        seed: Optional[int] = None,
+        design: Optional[str] = None,
+        collect: Optional[Sequence[str]] = None,
+        shard: Optional[str] = None,
+        jobs: Optional[int] = None,
+        yes: bool = False,
+    ) -> "SweepTable":
+        """The scene over a grid or a random sample of its parameters and initial values, in
+        parallel (docs/sweeps.md)."""
+
+class SweepTable:
+    """The runs of a sweep: variables, status, quantities, reasons; ``table["impact.t"]``."""
+
+    @property
+    def variables(self) -> list[str]: ...
+    @property
+    def columns(self) -> list[str]: ...
+    @property
+    def index(self) -> npt.NDArray[np.uint64]: ...
+    @property
+    def values(self) -> Array: ...
+    @property
+    def quantities(self) -> Array: ...
+    @property
+    def status(self) -> list[str]: ...
+    @property
+    def reason(self) -> list[str]: ...
+    @property
+    def steps(self) -> npt.NDArray[np.uint64]: ...
+    def counts(self) -> tuple[int, int, int]: ...
+    def __getitem__(self, name: str) -> Array: ...
+    def __len__(self) -> int: ...
+    def to_csv(self) -> str: ...
+    def write(self, directory: Union[str, PathLike[str]]) -> list[str]: ...
+
+def merge_sweeps(files: Sequence[Union[str, PathLike[str]]]) -> SweepTable:
+    """Joins the part files of a sharded sweep into the whole sweep's table."""
 
 def solve(
     problem: Problem,

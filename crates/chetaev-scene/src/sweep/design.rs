@@ -284,9 +284,11 @@ pub(super) fn axis_from_text(text: &str) -> Result<Axis, String> {
             };
         return range(number(parts[0])?, number(parts[1])?, count, scale);
     }
-    let values = text
-        .trim_start_matches('[')
-        .trim_end_matches(']')
+    let inner = text.trim_start_matches('[').trim_end_matches(']').trim();
+    if inner.is_empty() {
+        return list(Vec::new());
+    }
+    let values = inner
         .split(',')
         .map(number)
         .collect::<Result<Vec<f64>, String>>()?;

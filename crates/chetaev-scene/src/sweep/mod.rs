@@ -166,6 +166,11 @@ impl Sweep {
         Self::parse(&text, &path.display().to_string(), args)
     }
 
+    /// The sweep over a scene already read ([`Sweep::parse`] of its text).
+    pub fn of_scene(scene: &Scene, args: &SweepArgs) -> Result<Self, Error> {
+        Self::parse(&scene.file.text, &scene.file.path, args)
+    }
+
     /// Validates a scene given as text and the sweep over it: the file's `[sweep]` with `args`
     /// added. Nothing is run; every mistake in the specification is an error here.
     pub fn parse(text: &str, path: &str, args: &SweepArgs) -> Result<Self, Error> {
@@ -356,6 +361,26 @@ impl Sweep {
                 row
             })
             .collect()
+    }
+
+    /// Runs shard `shard` of the sweep ([`Shard::WHOLE`](chetaev_parts::Shard::WHOLE) for all of
+    /// it) on the current rayon pool, and returns its part (for `--shard` files and
+    /// [`table::merge`]) and its table; `progress` is called as each run ends.
+    pub fn run_part(
+        &self,
+        shard: chetaev_parts::Shard,
+        progress: &(dyn Fn() + Sync),
+    ) -> Result<(chetaev_parts::Part, table::Table), Error> {
+        let items: Vec<usize> = shard.items(self.len).collect();
+        let start = std::time::Instant::now();
+        let rows = self.run(&items, progress);
+        let about = serde_json::json!({
+            "seconds": start.elapsed().as_secs_f64(),
+            "threads": rayon::current_num_threads(),
+        });
+        let part = table::part(self, shard, &rows, about);
+        let table = table::Table::from_part(&part)?;
+        Ok((part, table))
     }
 
     /// What defines the sweep's rows, for its part files: two parts merge only when these are

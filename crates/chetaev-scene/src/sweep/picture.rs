@@ -63,13 +63,19 @@ pub fn draw(table: &Table) -> Vec<(String, String)> {
             }
             let mut maps = Vec::new();
             let (x, y) = (&table.variables[0], &table.variables[1]);
+            // The row at each grid point, found once: (i, j) → row.
+            let position = |v: f64, of: &[f64]| of.binary_search_by(|a| a.total_cmp(&v)).ok();
+            let mut cell: Vec<Option<usize>> = vec![None; xs.len() * ys.len()];
+            for (r, row) in table.rows.iter().enumerate() {
+                if let (Some(i), Some(j)) =
+                    (position(row.values[0], &xs), position(row.values[1], &ys))
+                {
+                    cell[j * xs.len() + i] = Some(r);
+                }
+            }
             for &c in &columns {
                 let at = |i: usize, j: usize| {
-                    table
-                        .rows
-                        .iter()
-                        .find(|r| r.values[0] == xs[i] && r.values[1] == ys[j])
-                        .map_or(f64::NAN, |r| r.quantities[c])
+                    cell[j * xs.len() + i].map_or(f64::NAN, |r| table.rows[r].quantities[c])
                 };
                 if ys.len() <= MAX_LINES {
                     let mut f = Figure::new(&table.columns[c])
