@@ -55,6 +55,8 @@
 
 mod collect;
 mod design;
+#[cfg(feature = "parquet")]
+pub mod parquet;
 pub mod picture;
 pub mod table;
 
@@ -404,6 +406,12 @@ impl Sweep {
             "variables": self.variables(),
             "columns": self.columns(),
             "labels": table::labels(self),
+            "parameters": self
+                .scene
+                .parameters
+                .iter()
+                .map(|(p, v)| (p.clone(), chetaev_parts::number(*v)))
+                .collect::<serde_json::Map<_, _>>(),
             "version": env!("CARGO_PKG_VERSION"),
         })
     }

@@ -263,8 +263,9 @@ pub fn merge(files: &[PathBuf]) -> Result<(Part, Table), Error> {
     Ok((whole, table))
 }
 
-/// Writes the whole sweep's files into `dir`: `sweep.csv`, `sweep.json` (the merged part) and
-/// the picture ([`super::picture`]); returns the files written.
+/// Writes the whole sweep's files into `dir`: `sweep.csv`, `sweep.parquet` (with the feature
+/// `parquet`, on by default), `sweep.json` (the merged part) and the pictures
+/// ([`super::picture`]); returns the files written.
 pub fn write_whole(dir: &Path, whole: &Part, table: &Table) -> Result<Vec<PathBuf>, Error> {
     std::fs::create_dir_all(dir).map_err(|e| Error::Write {
         path: dir.display().to_string(),
@@ -274,6 +275,12 @@ pub fn write_whole(dir: &Path, whole: &Part, table: &Table) -> Result<Vec<PathBu
     let csv = dir.join(format!("{SWEEP}.csv"));
     write(&csv, &table.to_csv())?;
     written.push(csv);
+    #[cfg(feature = "parquet")]
+    {
+        let parquet = dir.join(format!("{SWEEP}.parquet"));
+        super::parquet::write(&parquet, table)?;
+        written.push(parquet);
+    }
     let json = dir.join(whole.file_name());
     write(&json, &whole.to_json())?;
     written.push(json);

@@ -607,3 +607,79 @@ fn a_large_grid_of_two_variables_is_drawn_as_heat_maps() {
         assert!(svg.matches("<rect").count() >= 100 + 64);
     }
 }
+
+#[cfg(feature = "parquet")]
+#[test]
+fn the_parquet_table_holds_the_csv_values_and_the_settings() {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    use parquet::record::RowAccessor;
+    let dir = tmp("parquet");
+    let out = chetaev(&[
+        "sweep",
+        &format!(
+            "{}/../../scenes/uniform-projectile.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ),
+        "--vary",
+        "v0=0,5,10",
+        "--collect",
+        "impact.t,max_abs.mu_1",
+        "--out",
+        &dir.to_string_lossy(),
+        "--quiet",
+    ]);
+    assert_eq!(out.status.code(), Some(1), "v0 = 0 is refused");
+    let file = std::fs::File::open(dir.join("sweep.parquet")).expect("written");
+    let reader = SerializedFileReader::new(file).expect("a Parquet file");
+    let meta = reader.metadata().file_metadata();
+    assert_eq!(meta.num_rows(), 3);
+    let names: Vec<&str> = meta
+        .schema_descr()
+        .columns()
+        .iter()
+        .map(|c| c.name())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "index",
+            "v0",
+            "status",
+            "impact.t",
+            "max_abs.mu_1",
+            "steps",
+            "rhs_evaluations",
+            "reason"
+        ]
+    );
+    let kv = meta.key_value_metadata().expect("metadata");
+    let settings = kv
+        .iter()
+        .find(|k| k.key == "chetaev.sweep")
+        .and_then(|k| k.value.clone())
+        .expect("the settings");
+    let settings: serde_json::Value = serde_json::from_str(&settings).expect("JSON");
+    assert_eq!(settings["parameters"]["h0"], 5.0);
+    assert_eq!(settings["variables"][0], "v0");
+    assert!(kv.iter().any(|k| k.key == "chetaev.version"));
+    // The rows are the CSV's, to the bit.
+    let csv = read(dir.join("sweep.csv"));
+    let rows: Vec<parquet::record::Row> = reader
+        .get_row_iter(None)
+        .expect("rows")
+        .collect::<Result<_, _>>()
+        .expect("readable");
+    for (row, line) in rows.iter().zip(csv.lines().skip(1)) {
+        let fields: Vec<&str> = line.split(',').collect();
+        assert_eq!(row.get_long(0).expect("index").to_string(), fields[0]);
+        assert_eq!(
+            row.get_double(1).expect("v0"),
+            fields[1].parse::<f64>().expect("a number")
+        );
+        assert_eq!(row.get_string(2).expect("status"), fields[2]);
+        let t = row.get_double(3).expect("impact.t");
+        let t_csv: f64 = fields[3].parse().expect("a number");
+        assert!(t.to_bits() == t_csv.to_bits() || (t.is_nan() && t_csv.is_nan()));
+    }
+    assert!(rows[0].get_string(7).expect("reason").len() > 10);
+}
