@@ -334,4 +334,22 @@ mod tests {
             "the second derivative ∂²L/∂x_dot∂x of the Lagrangian L (x_dot^2*exp(1000*x) + y_dot^2) is inf"
         );
     }
+
+    #[test]
+    fn a_load_is_blamed_by_the_component_whose_derivative_is_not_finite() {
+        // r_2 = sqrt(x − 0.7) is 0 at x = 0.7, but its first derivatives, read by the load's Q,
+        // are not finite (with no single variable to name; see `culprit`).
+        let s = scene(
+            "lagrangian = \"0.5*(x_dot^2 + y_dot^2)\"\n[[loads]]\npoint = [\"y\", \"sqrt(x - 0.7)\"]\n\
+             force = [\"0\", \"1\"]",
+        );
+        let part = s
+            .non_finite_part(0.0, &[0.7, 1.0], &[1.0, 0.0])
+            .expect("found");
+        assert_eq!(
+            part.what,
+            "the first derivatives of component 2 of the point of load 1 (sqrt(x - 0.7)) are not finite"
+        );
+        assert_eq!(&s.file.text[part.span.clone()], "\"sqrt(x - 0.7)\"");
+    }
 }

@@ -101,6 +101,10 @@ pub struct SensitivitySpec {
     pub seeds: Vec<Seed>,
 }
 
+/// Of one load, the places of the components of its point (or angular velocity), then of its
+/// force (or torque).
+pub(crate) type LoadSpans = (Vec<Range<usize>>, Vec<Range<usize>>);
+
 /// Places in the file that errors found after validation point at.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Spans {
@@ -115,7 +119,7 @@ pub(crate) struct Spans {
     pub dissipation: Option<Range<usize>>,
     /// Of each load, the places of the components of its point (or angular velocity), then of
     /// its force (or torque).
-    pub loads: Vec<(Vec<Range<usize>>, Vec<Range<usize>>)>,
+    pub loads: Vec<LoadSpans>,
     pub lagrangian: Range<usize>,
     pub solve: Range<usize>,
     pub options: BTreeMap<&'static str, Range<usize>>,

@@ -13,7 +13,8 @@ use super::schema::{
 };
 use super::sensitivities::reads;
 use super::spec::{
-    EventSpec, GridEnd, LoadSpec, OutputSpec, Picture, Scene, SolveSpec, Spans, Table, Times, Units,
+    EventSpec, GridEnd, LoadSpans, LoadSpec, OutputSpec, Picture, Scene, SolveSpec, Spans, Table,
+    Times, Units,
 };
 use super::MAX_OUTPUT_TIMES;
 use crate::error::{Error, SourceFile, Warning};
@@ -624,12 +625,11 @@ impl Builder {
     /// `[[loads]]`: each a force on a point or a torque on a body, its lists of matching lengths,
     /// a point without velocities and an angular velocity with one; with the places of the
     /// components of each.
-    #[allow(clippy::type_complexity)]
     fn loads(
         &self,
         raw: &[Spanned<RawLoad>],
         model_expr: &dyn Fn(&Spanned<String>) -> Result<Expr, Error>,
-    ) -> Result<(Vec<LoadSpec>, Vec<(Vec<Range<usize>>, Vec<Range<usize>>)>), Error> {
+    ) -> Result<(Vec<LoadSpec>, Vec<LoadSpans>), Error> {
         const POINT: &str =
             "point = [\"l*sin(theta)\", \"-l*cos(theta)\"] with force = [\"F\", \"0\"]";
         const BODY: &str = "angular_velocity = [\"theta_dot\"] with torque = [\"-c*theta_dot\"]";
