@@ -1000,6 +1000,17 @@ impl Scene {
             yes,
         )
     }
+
+    /// What in the scene is valid but may not be what was meant (an `e` read as Euler's number),
+    /// each as `path:line:column: message`, in the order of the file; empty for most scenes.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.inner
+            .warnings
+            .iter()
+            .map(ToString::to_string)
+            .collect()
+    }
 }
 
 /// A seed for sensitivities: the derivative of the motion with respect to a direction in the

@@ -125,3 +125,60 @@ def test_a_scene_with_sensitivities_gives_the_impact_times_derivatives_of_the_cl
         # the scene asks rtol = atol = 1e-12 with control = true: SCENE_GLOBAL
         assert hit.dt[name] == pytest.approx(float(sp.diff(T, symbol).subs(values)),
                                              abs=SCENE_GLOBAL), name
+
+
+PUSHED_PENDULUM = """
+[parameters]
+m = 1.5
+g = 9.81
+l = 2.0
+c = 6.0
+F = 4.0
+
+[model]
+coordinates = ["theta"]
+lagrangian = "0.5*m*l^2*theta_dot^2 + m*g*l*cos(theta)"
+dissipation = "0.5*c*theta_dot^2"
+{forces}
+{loads}
+[initial]
+q = [0.1]
+q_dot = [0.5]
+
+[solve]
+t_end = 80.0
+rtol = 1e-11
+atol = 1e-12
+
+[output]
+tables = ["state"]
+times = "steps"
+"""
+
+PUSH = """
+[[loads]]
+point = ["l*sin(theta)", "-l*cos(theta)"]
+force = ["F", "0"]
+"""
+
+
+def test_a_scene_with_a_load_at_the_bob_moves_as_with_its_generalised_force_and_settles_at_atan():
+    by_load = chetaev.Scene.parse(PUSHED_PENDULUM.format(forces="", loads=PUSH)).solve()
+    by_hand = chetaev.Scene.parse(
+        PUSHED_PENDULUM.format(forces='forces = ["F*l*cos(theta)"]', loads="")
+    ).solve()
+    assert by_load.status == "success" and len(by_load) == len(by_hand) > 20
+    np.testing.assert_allclose(by_load.q, by_hand.q, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(by_load.qd, by_hand.qd, rtol=0, atol=1e-14)
+    # damped at c/(2 m l^2) = 0.5 per second: at t = 80 the swing has decayed by e^-40
+    assert by_load.q[-1, 0] == pytest.approx(np.arctan(4.0 / (1.5 * 9.81)), abs=1e-9)
+
+
+def test_a_scenes_warnings_name_their_place_and_are_empty_without_any(scene_text):
+    assert chetaev.Scene.parse(scene_text).warnings == []
+    text = PUSHED_PENDULUM.format(forces='forces = ["e*F*l*cos(theta)"]', loads="")
+    warnings = chetaev.Scene.parse(text, "euler.toml").warnings
+    line = text.splitlines().index('forces = ["e*F*l*cos(theta)"]') + 1
+    assert len(warnings) == 1
+    assert warnings[0].startswith(f"euler.toml:{line}:12: ")
+    assert "Euler's number" in warnings[0]

@@ -8,9 +8,9 @@
 //!
 //! | level | what is evaluated | of |
 //! |---|---|---|
-//! | 0 | the value | `L`, each `f_a`, each `h_b`, each `Q_i`, `D` |
+//! | 0 | the value | `L`, each `f_a`, each `h_b`, each `Q_i`, each component of a load's `r`, `F`, `ω`, `T`, `D` |
 //! | 1 | the first derivatives by `t`, `q`, `q̇` (`Dual64`) | the same |
-//! | 2 | the second derivatives the equations use (`HyperDual64`) | `L` (`∂²L/∂q̇∂(t, q, q̇)`, in `W` and the right-hand side), `h_b` (`∂²h/∂(t, q)²`, in `ḧ`), `D` (`∂²D/∂q̇∂(t, q, q̇)`, in the implicit methods' Jacobian) |
+//! | 2 | the second derivatives the equations use (`HyperDual64`) | `L` (`∂²L/∂q̇∂(t, q, q̇)`, in `W` and the right-hand side), `h_b` (`∂²h/∂(t, q)²`, in `ḧ`), a load's `r` (`∂²r/∂q∂(t, q)`) and `ω` (`∂²ω/∂q̇∂(t, q, q̇)`), whose first derivatives are in `Q`, `D` (`∂²D/∂q̇∂(t, q, q̇)`, in the implicit methods' Jacobian) |
 //!
 //! Each level is first evaluated with every derivative seeded at once (their sum is not finite if
 //! one of them is not), then, only for the expression found, one variable (or pair) at a time to
@@ -108,6 +108,49 @@ impl Scene {
                 second_by: None,
                 second_of: all.clone(),
             });
+        }
+        for (l, load) in self.loads.iter().enumerate() {
+            let (place, acting) = load.parts();
+            let (place_spans, acting_spans) = s.loads.get(l).cloned().unwrap_or_default();
+            let torque = matches!(load, crate::scene::LoadSpec::Torque { .. });
+            let (place_name, place_symbol, acting_name, acting_symbol) = if torque {
+                ("angular velocity", "ω", "torque", "T")
+            } else {
+                ("point", "r", "force", "F")
+            };
+            // `Q` reads `∂r/∂q` or `∂ω/∂q̇`, whose first derivatives the equations use.
+            let second_by = if torque { velocities.clone() } else { 1..n + 1 };
+            let second_of = if torque { all.clone() } else { 0..n + 1 };
+            for (c, e) in place.iter().enumerate() {
+                parts.push(Part {
+                    name: format!(
+                        "component {} of the {place_name} of load {} ({})",
+                        c + 1,
+                        l + 1,
+                        e.source()
+                    ),
+                    symbol: format!("{place_symbol}_{}", c + 1),
+                    expr: e,
+                    span: place_spans.get(c).cloned().unwrap_or(s.lagrangian.clone()),
+                    second_by: Some(second_by.clone()),
+                    second_of: second_of.clone(),
+                });
+            }
+            for (c, e) in acting.iter().enumerate() {
+                parts.push(Part {
+                    name: format!(
+                        "component {} of the {acting_name} of load {} ({})",
+                        c + 1,
+                        l + 1,
+                        e.source()
+                    ),
+                    symbol: format!("{acting_symbol}_{}", c + 1),
+                    expr: e,
+                    span: acting_spans.get(c).cloned().unwrap_or(s.lagrangian.clone()),
+                    second_by: None,
+                    second_of: all.clone(),
+                });
+            }
         }
         if let Some(d) = &self.dissipation {
             parts.push(Part {
@@ -290,5 +333,23 @@ mod tests {
             part.what,
             "the second derivative ∂²L/∂x_dot∂x of the Lagrangian L (x_dot^2*exp(1000*x) + y_dot^2) is inf"
         );
+    }
+
+    #[test]
+    fn a_load_is_blamed_by_the_component_whose_derivative_is_not_finite() {
+        // r_2 = sqrt(x − 0.7) is 0 at x = 0.7, but its first derivatives, read by the load's Q,
+        // are not finite (with no single variable to name; see `culprit`).
+        let s = scene(
+            "lagrangian = \"0.5*(x_dot^2 + y_dot^2)\"\n[[loads]]\npoint = [\"y\", \"sqrt(x - 0.7)\"]\n\
+             force = [\"0\", \"1\"]",
+        );
+        let part = s
+            .non_finite_part(0.0, &[0.7, 1.0], &[1.0, 0.0])
+            .expect("found");
+        assert_eq!(
+            part.what,
+            "the first derivatives of component 2 of the point of load 1 (sqrt(x - 0.7)) are not finite"
+        );
+        assert_eq!(&s.file.text[part.span.clone()], "\"sqrt(x - 0.7)\"");
     }
 }

@@ -14,7 +14,7 @@ use crate::error::Error;
 use crate::expr::{Env, Expr};
 use crate::model::ExprModel;
 use crate::output::{state_text, summary_number};
-use crate::scene::{GridEnd, Scene, Times};
+use crate::scene::{GridEnd, LoadSpec, Scene, Times};
 
 /// What an integration of a scene produced: the library's [`Solution`] (whose fields it
 /// dereferences to: `t`, `q`, `qd`, `qdd`, `mu`, `phi`, `residual`, `energy`, `work`, `events`,
@@ -155,6 +155,25 @@ impl Scene {
                 Some(d) => Some(again(d)?),
                 None => None,
             },
+            loads: self
+                .loads
+                .iter()
+                .map(|load| {
+                    Some(match load {
+                        LoadSpec::Force { point, force } => LoadSpec::Force {
+                            point: all(point)?,
+                            force: all(force)?,
+                        },
+                        LoadSpec::Torque {
+                            angular_velocity,
+                            torque,
+                        } => LoadSpec::Torque {
+                            angular_velocity: all(angular_velocity)?,
+                            torque: all(torque)?,
+                        },
+                    })
+                })
+                .collect::<Option<Vec<_>>>()?,
         })
     }
 
@@ -412,6 +431,7 @@ impl Scene {
             holonomic: self.holonomic.clone(),
             forces: self.forces.clone(),
             dissipation: self.dissipation.clone(),
+            loads: self.loads.clone(),
         };
         let (mut q0, mut qd0) = (self.q0.clone(), self.qd0.clone());
         if let Some(independent) = &self.independent {

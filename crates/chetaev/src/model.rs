@@ -54,9 +54,18 @@ pub trait Real: DualNum<f64> + Copy + 'static {
     /// ```
     #[inline]
     fn parameter(name: &str, value: f64) -> Self {
-        if std::any::TypeId::of::<Self>() == std::any::TypeId::of::<Sym>() {
+        use std::any::{Any, TypeId};
+        if TypeId::of::<Self>() == TypeId::of::<Sym>() {
             let s = crate::equations::graph::parameter(name, value);
-            if let Some(&r) = (&s as &dyn std::any::Any).downcast_ref::<Self>() {
+            if let Some(&r) = (&s as &dyn Any).downcast_ref::<Self>() {
+                return r;
+            }
+        }
+        // Read inside a dual number over the recorded scalar (a load's point, differentiated by
+        // the coordinates while the equations are recorded): the same input, with no derivative.
+        if TypeId::of::<Self>() == TypeId::of::<num_dual::Dual<Sym, f64>>() {
+            let s = num_dual::Dual::from_re(crate::equations::graph::parameter(name, value));
+            if let Some(&r) = (&s as &dyn Any).downcast_ref::<Self>() {
                 return r;
             }
         }

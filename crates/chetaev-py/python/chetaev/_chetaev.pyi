@@ -250,6 +250,10 @@ class Scene:
     def describe(self, latex: bool = False) -> str: ...
     @property
     def coordinates(self) -> list[str]: ...
+    @property
+    def warnings(self) -> list[str]:
+        """What is valid but may not be what was meant (an ``e`` read as Euler's number), each
+        as ``path:line:column: message``, in the order of the file."""
     def sweep(
         self,
         vary: Optional[Mapping[str, Union[str, float, Sequence[float], Mapping[str, Any]]]] = None,

@@ -105,7 +105,7 @@ pub(crate) fn balance_terms(scene: &Scene) -> Vec<BalanceTerm> {
     [
         (scene.k() > 0, BalanceTerm::Chetaev),
         (
-            !scene.forces.is_empty() || scene.dissipation.is_some(),
+            !scene.forces.is_empty() || !scene.loads.is_empty() || scene.dissipation.is_some(),
             BalanceTerm::Forces,
         ),
         (scene.lagrangian.uses_time(), BalanceTerm::Time),

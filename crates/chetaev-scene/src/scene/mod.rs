@@ -29,7 +29,8 @@ use chetaev::prelude::Record;
 use crate::error::{Error, SourceFile};
 
 pub use spec::{
-    EventSpec, GridEnd, OutputSpec, Picture, Scene, SensitivitySpec, SolveSpec, Table, Times, Units,
+    EventSpec, GridEnd, LoadSpec, OutputSpec, Picture, Scene, SensitivitySpec, SolveSpec, Table,
+    Times, Units,
 };
 
 /// The most times an output grid may have.

@@ -22,6 +22,8 @@ pub(crate) struct RawScene {
     pub(crate) initial: Spanned<RawInitial>,
     pub(crate) solve: Spanned<RawSolve>,
     #[serde(default)]
+    pub(crate) loads: Vec<Spanned<RawLoad>>,
+    #[serde(default)]
     pub(crate) events: Vec<Spanned<RawEvent>>,
     pub(crate) sensitivities: Option<Spanned<RawSensitivities>>,
     pub(crate) output: Option<RawOutput>,
@@ -104,6 +106,17 @@ pub(crate) struct RawSolve {
     #[serde(default)]
     pub(crate) projection: bool,
     pub(crate) stiffness_detection: Option<Spanned<bool>>,
+}
+
+/// `[[loads]]`: a force on a point (`point`, `force`) or a torque on a body
+/// (`angular_velocity`, `torque`); which pairs are given is checked in validation.
+#[derive(Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawLoad {
+    pub(crate) point: Option<Spanned<Vec<Spanned<String>>>>,
+    pub(crate) force: Option<Spanned<Vec<Spanned<String>>>>,
+    pub(crate) angular_velocity: Option<Spanned<Vec<Spanned<String>>>>,
+    pub(crate) torque: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
 #[derive(Clone, Deserialize)]

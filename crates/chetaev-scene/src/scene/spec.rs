@@ -35,6 +35,9 @@ pub struct Scene {
     pub forces: Vec<Expr>,
     /// A Rayleigh dissipation function `D(t, q, q̇)`, whose force is `−∂D/∂q̇`.
     pub dissipation: Option<Expr>,
+    /// `[[loads]]`: forces on points and torques on bodies, in the order of the file; their
+    /// generalised forces add to `forces`.
+    pub loads: Vec<LoadSpec>,
     /// Initial time.
     pub t0: f64,
     /// Initial coordinates.
@@ -98,6 +101,10 @@ pub struct SensitivitySpec {
     pub seeds: Vec<Seed>,
 }
 
+/// Of one load, the places of the components of its point (or angular velocity), then of its
+/// force (or torque).
+pub(crate) type LoadSpans = (Vec<Range<usize>>, Vec<Range<usize>>);
+
 /// Places in the file that errors found after validation point at.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Spans {
@@ -110,6 +117,9 @@ pub(crate) struct Spans {
     pub holonomic: Vec<Range<usize>>,
     pub forces: Vec<Range<usize>>,
     pub dissipation: Option<Range<usize>>,
+    /// Of each load, the places of the components of its point (or angular velocity), then of
+    /// its force (or torque).
+    pub loads: Vec<LoadSpans>,
     pub lagrangian: Range<usize>,
     pub solve: Range<usize>,
     pub options: BTreeMap<&'static str, Range<usize>>,
@@ -138,6 +148,41 @@ pub struct SolveSpec {
     pub max_steps: Option<usize>,
     /// Projection onto `f = 0` after each step.
     pub projection: bool,
+}
+
+/// One `[[loads]]` entry: a load stated where it acts, whose generalised force `Q` is taken by
+/// dual numbers ([`chetaev::loads`]) and added to the scene's `forces`.
+#[derive(Clone, Debug)]
+pub enum LoadSpec {
+    /// A force `F(t, q, q̇)` on the point at `r(t, q)`, both of 2 (plane) or 3 (space) components:
+    /// `Q_i = F · ∂r/∂q_i`.
+    Force {
+        /// `r(t, q)`.
+        point: Vec<Expr>,
+        /// `F(t, q, q̇)`, one component per component of `point`.
+        force: Vec<Expr>,
+    },
+    /// A torque `T(t, q, q̇)` on a body turning at `ω(t, q, q̇)`, both of 1 (plane: about the
+    /// normal) or 3 (space) components: `Q_i = T · ∂ω/∂q̇_i`.
+    Torque {
+        /// `ω(t, q, q̇)`.
+        angular_velocity: Vec<Expr>,
+        /// `T(t, q, q̇)`, one component per component of `angular_velocity`.
+        torque: Vec<Expr>,
+    },
+}
+
+impl LoadSpec {
+    /// Where it acts (`r` or `ω`), then what acts (`F` or `T`).
+    pub fn parts(&self) -> (&[Expr], &[Expr]) {
+        match self {
+            LoadSpec::Force { point, force } => (point, force),
+            LoadSpec::Torque {
+                angular_velocity,
+                torque,
+            } => (angular_velocity, torque),
+        }
+    }
 }
 
 /// One `[[events]]` entry.

@@ -9,11 +9,12 @@ use chetaev::prelude::{Atol, Direction};
 use toml::Spanned;
 
 use super::schema::{
-    Number, RawAtol, RawDirection, RawOutput, RawScene, RawSolve, RawTimes, RawTrajectory,
+    Number, RawAtol, RawDirection, RawLoad, RawOutput, RawScene, RawSolve, RawTimes, RawTrajectory,
 };
 use super::sensitivities::reads;
 use super::spec::{
-    EventSpec, GridEnd, OutputSpec, Picture, Scene, SolveSpec, Spans, Table, Times, Units,
+    EventSpec, GridEnd, LoadSpans, LoadSpec, OutputSpec, Picture, Scene, SolveSpec, Spans, Table,
+    Times, Units,
 };
 use super::MAX_OUTPUT_TIMES;
 use crate::error::{Error, SourceFile, Warning};
@@ -386,6 +387,7 @@ impl Builder {
             Some(d) => Some(model_expr(d)?),
             None => None,
         };
+        let (loads, load_spans) = self.loads(&raw.loads, &model_expr)?;
         let mut units = self.model_units(
             model.units.as_ref(),
             &coordinates,
@@ -537,6 +539,10 @@ impl Builder {
                     .chain(&holonomic)
                     .chain(&forces)
                     .chain(&dissipation)
+                    .chain(loads.iter().flat_map(|l| {
+                        let (place, acting) = l.parts();
+                        place.iter().chain(acting)
+                    }))
                     .chain(events.iter().map(|e| &e.expr));
                 Some(self.seeds(s.get_ref(), &resolved, &reads(exprs), &q_rates, &qd_rates)?)
             }
@@ -572,6 +578,7 @@ impl Builder {
             holonomic,
             forces,
             dissipation,
+            loads,
             t0,
             q0,
             qd0,
@@ -601,6 +608,7 @@ impl Builder {
                 holonomic: holonomic_spans,
                 forces: force_spans,
                 dissipation: model.dissipation.as_ref().map(Spanned::span),
+                loads: load_spans,
                 lagrangian: model.lagrangian.span(),
                 solve: raw.solve.span(),
                 options,
@@ -612,6 +620,187 @@ impl Builder {
                     .map_or(0..0, |s| s.get_ref().parameters.span()),
             },
         })
+    }
+
+    /// `[[loads]]`: each a force on a point or a torque on a body, its lists of matching lengths,
+    /// a point without velocities and an angular velocity with one; with the places of the
+    /// components of each.
+    fn loads(
+        &self,
+        raw: &[Spanned<RawLoad>],
+        model_expr: &dyn Fn(&Spanned<String>) -> Result<Expr, Error>,
+    ) -> Result<(Vec<LoadSpec>, Vec<LoadSpans>), Error> {
+        const POINT: &str =
+            "point = [\"l*sin(theta)\", \"-l*cos(theta)\"] with force = [\"F\", \"0\"]";
+        const BODY: &str = "angular_velocity = [\"theta_dot\"] with torque = [\"-c*theta_dot\"]";
+        let mut loads = Vec::new();
+        let mut spans = Vec::new();
+        for table in raw {
+            let load = table.get_ref();
+            let (place, acting, torque) = match (
+                &load.point,
+                &load.force,
+                &load.angular_velocity,
+                &load.torque,
+            ) {
+                (Some(_), _, Some(w), _) => return Err(self.err(
+                    w.span(),
+                    "a [[loads]] table holds one load: a force on a point (point and force) or \
+                         a torque on a body (angular_velocity and torque), not both; put each in \
+                         its own [[loads]] table",
+                )),
+                (Some(p), Some(f), None, None) => (p, f, false),
+                (None, None, Some(w), Some(t)) => (w, t, true),
+                (Some(_), _, None, Some(t)) => {
+                    return Err(self.err(
+                        t.span(),
+                        format!(
+                            "a torque acts on a body, not on a point: give it in its own [[loads]] \
+                             table with the body's angular velocity, as in {BODY}; the point takes \
+                             force = [...]"
+                        ),
+                    ))
+                }
+                (None, Some(f), Some(_), _) => {
+                    return Err(self.err(
+                        f.span(),
+                        format!(
+                            "a force acts on a point, not on a body: give it in its own [[loads]] \
+                             table with the point's position, as in {POINT}; the angular velocity \
+                             takes torque = [...]"
+                        ),
+                    ))
+                }
+                (Some(p), None, None, None) => {
+                    return Err(self.err(
+                        p.span(),
+                        format!(
+                            "this point has no force on it: add force = [...], F(t, q, q_dot) with \
+                             one component per component of the point, as in {POINT}"
+                        ),
+                    ))
+                }
+                (None, None, Some(w), None) => {
+                    return Err(self.err(
+                        w.span(),
+                        format!(
+                            "this angular velocity has no torque on it: add torque = [...], \
+                             T(t, q, q_dot) with one component per component of the angular \
+                             velocity, as in {BODY}"
+                        ),
+                    ))
+                }
+                (None, Some(f), None, _) => {
+                    return Err(self.err(
+                        f.span(),
+                        format!(
+                            "a force needs the point it acts on: add point = [...], its position \
+                             r(t, q) with one component per component of the force, as in {POINT}"
+                        ),
+                    ))
+                }
+                (None, None, None, Some(t)) => {
+                    return Err(self.err(
+                        t.span(),
+                        format!(
+                            "a torque needs the body it acts on: add angular_velocity = [...], \
+                             the body's ω(t, q, q_dot) with one component per component of the \
+                             torque, as in {BODY}"
+                        ),
+                    ))
+                }
+                (None, None, None, None) => {
+                    return Err(self.err(
+                        table.span(),
+                        format!(
+                            "this load says neither where nor what acts: give a force on a point, \
+                             as in {POINT}, or a torque on a body, as in {BODY}"
+                        ),
+                    ))
+                }
+            };
+            let d = place.get_ref().len();
+            let (where_, what, sizes) = if torque {
+                ("angular velocity", "torque", [1, 3])
+            } else {
+                ("point", "force", [2, 3])
+            };
+            let components = |k: usize| match k {
+                1 => "1 component".to_string(),
+                k => format!("{k} components"),
+            };
+            if !sizes.contains(&d) {
+                return Err(self.err(
+                    place.span(),
+                    format!(
+                        "the {where_} has {}: give {} in the plane or {} in space{}",
+                        components(d),
+                        components(sizes[0]),
+                        sizes[1],
+                        if torque {
+                            " (in the plane, the rate about the plane's normal)"
+                        } else {
+                            ""
+                        }
+                    ),
+                ));
+            }
+            if acting.get_ref().len() != d {
+                return Err(self.err(
+                    acting.span(),
+                    format!(
+                        "the {what} has {} and the {where_} {}: give one per component of the \
+                         {where_}, in the same axes",
+                        components(acting.get_ref().len()),
+                        components(d)
+                    ),
+                ));
+            }
+            let mut exprs = Vec::new();
+            for c in place.get_ref() {
+                let e = model_expr(c)?;
+                if !torque && e.uses_velocities() {
+                    return Err(self.err(
+                        c.span(),
+                        "the point's position r(t, q) depends on the coordinates and time only, \
+                         but this component uses a velocity (a name ending in _dot); a force that \
+                         depends on the velocities goes under force = [...]",
+                    ));
+                }
+                exprs.push(e);
+            }
+            if torque && !exprs.iter().any(Expr::uses_velocities) {
+                return Err(self.err(
+                    place.span(),
+                    format!(
+                        "no component of this angular velocity uses a velocity, so the torque \
+                         does no virtual work and has no generalised force: ω(t, q, q_dot) is the \
+                         body's rate of turning, as in {BODY}"
+                    ),
+                ));
+            }
+            let values = acting
+                .get_ref()
+                .iter()
+                .map(model_expr)
+                .collect::<Result<Vec<_>, _>>()?;
+            spans.push((
+                place.get_ref().iter().map(Spanned::span).collect(),
+                acting.get_ref().iter().map(Spanned::span).collect(),
+            ));
+            loads.push(if torque {
+                LoadSpec::Torque {
+                    angular_velocity: exprs,
+                    torque: values,
+                }
+            } else {
+                LoadSpec::Force {
+                    point: exprs,
+                    force: values,
+                }
+            });
+        }
+        Ok((loads, spans))
     }
 
     fn vector(

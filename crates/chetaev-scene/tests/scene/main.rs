@@ -8,6 +8,7 @@ mod fuzz;
 mod guide;
 mod holonomic;
 mod isokinetic_gas;
+mod loads;
 mod paper;
 mod parameters;
 mod parser;
