@@ -87,7 +87,9 @@ def test_shards_written_and_merged_equal_the_whole_sweep(scene, tmp_path):
     merged = chetaev.merge_sweeps(files)
     assert merged.to_csv() == whole.to_csv()
     written = whole.write(tmp_path / "whole")
-    assert {pathlib.Path(f).name for f in written} == {"sweep.csv", "sweep.json", "sweep.svg"}
+    # Two variables on a grid: a heat map per quantity, and lines (h0 has two values).
+    assert {pathlib.Path(f).name for f in written} == {
+        "sweep.csv", "sweep.json", "sweep.svg", "sweep-impact.t.svg", "sweep-impact.y_dot.svg"}
     assert (tmp_path / "whole" / "sweep.csv").read_text() == whole.to_csv()
     with pytest.raises(chetaev.SceneError, match=r"shard\(s\) 2 of 3 missing"):
         chetaev.merge_sweeps([files[0], files[2]])

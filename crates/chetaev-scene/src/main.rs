@@ -193,6 +193,15 @@ fn check(scene: &Path, out: Option<PathBuf>, force: bool) -> ExitCode {
         Ok(w) => w,
         Err(e) => return fail(&e),
     };
+    // A `[sweep]` table is checked as `chetaev sweep` would read it.
+    let sweep = if chetaev_scene::sweep::Sweep::declared_in(&s) {
+        match chetaev_scene::sweep::Sweep::of_scene(&s, &Default::default()) {
+            Ok(sw) => Some(sw),
+            Err(e) => return fail(&e),
+        }
+    } else {
+        None
+    };
     let plan = match plan(&s, out, force) {
         Ok(p) => p,
         Err(e) => return fail(&e),
@@ -208,6 +217,14 @@ fn check(scene: &Path, out: Option<PathBuf>, force: bool) -> ExitCode {
         count(s.output.tables.len(), "table", "tables"),
         count(s.output.pictures.len(), "picture", "pictures"),
     ));
+    if let Some(sw) = &sweep {
+        stdout.print(&format!(
+            "  sweep    {} of {}, collecting {}\n",
+            count(sw.len(), "run", "runs"),
+            sw.variables().join(", "),
+            sw.columns().join(", ")
+        ));
+    }
     for w in &warnings {
         let text = match w {
             Warning::EventZeroAtStart { name, .. } => format!(

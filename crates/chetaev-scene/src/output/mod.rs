@@ -9,6 +9,7 @@
 
 mod files;
 mod picture;
+pub(crate) use picture::{labelled, per_time};
 mod summary;
 mod table;
 

@@ -39,7 +39,7 @@ const STACKED_PANEL: (f64, f64) = (720.0, 250.0);
 const TRAJECTORY_PANEL: (f64, f64) = (480.0, 420.0);
 
 /// `name [unit]`; the name alone if no unit is declared, or the unit is declared empty.
-fn labelled(name: &str, unit: Option<&str>) -> String {
+pub(crate) fn labelled(name: &str, unit: Option<&str>) -> String {
     match unit {
         Some(u) if !u.is_empty() => format!("{name} [{u}]"),
         _ => name.to_string(),

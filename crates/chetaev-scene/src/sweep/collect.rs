@@ -280,6 +280,37 @@ impl Quantity {
     }
 }
 
+impl Quantity {
+    /// The quantity's unit, from the scene's declared units (`[model] units`): a time's, a
+    /// coordinate's, a velocity's (the coordinate's per the time's), a multiplier's, the energy's;
+    /// `None` where none is declared, and for counts, residuals and derivatives.
+    pub fn unit(&self, scene: &Scene) -> Option<String> {
+        let u = &scene.units;
+        let part = |p: &Part| match p {
+            Part::Time => u.time.clone(),
+            Part::Position(i) => u.coordinates.get(*i).cloned().flatten(),
+            Part::Velocity(i) => crate::output::per_time(
+                u.coordinates.get(*i).and_then(|c| c.as_deref()),
+                u.time.as_deref(),
+                1,
+            ),
+        };
+        match self {
+            Quantity::Event { part: p, .. } | Quantity::End(p) | Quantity::At { part: p, .. } => {
+                part(p)
+            }
+            Quantity::Extreme { of, .. } => match of {
+                Of::Position(i) => part(&Part::Position(*i)),
+                Of::Velocity(i) => part(&Part::Velocity(*i)),
+                Of::Multiplier(a) => u.multipliers.get(*a).cloned().flatten(),
+                Of::Balance => u.energy.clone(),
+                Of::Residual => None,
+            },
+            Quantity::EventCount { .. } | Quantity::Derivative { .. } => None,
+        }
+    }
+}
+
 fn names(scene: &Scene) -> Vec<String> {
     scene
         .coordinates

@@ -53,7 +53,7 @@
 //! # Ok::<(), chetaev_scene::Error>(())
 //! ```
 
-mod collect;
+pub mod collect;
 mod design;
 #[cfg(feature = "parquet")]
 pub mod parquet;
@@ -168,6 +168,12 @@ impl Sweep {
         Self::parse(&text, &path.display().to_string(), args)
     }
 
+    /// Whether the scene's file has a `[sweep]` table.
+    pub fn declared_in(scene: &Scene) -> bool {
+        Scene::read_raw(&scene.file.text, &scene.file.path)
+            .is_ok_and(|(_, raw)| raw.sweep.is_some())
+    }
+
     /// The sweep over a scene already read ([`Sweep::parse`] of its text).
     pub fn of_scene(scene: &Scene, args: &SweepArgs) -> Result<Self, Error> {
         Self::parse(&scene.file.text, &scene.file.path, args)
@@ -274,6 +280,37 @@ impl Sweep {
     /// The names of the quantities collected, in the order of [`Row::quantities`].
     pub fn columns(&self) -> Vec<String> {
         self.collect.iter().map(|q| q.name(&self.scene)).collect()
+    }
+
+    /// The variables' names with their units where the scene declares them (`initial.x [m]`),
+    /// for axis labels.
+    pub fn variable_labels(&self) -> Vec<String> {
+        let u = &self.scene.units;
+        self.varied
+            .iter()
+            .map(|v| {
+                let unit = match &v.variable {
+                    Variable::Parameter(_) => None,
+                    Variable::Position { index, .. } => {
+                        u.coordinates.get(*index).cloned().flatten()
+                    }
+                    Variable::Velocity { index, .. } => crate::output::per_time(
+                        u.coordinates.get(*index).and_then(|c| c.as_deref()),
+                        u.time.as_deref(),
+                        1,
+                    ),
+                };
+                crate::output::labelled(&v.variable.name(), unit.as_deref())
+            })
+            .collect()
+    }
+
+    /// The quantities' names with their units where the scene declares them (`impact.t [s]`).
+    pub fn column_labels(&self) -> Vec<String> {
+        self.collect
+            .iter()
+            .map(|q| crate::output::labelled(&q.name(&self.scene), q.unit(&self.scene).as_deref()))
+            .collect()
     }
 
     /// The values of the variables at point `index` (`< len`), in the order of

@@ -1,7 +1,8 @@
 //! The pictures of a sweep: each quantity against the variable when one varies (`sweep.svg`, a
-//! panel per quantity); when two vary on a grid, against the first variable with one line per
-//! value of the second (`sweep.svg`), or, where the second has more values than lines can tell
-//! apart, a heat map per quantity with a colour bar (`sweep-<quantity>.svg`).
+//! panel per quantity); when two vary on a grid, a heat map per quantity with a colour bar
+//! (`sweep-<quantity>.svg`) and, where the second has few enough values for lines to tell apart,
+//! each quantity against the first variable with one line per value of the second
+//! (`sweep.svg`).
 //!
 //! A random sample, or more than two variables, gets no picture: the table is the result.
 
@@ -9,7 +10,8 @@ use chetaev_plot::{Figure, HeatMap, Panels, Style};
 
 use super::table::Table;
 
-/// The most lines of one panel before two variables are drawn as a heat map.
+/// The most lines of one panel: two variables are drawn as lines too while the second has at
+/// most this many values.
 const MAX_LINES: usize = 8;
 
 /// The most panels in one picture; the rest of the quantities are only in the table.
@@ -32,7 +34,7 @@ pub fn draw(table: &Table) -> Vec<(String, String)> {
     let mut panels = Panels::new(&title).columns(columns.len().min(3));
     match table.variables.len() {
         1 => {
-            let x = &table.variables[0];
+            let x = &table.variable_labels[0];
             let mut rows: Vec<&super::Row> = table.rows.iter().collect();
             rows.sort_by(|a, b| a.values[0].total_cmp(&b.values[0]));
             let log = log_spaced(&distinct(0));
@@ -47,7 +49,7 @@ pub fn draw(table: &Table) -> Vec<(String, String)> {
                 };
                 let mut f = Figure::new(&table.columns[c])
                     .x_label(x)
-                    .y_label(&table.columns[c])
+                    .y_label(&table.column_labels[c])
                     .line_styled("", &points, style);
                 if log {
                     f = f.log_x();
@@ -62,7 +64,8 @@ pub fn draw(table: &Table) -> Vec<(String, String)> {
                 return Vec::new();
             }
             let mut maps = Vec::new();
-            let (x, y) = (&table.variables[0], &table.variables[1]);
+            let (x, y) = (&table.variable_labels[0], &table.variables[1]);
+            let y_label = &table.variable_labels[1];
             // The row at each grid point, found once: (i, j) → row.
             let position = |v: f64, of: &[f64]| of.binary_search_by(|a| a.total_cmp(&v)).ok();
             let mut cell: Vec<Option<usize>> = vec![None; xs.len() * ys.len()];
@@ -80,7 +83,7 @@ pub fn draw(table: &Table) -> Vec<(String, String)> {
                 if ys.len() <= MAX_LINES {
                     let mut f = Figure::new(&table.columns[c])
                         .x_label(x)
-                        .y_label(&table.columns[c]);
+                        .y_label(&table.column_labels[c]);
                     for (j, yv) in ys.iter().enumerate() {
                         let points: Vec<(f64, f64)> =
                             (0..xs.len()).map(|i| (xs[i], at(i, j))).collect();
@@ -97,27 +100,27 @@ pub fn draw(table: &Table) -> Vec<(String, String)> {
                         f = f.log_x();
                     }
                     panels = panels.panel(f);
-                } else {
-                    let values: Vec<Vec<f64>> = (0..ys.len())
-                        .map(|j| (0..xs.len()).map(|i| at(i, j)).collect())
-                        .collect();
-                    let log_values = spans_decades(&values);
-                    let map = HeatMap::new(&table.columns[c], &xs, &ys, values)
-                        .x_label(x)
-                        .y_label(y)
-                        .value_label(&table.columns[c]);
-                    let map = if log_spaced(&xs) { map.log_x() } else { map };
-                    let map = if log_spaced(&ys) { map.log_y() } else { map };
-                    let map = if log_values { map.log_values() } else { map };
-                    maps.push((
-                        format!("sweep-{}.svg", file_stem(&table.columns[c])),
-                        map.to_svg(),
-                    ));
                 }
+                let values: Vec<Vec<f64>> = (0..ys.len())
+                    .map(|j| (0..xs.len()).map(|i| at(i, j)).collect())
+                    .collect();
+                let log_values = spans_decades(&values);
+                let map = HeatMap::new(&table.columns[c], &xs, &ys, values)
+                    .x_label(x)
+                    .y_label(y_label)
+                    .value_label(&table.column_labels[c]);
+                let map = if log_spaced(&xs) { map.log_x() } else { map };
+                let map = if log_spaced(&ys) { map.log_y() } else { map };
+                let map = if log_values { map.log_values() } else { map };
+                maps.push((
+                    format!("sweep-{}.svg", file_stem(&table.columns[c])),
+                    map.to_svg(),
+                ));
             }
-            if !maps.is_empty() {
-                return maps;
+            if ys.len() <= MAX_LINES {
+                maps.push(("sweep.svg".to_string(), panels.to_svg()));
             }
+            return maps;
         }
         _ => return Vec::new(),
     }

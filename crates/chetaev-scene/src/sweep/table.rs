@@ -135,8 +135,8 @@ impl Row {
 /// The labels of the variables and quantities for pictures: their names with the scene's units.
 pub(super) fn labels(sweep: &Sweep) -> Value {
     json!({
-        "variables": sweep.variables(),
-        "columns": sweep.columns(),
+        "variables": sweep.variable_labels(),
+        "columns": sweep.column_labels(),
         "title": sweep.scene.name,
     })
 }
@@ -163,6 +163,10 @@ pub struct Table {
     pub variables: Vec<String>,
     /// The quantities.
     pub columns: Vec<String>,
+    /// The variables' axis labels, with their units where the scene declares them.
+    pub variable_labels: Vec<String>,
+    /// The quantities' axis labels, with their units where the scene declares them.
+    pub column_labels: Vec<String>,
     /// The rows, by index.
     pub rows: Vec<Row>,
     /// The settings the rows were made with.
@@ -190,10 +194,28 @@ impl Table {
             .iter()
             .map(|(i, v)| Row::from_json(*i, v).map_err(bad))
             .collect::<Result<Vec<Row>, Error>>()?;
+        let variables = names("variables")?;
+        let columns = names("columns")?;
+        // The labels, where the settings have them; the names otherwise.
+        let labels = |key: &str, or: &[String]| -> Vec<String> {
+            s.get("labels")
+                .ok()
+                .and_then(|l| l.get(key))
+                .and_then(|l| l.as_array())
+                .map(|a| {
+                    a.iter()
+                        .filter_map(|v| v.as_str().map(str::to_string))
+                        .collect::<Vec<_>>()
+                })
+                .filter(|l| l.len() == or.len())
+                .unwrap_or_else(|| or.to_vec())
+        };
         Ok(Table {
             title: s.str("scene").map_err(bad)?.to_string(),
-            variables: names("variables")?,
-            columns: names("columns")?,
+            variable_labels: labels("variables", &variables),
+            column_labels: labels("columns", &columns),
+            variables,
+            columns,
             rows,
             settings: part.settings.clone(),
         })

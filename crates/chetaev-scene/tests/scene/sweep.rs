@@ -600,9 +600,11 @@ fn a_large_grid_of_two_variables_is_drawn_as_heat_maps() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    for q in ["impact.t", "impact.x"] {
+    for (q, unit) in [("impact.t", "s"), ("impact.x", "m")] {
         let svg = read(dir.join(format!("sweep-{q}.svg")));
         assert!(svg.contains(q) && svg.contains("h0") && svg.contains("v0"));
+        // The colour bar's label carries the scene's unit.
+        assert!(svg.contains(&format!("{q} [{unit}]")), "{q} [{unit}]");
         // 100 cells, then the colour bar's 64 bands.
         assert!(svg.matches("<rect").count() >= 100 + 64);
     }
@@ -682,4 +684,43 @@ fn the_parquet_table_holds_the_csv_values_and_the_settings() {
         assert!(t.to_bits() == t_csv.to_bits() || (t.is_nan() && t_csv.is_nan()));
     }
     assert!(rows[0].get_string(7).expect("reason").len() > 10);
+}
+
+#[test]
+fn check_reads_the_sweep_table_as_sweep_does() {
+    let good = chetaev(&[
+        "check",
+        &format!(
+            "{}/../../scenes/uniform-projectile-sweep.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ),
+        "--out",
+        &tmp("check").to_string_lossy(),
+    ]);
+    assert_eq!(
+        good.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&good.stderr)
+    );
+    let text = String::from_utf8_lossy(&good.stdout);
+    assert!(
+        text.contains("sweep    10000 runs of v0, h0, collecting impact.t, impact.x"),
+        "{text}"
+    );
+    let dir = tmp("check-bad");
+    let file = dir.join("bad.toml");
+    std::fs::write(
+        &file,
+        scene("[sweep]\nvary = { v0 = { from = 0.0, to = 1.0, count = 3, scale = \"log\" } }\n"),
+    )
+    .expect("written");
+    let bad = chetaev(&[
+        "check",
+        &file.to_string_lossy(),
+        "--out",
+        &dir.to_string_lossy(),
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("cannot reach or cross zero"));
 }
