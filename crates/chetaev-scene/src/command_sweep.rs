@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use chetaev_parts::Shard;
+use chetaev_scene::output::count;
 use chetaev_scene::sweep::table::{self, Table};
 use chetaev_scene::sweep::{Axis, Sweep, SweepArgs};
 use chetaev_scene::Error;
@@ -151,14 +152,14 @@ pub fn sweep(c: SweepCommand) -> ExitCode {
             "{}: {} of {} in {:.3} s ({:.0} runs/s on {})\n  varied   {}\n",
             c.scene.display(),
             if shard == Shard::WHOLE {
-                plural(items.len(), "run", "runs")
+                count(items.len(), "run", "runs")
             } else {
-                format!("shard {shard}, {}", plural(items.len(), "run", "runs"))
+                format!("shard {shard}, {}", count(items.len(), "run", "runs"))
             },
-            plural(sweep.len(), "point", "points"),
+            count(sweep.len(), "point", "points"),
             seconds,
             items.len() as f64 / seconds.max(1e-9),
-            plural(pool.current_num_threads(), "thread", "threads"),
+            count(pool.current_num_threads(), "thread", "threads"),
             describe_varied(&sweep),
         ));
     }
@@ -192,8 +193,8 @@ pub fn merge(c: MergeCommand) -> ExitCode {
     if !c.quiet {
         stdout.print(&format!(
             "merged {} ({}) of {}\n",
-            plural(whole.runs.len(), "shard", "shards"),
-            plural(table.rows.len(), "run", "runs"),
+            count(whole.runs.len(), "shard", "shards"),
+            count(table.rows.len(), "run", "runs"),
             table.title
         ));
     }
@@ -237,7 +238,7 @@ fn exit_code(table: &Table) -> u8 {
         // Why, on standard error too.
         eprint(&format!(
             "error: {} failed and {} refused (see the status and reason columns)\n",
-            plural(failed, "run", "runs"),
+            count(failed, "run", "runs"),
             refused
         ));
         1
@@ -289,7 +290,7 @@ fn describe_varied(sweep: &Sweep) -> String {
             Axis::Values(values) => format!(
                 "{} ({})",
                 v.variable.name(),
-                plural(values.len(), "value", "values")
+                count(values.len(), "value", "values")
             ),
             Axis::Random { from, to, .. } => format!(
                 "{} (random in [{from}, {to}], {} {})",
@@ -300,8 +301,4 @@ fn describe_varied(sweep: &Sweep) -> String {
         })
         .collect();
     parts.join(", ")
-}
-
-fn plural(n: usize, one: &str, many: &str) -> String {
-    format!("{n} {}", if n == 1 { one } else { many })
 }

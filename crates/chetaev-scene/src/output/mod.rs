@@ -10,6 +10,7 @@
 mod files;
 mod picture;
 pub(crate) use picture::{labelled, per_time};
+pub(crate) use table::csv_text;
 mod summary;
 mod table;
 

@@ -28,7 +28,7 @@ impl fmt::Display for CsvNumber {
 }
 
 /// A text field for a CSV file, quoted when it holds a comma, a quote or a line break.
-pub(super) fn csv_text(s: &str) -> String {
+pub(crate) fn csv_text(s: &str) -> String {
     if s.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {

@@ -52,18 +52,19 @@ impl Scene {
     /// Validates a scene given as text; `path` names it in messages and gives the default output
     /// directory `out/<file stem>`. A text longer than [`MAX_SCENE_BYTES`] is refused.
     pub fn parse(text: &str, path: &str) -> Result<Self, Error> {
+        let (file, raw) = Self::read_raw(text, path)?;
+        Self::build(file, raw)
+    }
+
+    /// The scene as written: its TOML read into the raw structures, unchecked but for its size
+    /// (at most [`MAX_SCENE_BYTES`]).
+    pub(crate) fn read_raw(text: &str, path: &str) -> Result<(SourceFile, RawScene), Error> {
         if text.len() as u64 > MAX_SCENE_BYTES {
             return Err(Error::TooLarge {
                 path: path.to_string(),
                 limit: MAX_SCENE_BYTES,
             });
         }
-        let (file, raw) = Self::read_raw(text, path)?;
-        Self::build(file, raw)
-    }
-
-    /// The scene as written: its TOML read into the raw structures, unchecked.
-    pub(crate) fn read_raw(text: &str, path: &str) -> Result<(SourceFile, RawScene), Error> {
         let file = SourceFile {
             path: path.to_string(),
             text: Arc::from(text),

@@ -280,6 +280,14 @@ impl Quantity {
     }
 }
 
+/// The unit of coordinate `i` and of its velocity, as the scene declares them (`[model] units`).
+pub(super) fn state_units(scene: &Scene, i: usize) -> (Option<String>, Option<String>) {
+    let u = &scene.units;
+    let position = u.coordinates.get(i).cloned().flatten();
+    let velocity = crate::output::per_time(position.as_deref(), u.time.as_deref(), 1);
+    (position, velocity)
+}
+
 impl Quantity {
     /// The quantity's unit, from the scene's declared units (`[model] units`): a time's, a
     /// coordinate's, a velocity's (the coordinate's per the time's), a multiplier's, the energy's;
@@ -288,12 +296,8 @@ impl Quantity {
         let u = &scene.units;
         let part = |p: &Part| match p {
             Part::Time => u.time.clone(),
-            Part::Position(i) => u.coordinates.get(*i).cloned().flatten(),
-            Part::Velocity(i) => crate::output::per_time(
-                u.coordinates.get(*i).and_then(|c| c.as_deref()),
-                u.time.as_deref(),
-                1,
-            ),
+            Part::Position(i) => state_units(scene, *i).0,
+            Part::Velocity(i) => state_units(scene, *i).1,
         };
         match self {
             Quantity::Event { part: p, .. } | Quantity::End(p) | Quantity::At { part: p, .. } => {
@@ -311,7 +315,8 @@ impl Quantity {
     }
 }
 
-fn names(scene: &Scene) -> Vec<String> {
+/// The names of the coordinates and their velocities: `x`, `x_dot`, `y`, `y_dot`, ...
+pub(super) fn names(scene: &Scene) -> Vec<String> {
     scene
         .coordinates
         .iter()

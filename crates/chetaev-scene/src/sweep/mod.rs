@@ -182,8 +182,9 @@ impl Sweep {
     /// Validates a scene given as text and the sweep over it: the file's `[sweep]` with `args`
     /// added. Nothing is run; every mistake in the specification is an error here.
     pub fn parse(text: &str, path: &str, args: &SweepArgs) -> Result<Self, Error> {
-        let scene = Scene::parse(text, path)?;
+        // The TOML read once: validated as the scene, kept raw for the points.
         let (file, raw) = Scene::read_raw(text, path)?;
+        let scene = Scene::build(file.clone(), raw.clone())?;
         let raw_sweep = raw.sweep.as_ref().map(|s| s.get_ref().clone());
         let spec = Spec::read(&file, &scene, raw_sweep.as_ref(), args)?;
         let random = spec.varied.iter().filter(|v| v.axis.is_random()).count();
@@ -285,20 +286,13 @@ impl Sweep {
     /// The variables' names with their units where the scene declares them (`initial.x [m]`),
     /// for axis labels.
     pub fn variable_labels(&self) -> Vec<String> {
-        let u = &self.scene.units;
         self.varied
             .iter()
             .map(|v| {
                 let unit = match &v.variable {
                     Variable::Parameter(_) => None,
-                    Variable::Position { index, .. } => {
-                        u.coordinates.get(*index).cloned().flatten()
-                    }
-                    Variable::Velocity { index, .. } => crate::output::per_time(
-                        u.coordinates.get(*index).and_then(|c| c.as_deref()),
-                        u.time.as_deref(),
-                        1,
-                    ),
+                    Variable::Position { index, .. } => collect::state_units(&self.scene, *index).0,
+                    Variable::Velocity { index, .. } => collect::state_units(&self.scene, *index).1,
                 };
                 crate::output::labelled(&v.variable.name(), unit.as_deref())
             })
@@ -676,10 +670,7 @@ fn variable(scene: &Scene, name: &str) -> Result<Variable, String> {
                 });
             }
         }
-        let known: Vec<String> = coordinates
-            .iter()
-            .flat_map(|x| [x.clone(), format!("{x}_dot")])
-            .collect();
+        let known = collect::names(scene);
         let hint = match crate::expr::closest(c, &known) {
             Some(k) => format!(" (did you mean initial.{k}?)"),
             None => format!(

@@ -15,7 +15,7 @@ use serde_json::{json, Value};
 
 use super::Sweep;
 use crate::error::Error;
-use crate::output::csv_number;
+use crate::output::{csv_number, csv_text};
 
 /// The name of a sweep's part files: `sweep.json`, `sweep.part-<k>-of-<n>.json`.
 pub const SWEEP: &str = "sweep";
@@ -232,7 +232,7 @@ impl Table {
         out.push_str(
             &header
                 .iter()
-                .map(|h| csv_field(h))
+                .map(|h| csv_text(h))
                 .collect::<Vec<_>>()
                 .join(","),
         );
@@ -242,7 +242,7 @@ impl Table {
             for &x in &r.values {
                 let _ = write!(out, ",{}", csv_number(x));
             }
-            let _ = write!(out, ",{}", csv_field(&r.status.text()));
+            let _ = write!(out, ",{}", csv_text(&r.status.text()));
             for &x in &r.quantities {
                 let _ = write!(out, ",{}", csv_number(x));
             }
@@ -251,7 +251,7 @@ impl Table {
                 ",{},{},{}",
                 r.steps,
                 r.rhs_evaluations,
-                csv_field(&r.reason)
+                csv_text(&r.reason)
             );
         }
         out
@@ -266,15 +266,6 @@ impl Table {
             .filter(|r| r.status == RunStatus::Failed)
             .count();
         (ok, failed, self.rows.len() - ok - failed)
-    }
-}
-
-/// A CSV field, quoted where it holds a comma, a quote or a line break.
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
     }
 }
 
