@@ -54,8 +54,8 @@ fn rhs_and_output_evaluations_match_model_calls() {
     // (route, machine code made before the solve, passes over L per right-hand side, per output
     // evaluation, passes over f per right-hand side, per output evaluation). The graph route's
     // right-hand side becomes machine code made from the recording, which calls the model not at
-    // all, where the host has it: after NATIVE_AFTER interpreted right-hand sides of the problem
-    // (many more than this short solve's), or at once when asked for (`native_operations`).
+    // all, where the host has it: once the tiering finds that it pays (not within this short
+    // solve), or at once when asked for (`native_operations`).
     let native = problem()
         .compiled()
         .and_then(|c| c.native_operations())
@@ -171,36 +171,129 @@ fn dop853_pays_for_its_dense_output_only_when_something_interpolates() {
     );
 }
 
-#[test]
-fn many_short_solves_of_one_problem_reach_machine_code_after_native_after_right_hand_sides() {
-    use chetaev::equations::compiled::NATIVE_AFTER;
-    let native = problem()
+/// Whether this host makes machine code (where it does not, every solve is interpreted).
+fn host_has_machine_code() -> bool {
+    problem()
         .compiled()
         .and_then(|c| c.native_operations())
-        .is_some();
+        .is_some()
+}
+
+/// Right-hand sides evaluated by the interpreted route (each calls `f` once) in one solve of `p`.
+fn interpreted_in(p: &Problem<Fixed<Counting, 2, 1>>, o: &Options) -> (usize, Solution) {
+    p.model().f_calls.set(0);
+    let sol = solve(p, Dopri5::default(), o).expect("valid");
+    assert!(sol.is_success(), "{:?}", sol.status);
+    (p.model().f_calls.get(), sol)
+}
+
+#[test]
+fn many_short_solves_of_one_problem_reach_machine_code_counted_across_them() {
+    let native = host_has_machine_code();
     let p = problem();
     let o = Options::until(1.0)
         .tolerances(1e-8, 1e-8)
         .record(Record::State);
-    // Right-hand sides evaluated by the interpreted route (each calls f once), solve by solve.
-    let (mut interpreted, mut per_solve, mut last_calls) = (0, 0, usize::MAX);
-    for _ in 0..2 * NATIVE_AFTER / 80 {
-        p.model().f_calls.set(0);
-        let sol = solve(&p, Dopri5::default(), &o).expect("valid");
-        assert!(sol.is_success());
+    let (mut interpreted, mut per_solve, mut last) = (0, 0, usize::MAX);
+    for _ in 0..250 {
+        let (calls, sol) = interpreted_in(&p, &o);
         per_solve = sol.stats.rhs_evaluations;
-        last_calls = p.model().f_calls.get();
-        interpreted += last_calls;
+        last = calls;
+        interpreted += calls;
     }
+    assert!(per_solve < 256, "each solve is short: {per_solve}");
     if native {
-        assert_eq!(last_calls, 0, "the last solves run as machine code");
-        // Counted across solves (each shorter than NATIVE_AFTER), and switched at the first
-        // solve that starts past it.
+        assert_eq!(last, 0, "the last solves run as machine code");
+        // The first solves are interpreted (none of them alone pays for compiling), and the
+        // count across them reaches the cost model's break-even, a few thousand at most.
         assert!(
-            (NATIVE_AFTER..NATIVE_AFTER + per_solve).contains(&interpreted),
+            (10 * per_solve..10_000).contains(&interpreted),
             "{interpreted} interpreted right-hand sides, {per_solve} per solve"
         );
     } else {
-        assert_eq!(last_calls, per_solve);
+        assert_eq!(last, per_solve);
+    }
+}
+
+#[test]
+fn a_long_first_solve_switches_to_machine_code_within_itself_and_repeats_itself_to_the_bit() {
+    let native = host_has_machine_code();
+    // The particle on a long horizon, falling on past the ground at its constant speed.
+    let o = Options::until(1000.0)
+        .tolerances(1e-12, 1e-12)
+        .record(Record::State);
+    let (a, first) = interpreted_in(&problem(), &o);
+    let (b, second) = interpreted_in(&problem(), &o);
+    let rhs = first.stats.rhs_evaluations;
+    assert!(rhs > 4_000, "a long solve: {rhs}");
+    if native {
+        // Reported every 256 evaluations (the 256th already as machine code where it switches):
+        // switched at one of the first reports, as soon as the evaluations still expected pay
+        // for compiling.
+        assert!((255..2_000).contains(&a), "{a} of {rhs} interpreted");
+    } else {
+        assert_eq!(a, rhs);
+    }
+    // Two fresh problems switch at the same evaluation, so they take the same steps to the bit.
+    assert_eq!(a, b);
+    assert_eq!(first.stats, second.stats);
+    assert_eq!(first.t, second.t);
+    let (last_a, last_b) = (
+        first.last().expect("recorded"),
+        second.last().expect("recorded"),
+    );
+    assert_eq!(last_a, last_b);
+}
+
+#[test]
+fn machine_code_never_and_at_once_are_kept() {
+    let native = host_has_machine_code();
+    let o = Options::until(200.0)
+        .tolerances(1e-12, 1e-12)
+        .record(Record::State);
+    let never = problem().with_machine_code(MachineCode::Never);
+    let (calls, sol) = interpreted_in(&never, &o);
+    assert_eq!(
+        calls, sol.stats.rhs_evaluations,
+        "never: every one interpreted"
+    );
+    let at_once = problem().with_machine_code(MachineCode::AtOnce);
+    let (calls, sol) = interpreted_in(&at_once, &o);
+    if native {
+        assert_eq!(calls, 0, "at once: none interpreted");
+        // And so every solve of it is the same to the bit.
+        let (_, again) = interpreted_in(&at_once, &o);
+        assert_eq!(sol.t, again.t);
+    } else {
+        assert_eq!(calls, sol.stats.rhs_evaluations);
+    }
+    // Set after the equations were compiled, the choice holds too.
+    let late = problem();
+    assert!(late.compiled().is_some());
+    let late = late.with_machine_code(MachineCode::Never);
+    let (calls, sol) = interpreted_in(&late, &o);
+    assert_eq!(calls, sol.stats.rhs_evaluations);
+}
+
+#[test]
+fn taking_up_the_full_machine_code_changes_no_step() {
+    // A problem past its switch runs quick machine code, and after about 50,000 evaluations of
+    // it (the tenth solve here) starts the full compile on another thread, taking it up at an
+    // accepted step whenever it is ready. Quick and full code give the same bits, so every solve equals, to the bit, the
+    // solve of a problem compiled with full effort before its first solve.
+    let o = Options::until(1000.0)
+        .tolerances(1e-12, 1e-12)
+        .record(Record::State);
+    let reference = problem().with_machine_code(MachineCode::AtOnce);
+    let (_, want) = interpreted_in(&reference, &o);
+    let p = problem();
+    let _ = interpreted_in(&p, &o);
+    for _ in 0..20 {
+        let (calls, sol) = interpreted_in(&p, &o);
+        if host_has_machine_code() {
+            assert_eq!(calls, 0);
+            assert_eq!(sol.t, want.t);
+            assert_eq!(sol.last(), want.last());
+        }
     }
 }

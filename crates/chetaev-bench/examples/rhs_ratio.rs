@@ -1,10 +1,9 @@
 //! One right-hand side of the paper's model against the hand-written one, timed interleaved.
 //!
 //! `chetaev`'s side is the integrator's right-hand side, `ReducedOde::rhs`, as the step loop calls
-//! it once the problem's equations run as machine code (made at once here, as after
-//! `NATIVE_AFTER` right-hand sides of a problem), and the same right-hand side before that, by
-//! the interpreted route (the compiled tape): fresh problems, each evaluated fewer than
-//! `NATIVE_AFTER` times, their recording left out of the time. The hand-written side is `Full::rhs`, `ẍ = g ẏ ẋ/|v|²`, `ÿ = −g + g ẏ²/|v|²`,
+//! it once the problem's equations run as machine code (made at once here, as when the tiering
+//! finds that it pays), and the same right-hand side before that, by the interpreted route (the
+//! compiled tape; `MachineCode::Never`): fresh problems, their recording left out of the time. The hand-written side is `Full::rhs`, `ẍ = g ẏ ẋ/|v|²`, `ÿ = −g + g ẏ²/|v|²`,
 //! the same function the hand-written limit of `work-precision` integrates, called in the same
 //! way (a generic `OdeSystem`, inlined where the compiler sees fit).
 //!
@@ -22,8 +21,8 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use chetaev::equations::compiled::NATIVE_AFTER;
 use chetaev::integrate::system::{OdeSystem, ReducedOde};
+use chetaev::MachineCode;
 use chetaev_bench::handwritten::Full;
 use chetaev_bench::measure::median;
 use uniform_projectile::closed_form::{uniform, Params};
@@ -49,13 +48,15 @@ fn time<S: OdeSystem>(sys: &mut S, states: &[[f64; 4]]) -> Result<f64, chetaev::
 }
 
 /// Nanoseconds per call of the interpreted right-hand side: `PROBLEMS` fresh problems (recorded
-/// before the clock), each evaluated over as many passes of `states` as stay below `NATIVE_AFTER`.
+/// before the clock) on the interpreted route, each evaluated over `PASSES_INTERPRETED` passes of
+/// `states`.
 fn time_interpreted(p: &Params, states: &[[f64; 4]]) -> Result<f64, chetaev::Error> {
     const PROBLEMS: usize = 24;
-    let passes = (NATIVE_AFTER - 1) / states.len() - 1;
+    const PASSES_INTERPRETED: usize = 150;
+    let passes = PASSES_INTERPRETED;
     let problems = (0..PROBLEMS)
         .map(|_| {
-            let problem = uniform_problem(p)?;
+            let problem = uniform_problem(p)?.with_machine_code(MachineCode::Never);
             problem.compiled();
             Ok(problem)
         })

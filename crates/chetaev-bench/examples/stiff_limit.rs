@@ -26,24 +26,23 @@
 //! Jacobian against chetaev's (by dual numbers and as machine code, through
 //! [`ReducedOde`]), and at every tolerance the end states of both sides against each other.
 //!
-//! chetaev evaluates a problem's right-hand side by an interpreted program until that problem has
-//! run `NATIVE_AFTER` (10⁴) right-hand sides, counted across its solves, and then as machine code,
-//! with the Jacobian as machine code too (before that by dual numbers). Three chetaev timings are
-//! therefore taken, each against the same hand-written one:
+//! chetaev evaluates a problem's right-hand side by an interpreted program until its tiering finds
+//! that machine code pays (`MachineCode::Auto`: from the right-hand sides the problem has run and
+//! those its solve still expects), and then as machine code, with the Jacobian as machine code too
+//! (before that by dual numbers). Three chetaev timings are therefore taken, each against the same
+//! hand-written one:
 //!
 //! - **first solve**: a fresh problem (built before the clock) solved once, which includes
-//!   recording and compiling its equations (made by the first solve);
-//! - **interpreted**: a fresh problem whose equations were compiled before the clock
-//!   (`Problem::compiled`), solved once: the interpreted right-hand side and the dual-number
-//!   Jacobian, without the one-time recording;
-//! - **steady**: repeated solves of one problem that has run more than `2·NATIVE_AFTER`
-//!   right-hand sides: machine code for both.
+//!   recording its equations and whatever machine code the solve makes;
+//! - **interpreted**: a fresh problem on the interpreted route (`MachineCode::Never`) whose
+//!   equations were compiled before the clock (`Problem::compiled`), solved once: the interpreted
+//!   right-hand side and the dual-number Jacobian, without the one-time recording;
+//! - **steady**: repeated solves of one problem whose right-hand side was made machine code
+//!   (`Compiled::native_operations`): machine code for both.
 //!
 //! Both sides take the same steps (the counts are printed) and reach the same errors, to 1e-4
 //! relative or better (printed as "errors agree to"): the ratios are therefore taken at equal
-//! tolerance, which is equal error here, with no interpolation. No single solve of the scene at
-//! these tolerances runs `NATIVE_AFTER` right-hand sides (the counts are printed), so the first
-//! solve and the interpreted one never reach the machine code.
+//! tolerance, which is equal error here, with no interpolation.
 //!
 //! A part-by-part timing follows (one right-hand side, one Jacobian, at a state of the motion; the
 //! recording of a fresh problem's equations) with the work counted in a solve, to say where the
@@ -56,7 +55,6 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use chetaev::equations::compiled::NATIVE_AFTER;
 use chetaev::integrate::driver::solve_ode;
 use chetaev::integrate::system::{Jacobian, OdeSystem, ReducedOde, Stats};
 use chetaev::prelude::*;
@@ -70,9 +68,8 @@ const TOLERANCES: [f64; 7] = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10];
 const ROUNDS: usize = 31;
 /// Each timed sample is a batch of solves (or calls) lasting at least this long.
 const MIN_BATCH_SECONDS: f64 = 5e-3;
-/// Right-hand sides per fresh problem when one interpreted right-hand side is timed: below
-/// `NATIVE_AFTER`, so that none of them runs as machine code.
-const INTERPRETED_CALLS: usize = NATIVE_AFTER / 2;
+/// Right-hand sides per fresh problem when one interpreted right-hand side is timed.
+const INTERPRETED_CALLS: usize = 5_000;
 
 /// The names of the four timings, in the order of a round.
 const NAMES: [&str; 4] = ["first solve", "interpreted", "steady", "hand-written"];
@@ -82,9 +79,9 @@ fn fresh() -> UniformProblem {
     uniform_problem(&STIFF).expect("the stiff scene is a valid problem")
 }
 
-/// A fresh problem of the stiff scene with its equations compiled.
+/// A fresh problem of the stiff scene on the interpreted route with its equations compiled.
 fn fresh_compiled() -> UniformProblem {
-    let pb = fresh();
+    let pb = fresh().with_machine_code(MachineCode::Never);
     assert!(pb.compiled().is_some(), "the stiff scene's model records");
     pb
 }
@@ -300,7 +297,7 @@ fn per_call(f: &mut dyn FnMut()) -> f64 {
 }
 
 /// Seconds per interpreted right-hand side of chetaev at `y`: [`INTERPRETED_CALLS`] calls on each
-/// of a batch of fresh problems, so that none reaches the machine code.
+/// of a batch of fresh problems on the interpreted route.
 fn interpreted_rhs(y: &[f64]) -> f64 {
     let mut dy = [0.0; 4];
     let mut batch = |problems: usize| {
@@ -432,22 +429,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
          Jacobian with chetaev's by dual numbers to {worst_dual:.1e} (relative to 1 + max entry)"
     );
 
-    // The problem of the steady state, past the machine code's threshold.
+    // The problem of the steady state: machine code at once.
     let steady = scene.problem;
-    let warm_options = options_at(&*scene.options, 1e-8);
-    let mut warm_rhs = 0;
-    let mut warm_solves = 0;
-    while warm_rhs < 2 * NATIVE_AFTER {
-        warm_rhs += solve(&steady, Rodas4, &warm_options)?
-            .ok()?
-            .stats
-            .rhs_evaluations;
-        warm_solves += 1;
-    }
     let operations = steady.compiled().and_then(|c| c.native_operations());
     println!(
-        "steady problem warmed by {warm_solves} Rodas4 solves at 1e-8 ({warm_rhs} right-hand sides, \
-         NATIVE_AFTER = {NATIVE_AFTER}); its right-hand side as machine code: {}",
+        "steady problem: its right-hand side as machine code: {}",
         operations.map_or("none (host not supported)".to_string(), |k| format!(
             "{k} operations"
         ))

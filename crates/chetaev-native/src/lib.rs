@@ -60,6 +60,38 @@ use cranelift_jit::{JITBuilder, JITModule};
 #[cfg(feature = "jit")]
 use cranelift_module::{default_libcall_names, Linkage, Module};
 
+/// How hard the code generator works on a program. Both efforts perform the program's operations
+/// as written (nothing fused or reassociated), so their outputs are equal bit for bit; they differ
+/// in the time taken to compile and in how the values are kept in registers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Effort {
+    /// No optimisation and a single-pass register allocator: for the rolling disc's right-hand
+    /// side (361 operations), a quarter of [`Effort::Full`]'s compile time, for code about 1.3
+    /// times as slow (`examples/first_solve` of `chetaev-bench`).
+    Quick,
+    /// Cranelift's optimisations and its backtracking register allocator.
+    #[default]
+    Full,
+}
+
+impl Effort {
+    #[cfg(feature = "jit")]
+    fn opt_level(self) -> &'static str {
+        match self {
+            Self::Quick => "none",
+            Self::Full => "speed",
+        }
+    }
+
+    #[cfg(feature = "jit")]
+    fn register_allocator(self) -> &'static str {
+        match self {
+            Self::Quick => "single_pass",
+            Self::Full => "backtracking",
+        }
+    }
+}
+
 /// A function of one argument the generated code may call.
 pub type Unary = extern "C" fn(f64) -> f64;
 /// A function of two arguments the generated code may call.
@@ -348,16 +380,34 @@ fn backend(e: impl std::fmt::Display) -> ProgramError {
 }
 
 impl Native {
-    /// Compiles `program` for this machine: refused where [`Program::check`] fails, or where
-    /// Cranelift has no code generator for the host.
-    #[cfg(feature = "jit")]
+    /// Compiles `program` for this machine with [`Effort::Full`]: refused where
+    /// [`Program::check`] fails, or where Cranelift has no code generator for the host.
     pub fn compile(program: &Program) -> Result<Self, ProgramError> {
+        Self::compile_with(program, Effort::Full)
+    }
+
+    /// Compiles `program` for this machine, working as hard as `effort` says: refused where
+    /// [`Program::check`] fails, or where Cranelift has no code generator for the host. Every
+    /// effort gives a function whose outputs are equal bit for bit.
+    #[cfg(feature = "jit")]
+    pub fn compile_with(program: &Program, effort: Effort) -> Result<Self, ProgramError> {
         program.check()?;
         let mut flags = settings::builder();
         for (name, value) in [
             ("use_colocated_libcalls", "false"),
             ("is_pic", "false"),
-            ("opt_level", "speed"),
+            ("opt_level", effort.opt_level()),
+            ("regalloc_algorithm", effort.register_allocator()),
+            // The verifier checks the generated IR, which is well formed by construction once
+            // `Program::check` has passed: it runs in debug builds, where the tests are.
+            (
+                "enable_verifier",
+                if cfg!(debug_assertions) {
+                    "true"
+                } else {
+                    "false"
+                },
+            ),
         ] {
             flags.set(name, value).map_err(backend)?;
         }
@@ -485,7 +535,8 @@ impl Native {
     /// [`ProgramError::Backend`] once [`Program::check`] has passed, and callers keep to
     /// [`Program::eval`] or their own interpreter.
     #[cfg(not(feature = "jit"))]
-    pub fn compile(program: &Program) -> Result<Self, ProgramError> {
+    pub fn compile_with(program: &Program, effort: Effort) -> Result<Self, ProgramError> {
+        let _ = effort;
         program.check()?;
         Err(ProgramError::Backend(
             "this build has no code generator: the `jit` feature of chetaev-native (the `native` \
@@ -589,7 +640,13 @@ mod tests {
     #[test]
     fn compiled_code_equals_the_interpreter_bit_for_bit_and_checks_its_guards() {
         let p = every_op();
-        let native = Native::compile(&p).expect("compiles");
+        for effort in [Effort::Quick, Effort::Full] {
+            let native = Native::compile_with(&p, effort).expect("compiles");
+            equals_the_interpreter(&p, &native);
+        }
+    }
+
+    fn equals_the_interpreter(p: &Program, native: &Native) {
         for x in [
             [0.3, 1.7],
             [-2.5, 0.9],
@@ -606,6 +663,56 @@ mod tests {
             assert_eq!(held_a, x[0] < x[1]);
             for (u, v) in a.iter().zip(&b) {
                 assert!(u.to_bits() == v.to_bits(), "{u} vs {v} at {x:?}");
+            }
+        }
+    }
+
+    /// More values alive at once than the machine has registers, so that both register
+    /// allocators spill: `y_j = Σ_i x_i (x_j + c_ij) / (1 + |x_i − x_j|)` over 40 inputs.
+    #[test]
+    fn both_efforts_give_the_same_bits_where_values_spill_from_the_registers() {
+        const N: u32 = 40;
+        let mut ops: Vec<Op> = (0..N).map(|i| Op::Input(1, i)).collect();
+        let one = ops.len() as u32;
+        ops.push(Op::Const(1.0));
+        let mut outputs = Vec::new();
+        for j in 0..N {
+            let mut sum = None;
+            for i in 0..N {
+                let at = ops.len() as u32;
+                ops.push(Op::Const(0.1 * f64::from(i) - 0.03 * f64::from(j)));
+                ops.push(Op::Add(j, at));
+                ops.push(Op::Mul(i, at + 1));
+                ops.push(Op::Sub(i, j));
+                ops.push(Op::Abs(at + 3));
+                ops.push(Op::Add(one, at + 4));
+                ops.push(Op::Div(at + 2, at + 5));
+                let term = at + 6;
+                sum = Some(match sum {
+                    None => term,
+                    Some(s) => {
+                        ops.push(Op::Add(s, term));
+                        ops.len() as u32 - 1
+                    }
+                });
+            }
+            outputs.extend(sum);
+        }
+        let p = Program {
+            inputs: [0, N as usize],
+            ops,
+            outputs: [outputs, vec![]],
+            guards: vec![],
+        };
+        let x: Vec<f64> = (0..N).map(|i| (f64::from(i) * 0.37).sin() * 3.0).collect();
+        let mut want = vec![0.0; N as usize];
+        p.eval([&[], &x], [&mut want, &mut []]).expect("lengths");
+        for effort in [Effort::Quick, Effort::Full] {
+            let native = Native::compile_with(&p, effort).expect("compiles");
+            let mut got = vec![0.0; N as usize];
+            assert_eq!(native.call([&[], &x], [&mut got, &mut []]), Ok(true));
+            for (u, v) in got.iter().zip(&want) {
+                assert!(u.to_bits() == v.to_bits(), "{effort:?}: {u} vs {v}");
             }
         }
     }

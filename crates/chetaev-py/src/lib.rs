@@ -407,6 +407,19 @@ struct Problem {
     coordinates: Vec<String>,
     /// The route's name, for pickling.
     route: &'static str,
+    /// When the right-hand side runs as machine code, by name, for pickling.
+    machine_code: &'static str,
+}
+
+fn machine_code(name: &str) -> PyResult<(chetaev::MachineCode, &'static str)> {
+    match name {
+        "auto" => Ok((chetaev::MachineCode::Auto, "auto")),
+        "never" => Ok((chetaev::MachineCode::Never, "never")),
+        "at_once" => Ok((chetaev::MachineCode::AtOnce, "at_once")),
+        other => Err(ChetaevError::new_err(format!(
+            "unknown machine_code '{other}'; it is 'auto' (compiled when the right-hand sides still expected pay for it, the default), 'never' (interpreted always) or 'at_once' (compiled before the first solve: every solve the same to the bit)"
+        ))),
+    }
 }
 
 fn route_name(route: chetaev::Route) -> &'static str {
@@ -429,7 +442,7 @@ fn route(name: &str) -> PyResult<chetaev::Route> {
 #[pymethods]
 impl Problem {
     #[new]
-    #[pyo3(signature = (model, q0, qd0, t0=0.0, project_velocity=false, route="graph", independent_coordinates=None, independent_speeds=None, complete=false))]
+    #[pyo3(signature = (model, q0, qd0, t0=0.0, project_velocity=false, route="graph", independent_coordinates=None, independent_speeds=None, complete=false, machine_code="auto"))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -442,8 +455,10 @@ impl Problem {
         independent_coordinates: Option<&Bound<'_, PyAny>>,
         independent_speeds: Option<&Bound<'_, PyAny>>,
         complete: bool,
+        machine_code: &str,
     ) -> PyResult<Self> {
         let route = self::route(route)?;
+        let (machine_code, machine_code_name) = self::machine_code(machine_code)?;
         let mut q0 = state(py, &model, q0, "q0")?;
         let mut qd0 = state(py, &model, qd0, "qd0")?;
         if complete || independent_coordinates.is_some() || independent_speeds.is_some() {
@@ -467,12 +482,14 @@ impl Problem {
                 }
             })
             .map_err(chetaev_error)?
-            .with_route(route);
+            .with_route(route)
+            .with_machine_code(machine_code);
         Ok(Self {
             inner: Inner::Graph(Arc::new(problem)),
             model: Some(model),
             coordinates,
             route: route_name(route),
+            machine_code: machine_code_name,
         })
     }
 
@@ -488,7 +505,18 @@ impl Problem {
         };
         let (t0, q0, qd0) =
             with_problem!(&p.inner, x => (x.t0(), x.q0().to_vec(), x.qd0().to_vec()));
-        let args = (model.clone_ref(py), q0, qd0, t0, false, p.route);
+        let args = (
+            model.clone_ref(py),
+            q0,
+            qd0,
+            t0,
+            false,
+            p.route,
+            py.None(),
+            py.None(),
+            false,
+            p.machine_code,
+        );
         (slf.get_type(), args)
             .into_pyobject(py)
             .map(|t| t.into_any())
@@ -943,6 +971,7 @@ impl Scene {
             model: None,
             coordinates: self.inner.coordinates.clone(),
             route: "graph",
+            machine_code: "auto",
         })
     }
 

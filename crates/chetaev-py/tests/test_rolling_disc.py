@@ -131,3 +131,32 @@ def test_the_disc_made_from_its_frame_and_bodies_has_sympys_lagrangian(disc_symp
         # L ~ 10 J, evaluated two ways: rounding only
         assert eq["lagrangian"] == pytest.approx(float(lagrangian(q, qd)), rel=1e-13, abs=1e-13)
         assert eq["energy"] == pytest.approx(models.rolling_disc_energy(q, qd), rel=1e-13)
+
+
+def test_the_machine_code_choices_agree_and_auto_repeats_itself_to_the_bit(disc_model, disc_sympy):
+    # The disc to t = 5 at 1e-12 takes a few thousand right-hand sides: "auto" compiles within the
+    # first solve. Two fresh problems switch at the same evaluation, so they agree to the bit;
+    # "never" and "at_once" take the other routes, equal to rounding.
+    def run(machine_code):
+        problem = chetaev.Problem(disc_model, disc_sympy["q0"], disc_sympy["qd0"], machine_code=machine_code)
+        return chetaev.solve(problem, T_END, rtol=TOL, atol=TOL)
+
+    first, again = run("auto"), run("auto")
+    assert np.array_equal(first.t, again.t) and np.array_equal(first.q, again.q)
+    for other in ("never", "at_once"):
+        sol = run(other)
+        assert abs(sol.t[-1] - first.t[-1]) == 0
+        assert np.abs(sol.q[-1] - first.q[-1]).max() < 1e-9, other
+
+
+def test_the_machine_code_choice_survives_pickling_and_a_wrong_one_is_refused(disc_model, disc_sympy):
+    import pickle
+
+    problem = chetaev.Problem(disc_model, disc_sympy["q0"], disc_sympy["qd0"], machine_code="never")
+    back = pickle.loads(pickle.dumps(problem))
+    # Long enough that "auto" would switch to machine code, whose rounding differs.
+    a = chetaev.solve(problem, T_END, rtol=TOL, atol=TOL)
+    b = chetaev.solve(back, T_END, rtol=TOL, atol=TOL)
+    assert np.array_equal(a.q, b.q)
+    with pytest.raises(chetaev.ChetaevError, match="'auto'.*'never'.*'at_once'"):
+        chetaev.Problem(disc_model, disc_sympy["q0"], disc_sympy["qd0"], machine_code="fast")

@@ -449,7 +449,7 @@ impl Scene {
 
     /// The options every integration of the scene shares: end, tolerances, step bounds, events,
     /// projection.
-    pub(crate) fn options(&self, t_end: f64) -> Options {
+    pub fn options(&self, t_end: f64) -> Options {
         let s = &self.solve;
         let mut o = Options::until(t_end);
         o.rtol = s.rtol;

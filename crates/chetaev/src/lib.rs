@@ -81,7 +81,7 @@ pub use integrate::driver::solve;
 pub use nalgebra;
 /// The dual numbers behind [`Real`](model::Real), re-exported so a user's version cannot clash.
 pub use num_dual;
-pub use problem::{Problem, Route};
+pub use problem::{MachineCode, Problem, Route};
 pub use sensitivity::{EventSensitivity, Seed, Sensitivities};
 pub use solution::{Solution, Status, Warning};
 
@@ -96,7 +96,9 @@ pub mod prelude {
     };
     pub use crate::model::{Constraints, DynModel, Lagrangian, Model, Real, Unconstrained};
     pub use crate::solution::Series;
-    pub use crate::{solve, Error, Problem, Route, Seed, Singularity, Solution, Status, Warning};
+    pub use crate::{
+        solve, Error, MachineCode, Problem, Route, Seed, Singularity, Solution, Status, Warning,
+    };
     pub use nalgebra::{SMatrix, SVector};
 }
 

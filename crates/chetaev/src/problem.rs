@@ -27,8 +27,28 @@ pub struct Problem<M> {
     q0: Vec<f64>,
     qd0: Vec<f64>,
     route: Route,
+    machine_code: MachineCode,
     /// The compiled equations, made on first use (by the first solve).
     compiled: OnceLock<Option<Arc<Compiled>>>,
+}
+
+/// When a problem's right-hand side runs as machine code ([`Problem::with_machine_code`]), on
+/// [`Route::Graph`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MachineCode {
+    /// When it pays: compiled quickly once the right-hand sides still expected would save more
+    /// than compiling costs, and again with full effort (on another thread) once its use repays
+    /// that; judged by a cost model from the program's size (`equations::tiers` in the source,
+    /// `docs/formulation.md`). Solves repeat themselves to the bit: the decisions depend on
+    /// counts and times of the solve, never on the clock. A problem solved again may switch at
+    /// another point than before, and its results then differ at the tolerance's level.
+    #[default]
+    Auto,
+    /// Never: the interpreted route always (the recorded tape and a general block solve).
+    Never,
+    /// From the first right-hand side of the first solve, compiled with full effort before it
+    /// starts: every solve of the problem the same to the bit.
+    AtOnce,
 }
 
 /// How a problem's equations are evaluated ([`Problem::with_route`]).
@@ -159,6 +179,7 @@ impl<M: Model> Problem<M> {
             q0,
             qd0,
             route: Route::Graph,
+            machine_code: MachineCode::Auto,
             compiled: OnceLock::new(),
         };
         problem.check_initial_state()?;
@@ -177,6 +198,21 @@ impl<M: Model> Problem<M> {
         self.route
     }
 
+    /// The same problem with its right-hand side running as machine code as `machine_code` says
+    /// ([`MachineCode::Auto`] by default); nothing changes on [`Route::Dual`].
+    pub fn with_machine_code(mut self, machine_code: MachineCode) -> Self {
+        self.machine_code = machine_code;
+        if let Some(Some(compiled)) = self.compiled.get_mut() {
+            Arc::make_mut(compiled).set_machine_code(machine_code);
+        }
+        self
+    }
+
+    /// When the right-hand side runs as machine code.
+    pub fn machine_code(&self) -> MachineCode {
+        self.machine_code
+    }
+
     /// The compiled equations and the structure found in them, when the model could be recorded
     /// (see [`equations::compiled`](crate::equations::compiled)); `None` on [`Route::Dual`]. They
     /// are made on the first call (the first solve), once per problem: recording and
@@ -186,7 +222,12 @@ impl<M: Model> Problem<M> {
             return None;
         }
         self.compiled
-            .get_or_init(|| compile(&self.model, self.t0, &self.q0, &self.qd0).map(Arc::new))
+            .get_or_init(|| {
+                compile(&self.model, self.t0, &self.q0, &self.qd0).map(|mut c| {
+                    c.set_machine_code(self.machine_code);
+                    Arc::new(c)
+                })
+            })
             .as_deref()
     }
 

@@ -95,11 +95,15 @@ class Problem:
         independent_coordinates: Optional[Sequence[Any]] = None,
         independent_speeds: Optional[Sequence[Any]] = None,
         complete: bool = False,
+        machine_code: Literal["auto", "never", "at_once"] = "auto",
     ) -> None:
         """Naming independent coordinates or speeds (or ``complete=True``) solves the dependent
         ones from the constraints first (see ``complete``). ``project_velocity=True`` makes the
         state consistent: it projects the position onto the holonomic constraints ``h = 0``, then
-        the velocity onto the velocity constraints and ``ḣ = 0``."""
+        the velocity onto the velocity constraints and ``ḣ = 0``. ``machine_code``: when the
+        right-hand side runs as machine code: ``"auto"`` when the right-hand sides still expected
+        pay for compiling it (solves repeat themselves to the bit), ``"never"``, or ``"at_once"``
+        (compiled before the first solve)."""
     @property
     def model(self) -> Optional[Model]: ...
     @property

@@ -32,19 +32,23 @@
 //! [`saddle`]: super::saddle
 
 use std::fmt;
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+
+use chetaev_native::Effort;
 use std::sync::{Arc, OnceLock};
 
 use super::graph::{
     latex_symbol, record, record_with_parameters, Deps, Fun, Graph, GuardFlip, ParameterConflict,
     Printer, Style, Sym, Tape, DEP_Q, DEP_QD, DEP_T,
 };
-use super::native::{Colouring, NativeEquations, NativeJacobian};
+use super::native::{Colouring, NativeEquations, NativeJacobian, Prepared};
 use super::saddle::{self, SaddleFailure, SaddleWorkspace, SINGULAR_PIVOT_RATIO};
 use super::structure::{dotted, Dependence, Names, Structure};
+use super::tiers;
 use super::{Dynamics, Need};
 use crate::error::Error;
 use crate::model::{Functions, Model, Point, Real};
+use crate::problem::MachineCode;
 
 /// How `W` is handled.
 #[derive(Clone, Debug)]
@@ -175,9 +179,21 @@ pub struct Compiled {
     /// The model's parameters that are inputs (after `t`, `q`, `q̇`), with their values: only in
     /// equations compiled for sensitivities ([`Compiled::with_parameters`]).
     parameters: Vec<(String, f64)>,
-    /// The right-hand side as machine code, without and with the rates of the energy balance,
-    /// made on first use ([`NativeEquations`]).
+    /// The program of the right-hand side, without and with the rates of the energy balance,
+    /// built on first use: its size decides when it is compiled ([`super::tiers`]).
+    program: [OnceLock<Option<Arc<Prepared>>>; 2],
+    /// The right-hand side as machine code, the same two ways, as first made: quickly when the
+    /// tiering decides, with full effort by [`Compiled::native_operations`].
     native: [OnceLock<Option<Arc<NativeEquations>>>; 2],
+    /// The same compiled with full effort on another thread, where the first was quick
+    /// ([`Compiled::request_full`]).
+    native_full: [Arc<OnceLock<Option<Arc<NativeEquations>>>>; 2],
+    /// Whether that thread was started, the same two ways.
+    full_requested: [Arc<AtomicBool>; 2],
+    /// Right-hand sides evaluated by quick machine code, as reported.
+    quick: Arc<AtomicUsize>,
+    /// When the right-hand side runs as machine code.
+    machine_code: MachineCode,
     /// The Jacobian of the right-hand side as machine code, the same two ways.
     native_jacobian: [OnceLock<Option<Arc<NativeJacobian>>>; 2],
     /// The groups of the Jacobian's columns for compressed forward passes, the same two ways.
@@ -188,11 +204,6 @@ pub struct Compiled {
     /// Right-hand sides evaluated by the interpreted route, as reported ([`Compiled::native_after`]).
     interpreted: Arc<AtomicUsize>,
 }
-
-/// Right-hand sides a problem evaluates by the interpreted route before its machine code is made:
-/// making it costs about as much as 10⁴ evaluations save (5–10 µs per operation against a gain of
-/// 0.2–2 ns per operation and evaluation), so a problem solved once, briefly, never pays for it.
-pub const NATIVE_AFTER: usize = 10_000;
 
 /// Forward passes by dual numbers (one per column of the Jacobian) a problem's Jacobian takes
 /// before the columns are grouped for compressed passes ([`Compiled::jacobian_passes`]): making one
@@ -549,7 +560,12 @@ impl Compiled {
             r_const,
             dl_dq_const,
             parameters,
+            program: Default::default(),
             native: Default::default(),
+            native_full: Default::default(),
+            full_requested: Default::default(),
+            quick: Arc::default(),
+            machine_code: MachineCode::Auto,
             native_jacobian: Default::default(),
             colouring: Default::default(),
             dense_passes: Arc::default(),
@@ -600,14 +616,72 @@ impl Compiled {
         }
     }
 
-    /// The integrator's right-hand side as machine code for `need` ([`Need::Motion`] or
-    /// [`Need::Rates`]), compiled on the first call; `None` for [`Need::All`] and where there is
-    /// none (see [`NativeEquations::new`]).
-    pub(crate) fn native(&self, need: Need) -> Option<&NativeEquations> {
+    /// The program of the integrator's right-hand side for `need` ([`Need::Motion`] or
+    /// [`Need::Rates`]), built on the first call; `None` for [`Need::All`] and where there is
+    /// none (see [`Prepared::new`]).
+    fn prepared(&self, need: Need) -> Option<&Arc<Prepared>> {
         let rates = native_rates(need)?;
+        self.program[usize::from(rates)]
+            .get_or_init(|| Prepared::new(self, rates).map(Arc::new))
+            .as_ref()
+    }
+
+    /// The integrator's right-hand side as machine code for `need`, as fast as it is so far: with
+    /// full effort where that is made, else as first made (compiled here with `effort` if it was
+    /// not yet); `None` for [`Need::All`] and where there is none.
+    pub(crate) fn native(&self, need: Need, effort: Effort) -> Option<&NativeEquations> {
+        let rates = native_rates(need)?;
+        if let Some(Some(full)) = self.native_full[usize::from(rates)].get() {
+            return Some(full);
+        }
         self.native[usize::from(rates)]
-            .get_or_init(|| NativeEquations::new(self, rates).map(Arc::new))
+            .get_or_init(|| {
+                self.prepared(need)
+                    .and_then(|p| p.compile(effort))
+                    .map(Arc::new)
+            })
             .as_deref()
+    }
+
+    /// The right-hand side as machine code with full effort for `need` where it is made already
+    /// (by [`Compiled::request_full`] or [`Compiled::native_operations`]).
+    pub(crate) fn full_ready(&self, need: Need) -> Option<&NativeEquations> {
+        let rates = native_rates(need)?;
+        if let Some(Some(first)) = self.native[usize::from(rates)].get() {
+            if first.effort() == Effort::Full {
+                return Some(first);
+            }
+        }
+        self.native_full[usize::from(rates)].get()?.as_deref()
+    }
+
+    /// Starts compiling the right-hand side for `need` with full effort on another thread, once
+    /// ([`super::tiers`]); the result appears in [`Compiled::full_ready`]. Nothing where it was
+    /// started before, where there is no program, or where no thread can be started.
+    pub(crate) fn request_full(&self, need: Need) {
+        let Some(rates) = native_rates(need) else {
+            return;
+        };
+        let r = usize::from(rates);
+        if self.full_requested[r].swap(true, Ordering::Relaxed) {
+            return;
+        }
+        let Some(program) = self.prepared(need).cloned() else {
+            return;
+        };
+        let slot = Arc::clone(&self.native_full[r]);
+        // A thread that cannot start leaves the quick machine code in use.
+        let _ = std::thread::Builder::new()
+            .name("chetaev-compile".to_owned())
+            .spawn(move || {
+                slot.get_or_init(|| program.compile(Effort::Full).map(Arc::new));
+            });
+    }
+
+    /// The number of operations of the right-hand side's program for `need`, built if it was
+    /// not yet; `None` where there is none.
+    pub(crate) fn program_operations(&self, need: Need) -> Option<usize> {
+        self.prepared(need).map(|p| p.operations())
     }
 
     /// The Jacobian of the integrator's right-hand side as machine code for `need`, made on the
@@ -658,23 +732,40 @@ impl Compiled {
         self.colouring(Need::Motion).map(|c| c.groups.len())
     }
 
-    /// `evaluations` more right-hand sides evaluated by the interpreted route for `need`: the
-    /// machine code once the count reaches [`NATIVE_AFTER`] (or where it was made already),
+    /// `evaluations` more right-hand sides evaluated by the interpreted route for `need`, with
+    /// `remaining` more expected by the running solve: the machine code once the tiering
+    /// ([`super::tiers`]) finds that quick machine code pays (or where it was made already),
     /// `Some(None)` where there will be none, and `None` to keep counting.
     pub(crate) fn native_after(
         &self,
         need: Need,
         evaluations: usize,
+        remaining: f64,
     ) -> Option<Option<&NativeEquations>> {
         let Some(rates) = native_rates(need) else {
             return Some(None);
         };
-        let slot = &self.native[usize::from(rates)];
-        if let Some(made) = slot.get() {
-            return Some(made.as_deref());
+        match self.machine_code {
+            MachineCode::Never => return Some(None),
+            MachineCode::AtOnce => return Some(self.native(need, Effort::Full)),
+            MachineCode::Auto => {}
+        }
+        if let Some(made) = self.native[usize::from(rates)].get() {
+            return Some(made.as_ref().and(self.native(need, Effort::Quick)));
         }
         let total = self.count_interpreted(evaluations);
-        (total >= NATIVE_AFTER).then(|| self.native(need))
+        let Some(operations) = self.program_operations(need) else {
+            return Some(None);
+        };
+        tiers::quick_pays(operations, (total as f64).max(remaining))
+            .then(|| self.native(need, Effort::Quick))
+    }
+
+    /// When the right-hand side runs as machine code ([`Problem::with_machine_code`]).
+    ///
+    /// [`Problem::with_machine_code`]: crate::Problem::with_machine_code
+    pub(crate) fn set_machine_code(&mut self, machine_code: MachineCode) {
+        self.machine_code = machine_code;
     }
 
     /// Adds `evaluations` right-hand sides by the interpreted route (with or without the rates) to
@@ -683,16 +774,40 @@ impl Compiled {
         self.interpreted.fetch_add(evaluations, Ordering::Relaxed) + evaluations
     }
 
+    /// Adds `evaluations` right-hand sides by quick machine code to their count, and returns the
+    /// new count.
+    pub(crate) fn count_quick(&self, evaluations: usize) -> usize {
+        self.quick.fetch_add(evaluations, Ordering::Relaxed) + evaluations
+    }
+
     /// The number of operations of the right-hand side compiled to machine code (the motion, without
-    /// the energy balance), compiling it (with and without the energy balance) if it was not yet,
-    /// so that solves use it from their first right-hand side rather than after [`NATIVE_AFTER`];
-    /// `None` where there is none: a constant metric that is not positive definite (solved by pivoted elimination), equations with
-    /// parameters as inputs, or a host the code generator does not support. The integrator's
-    /// right-hand side takes it where it exists (`docs/formulation.md`, "The right-hand side as
-    /// machine code").
+    /// the energy balance), compiling it with full effort (with and without the energy balance) if
+    /// it was not yet, so that solves use it from their first right-hand side rather than when the
+    /// tiering decides ([`super::tiers`]); `None` where there is none: a constant metric that is not
+    /// positive definite (solved by pivoted elimination), equations with parameters as inputs, or a
+    /// host the code generator does not support. The integrator's right-hand side takes it where it
+    /// exists (`docs/formulation.md`, "The right-hand side as machine code").
     pub fn native_operations(&self) -> Option<usize> {
-        self.native(Need::Rates);
-        self.native(Need::Motion).map(NativeEquations::operations)
+        for need in [Need::Rates, Need::Motion] {
+            if self.native(need, Effort::Full).is_some() && self.full_ready(need).is_none() {
+                // Quick machine code was made first: the full one here, on this thread.
+                if let (Some(rates), Some(program)) = (native_rates(need), self.prepared(need)) {
+                    self.native_full[usize::from(rates)]
+                        .get_or_init(|| program.compile(Effort::Full).map(Arc::new));
+                }
+            }
+        }
+        self.native(Need::Motion, Effort::Full)
+            .map(NativeEquations::operations)
+    }
+
+    /// As [`Compiled::native_operations`], but compiling quickly, as the tiering does first
+    /// (`docs/formulation.md`): the code is about 1.3 times as slow, made in about a quarter of
+    /// the time. Where machine code was made already, its size.
+    pub fn quick_native_operations(&self) -> Option<usize> {
+        self.native(Need::Rates, Effort::Quick);
+        self.native(Need::Motion, Effort::Quick)
+            .map(NativeEquations::operations)
     }
 
     /// The right-hand side's tape, made on first use.

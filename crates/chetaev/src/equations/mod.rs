@@ -19,6 +19,7 @@ pub(crate) mod graph;
 pub(crate) mod native;
 pub mod saddle;
 pub mod structure;
+pub(crate) mod tiers;
 
 use crate::model::{Model, Plan, Point, Real};
 use compiled::{Compiled, CompiledFailure, CompiledWorkspace};

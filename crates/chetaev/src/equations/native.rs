@@ -20,10 +20,9 @@
 //! `μ` are finite: where a check fails, [`NativeEquations::evaluate`] declines and the caller takes the
 //! interpreted route, which pivots, falls back to dual numbers, or reports the failure exactly as
 //! without this route. The program reads `t` and `(q, q̇)` where the integrator keeps them and
-//! writes `(q̇, q̈)` in place. It is made once a problem has run [`NATIVE_AFTER`] right-hand sides
-//! (compiling costs milliseconds), and not at all beyond [`MAX_OPERATIONS`].
-//!
-//! [`NATIVE_AFTER`]: super::compiled::NATIVE_AFTER
+//! writes `(q̇, q̈)` in place. It is compiled when the tiering finds that it pays (compiling costs
+//! a fraction of a millisecond to milliseconds; [`super::tiers`]), and not at all beyond
+//! [`MAX_OPERATIONS`].
 //!
 //! The program performs the interpreted route's operations in its order, except that additions of
 //! a structural zero and products with a structural one are left out; its results agree with the
@@ -32,7 +31,7 @@
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
-use chetaev_native::{Guard, Native, Op, Program};
+use chetaev_native::{Effort, Guard, Native, Op, Program};
 
 use super::compiled::{Compiled, Metric};
 use super::graph::{Fun, Node};
@@ -324,6 +323,8 @@ pub(crate) struct NativeEquations {
     layout: Layout,
     /// `max |W_ij|` of a constant metric.
     w_scale: f64,
+    /// How hard the code generator worked on it.
+    effort: Effort,
 }
 
 /// Scratch space for [`NativeEquations::evaluate`]: its second output array.
@@ -905,28 +906,59 @@ impl NativeJacobian {
     }
 }
 
-impl NativeEquations {
+/// The program of a right-hand side, built and checked, ready to be compiled at either effort
+/// ([`Prepared::compile`]); it owns what it needs, so that another thread may compile it.
+#[derive(Debug)]
+pub(crate) struct Prepared {
+    program: Program,
+    layout: Layout,
+    w_scale: f64,
+}
+
+impl Prepared {
     /// The program of `compiled`'s right-hand side, with the rates of the energy balance or
-    /// without, compiled; `None` where the metric is constant but not positive definite (the
-    /// pivoted elimination's case), where the equations have parameters as inputs, or where no
-    /// machine code can be made on this host.
+    /// without; `None` where the metric is constant but not positive definite (the pivoted
+    /// elimination's case), where the equations have parameters as inputs, or beyond
+    /// [`MAX_OPERATIONS`].
     pub(crate) fn new(compiled: &Compiled, rates: bool) -> Option<Self> {
         let built = build(compiled, rates)?;
         if built.b.ops.len() > MAX_OPERATIONS {
             return None;
         }
-        let program = Program {
-            inputs: [1, 2 * built.layout.n],
-            ops: built.b.ops,
-            outputs: [built.derivative, built.outputs],
-            guards: built.guards,
-        };
-        let native = Native::compile(&program).ok()?;
         Some(Self {
-            native,
+            program: Program {
+                inputs: [1, 2 * built.layout.n],
+                ops: built.b.ops,
+                outputs: [built.derivative, built.outputs],
+                guards: built.guards,
+            },
             layout: built.layout,
             w_scale: compiled.native_parts().w_scale,
         })
+    }
+
+    /// The number of operations of the program.
+    pub(crate) fn operations(&self) -> usize {
+        self.program.ops.len()
+    }
+
+    /// The program as machine code, compiled with `effort`; `None` where no machine code can be
+    /// made on this host. Every effort's code gives the same bits.
+    pub(crate) fn compile(&self, effort: Effort) -> Option<NativeEquations> {
+        let native = Native::compile_with(&self.program, effort).ok()?;
+        Some(NativeEquations {
+            native,
+            layout: self.layout,
+            w_scale: self.w_scale,
+            effort,
+        })
+    }
+}
+
+impl NativeEquations {
+    /// How hard the code generator worked on it.
+    pub(crate) fn effort(&self) -> Effort {
+        self.effort
     }
 
     /// The number of operations of the program.

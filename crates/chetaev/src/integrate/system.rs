@@ -9,6 +9,7 @@ use num_dual::Dual64;
 
 use crate::equations::compiled::Compiled;
 use crate::equations::native::{NativeBuffers, NativeEquations};
+use crate::equations::tiers;
 use crate::equations::{
     evaluate_with, evaluate_with_unchecked, saddle::SaddleFailure, Dynamics, Need, Workspace,
 };
@@ -16,6 +17,7 @@ use crate::error::{Error, Singularity};
 use crate::model::{Model, Point};
 use crate::sensitivity::Variational;
 use crate::solution::{row_residual, velocity_terms};
+use chetaev_native::Effort;
 
 /// The Jacobian of a right-hand side `F(t, y)` at one point, as [`OdeSystem::jacobian`] writes it.
 /// An implicit method makes one for its dimension and keeps it across steps, so every call writes
@@ -257,6 +259,12 @@ pub struct ReducedOde<'a, M: ?Sized> {
     edge: Edge,
     /// The variational equations, when sensitivities are asked for: `S` follows `(q, q̇)`.
     pub(crate) sens: Option<Variational>,
+    /// The start and end of the solve, from which the tiering estimates the right-hand sides
+    /// still to come ([`ReducedOde::with_horizon`]).
+    horizon: Option<(f64, f64)>,
+    /// Where the right-hand side runs as quick machine code: the evaluations already counted
+    /// towards the full machine code ([`crate::equations::tiers`]); `None` otherwise.
+    quick: Option<usize>,
     /// The work done so far.
     pub stats: Stats,
 }
@@ -501,6 +509,8 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             last_t: f64::NAN,
             edge: Edge::default(),
             sens: None,
+            horizon: None,
+            quick: None,
             stats: Stats::default(),
         }
     }
@@ -518,7 +528,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         let model = problem.model();
         let compiled = problem.compiled();
         let need = if energy { Need::Rates } else { Need::Motion };
-        let native = match compiled.map(|c| (c, c.native_after(need, 0))) {
+        let native = match compiled.map(|c| (c, c.native_after(need, 0, 0.0))) {
             Some((compiled, None)) => NativeState::Pending(Unreported {
                 compiled,
                 need,
@@ -527,11 +537,59 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             Some((_, Some(Some(native)))) => NativeState::On(native, native.buffers()),
             _ => NativeState::Off,
         };
+        let quick = match &native {
+            NativeState::On(native, _) => (native.effort() == Effort::Quick).then_some(0),
+            _ => None,
+        };
         Self {
             compiled,
             native,
+            quick,
             forces: !compiled.is_some_and(|c| c.without_forces()),
             ..Self::new(model, energy)
+        }
+    }
+
+    /// The solve runs from `t0` to `t_end`: the tiering ([`crate::equations::tiers`]) counts on the
+    /// right-hand sides still to come, extrapolated from those so far. Without it, it counts on
+    /// as many again as were evaluated so far.
+    pub fn with_horizon(mut self, t0: f64, t_end: f64) -> Self {
+        self.horizon = Some((t0, t_end));
+        self
+    }
+
+    /// The right-hand sides the running solve still expects at `t` (see
+    /// [`ReducedOde::with_horizon`]).
+    fn expected_remaining(&self, t: f64) -> f64 {
+        self.horizon.map_or(0.0, |(t0, t_end)| {
+            tiers::expected_remaining(self.stats.rhs_evaluations, t0, t_end, t)
+        })
+    }
+
+    /// At an accepted step, on quick machine code: takes up the full machine code where it is
+    /// ready, else starts it where it now pays ([`crate::equations::tiers`]). Both give the same
+    /// bits, so the step at which it happens changes nothing.
+    #[cold]
+    #[inline(never)]
+    fn tier_up(&mut self) {
+        let (Some(compiled), Some(reported)) = (self.compiled, self.quick) else {
+            return;
+        };
+        let need = self.need();
+        if let Some(full) = compiled.full_ready(need) {
+            compiled.count_quick(self.stats.rhs_evaluations - reported);
+            self.native = NativeState::On(full, full.buffers());
+            self.native_last = false;
+            self.quick = None;
+            return;
+        }
+        let total = compiled.count_quick(self.stats.rhs_evaluations - reported);
+        self.quick = Some(self.stats.rhs_evaluations);
+        if compiled
+            .program_operations(need)
+            .is_some_and(|ops| tiers::full_pays(ops, total as f64))
+        {
+            compiled.request_full(need);
         }
     }
 
@@ -601,8 +659,16 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             u.count += 1;
             if u.count >= NATIVE_REPORT {
                 let evaluations = std::mem::take(&mut u.count);
-                match u.compiled.native_after(u.need, evaluations) {
-                    Some(Some(native)) => self.native = NativeState::On(native, native.buffers()),
+                let remaining = self.expected_remaining(t);
+                let NativeState::Pending(u) = &mut self.native else {
+                    unreachable!("matched above")
+                };
+                match u.compiled.native_after(u.need, evaluations, remaining) {
+                    Some(Some(native)) => {
+                        self.quick = (native.effort() == Effort::Quick)
+                            .then_some(self.stats.rhs_evaluations);
+                        self.native = NativeState::On(native, native.buffers());
+                    }
                     Some(None) => self.native = NativeState::Off,
                     None => {}
                 }
@@ -692,12 +758,10 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     }
 }
 
-impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
-    fn left_domain(&mut self) {
-        self.edge.left_domain = true;
-    }
-
-    fn accepted(&mut self, t_new: f64, y: &[f64]) -> Result<(), Error> {
+impl<M: Model + ?Sized> ReducedOde<'_, M> {
+    /// The checks of an accepted step to `(t_new, y)`: singular points and the end of a
+    /// constraint ([`OdeSystem::accepted`]).
+    fn check_accepted(&mut self, t_new: f64, y: &[f64]) -> Result<(), Error> {
         if self.rank_tolerance <= 0.0 || self.last_t.is_nan() {
             return Ok(());
         }
@@ -725,6 +789,20 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
             self.check_edge(t_start, t_new, y)?;
         }
         Ok(())
+    }
+}
+
+impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
+    fn left_domain(&mut self) {
+        self.edge.left_domain = true;
+    }
+
+    fn accepted(&mut self, t_new: f64, y: &[f64]) -> Result<(), Error> {
+        let checked = self.check_accepted(t_new, y);
+        if self.quick.is_some() {
+            self.tier_up();
+        }
+        checked
     }
 
     fn dim(&self) -> usize {
