@@ -207,7 +207,7 @@ pub fn solve_with_ode_solvers<M: Model>(
     // forces anywhere (see the crate's docs).
     let ode = ReducedOde::for_problem(problem, options.record >= Record::Energy)
         .with_rank_tolerance(options.rank_tolerance)
-        .with_horizon(t0, options.t_end);
+        .with_horizon(t0, options.horizon());
     let mut z0 = vec![0.0; ode.dim() + 1];
     z0[..n].copy_from_slice(problem.q0());
     z0[n..2 * n].copy_from_slice(problem.qd0());

@@ -192,6 +192,8 @@ pub struct Compiled {
     full_requested: [Arc<AtomicBool>; 2],
     /// Right-hand sides evaluated by quick machine code, as reported.
     quick: Arc<AtomicUsize>,
+    /// Jacobians evaluated by dual numbers while the right-hand side ran as quick machine code.
+    jacobians: Arc<AtomicUsize>,
     /// When the right-hand side runs as machine code.
     machine_code: MachineCode,
     /// The Jacobian of the right-hand side as machine code, the same two ways.
@@ -565,6 +567,7 @@ impl Compiled {
             native_full: Default::default(),
             full_requested: Default::default(),
             quick: Arc::default(),
+            jacobians: Arc::default(),
             machine_code: MachineCode::Auto,
             native_jacobian: Default::default(),
             colouring: Default::default(),
@@ -685,13 +688,35 @@ impl Compiled {
     }
 
     /// The Jacobian of the integrator's right-hand side as machine code for `need`, made on the
-    /// first call; `None` for [`Need::All`] and where there is none. The integrator asks for it
-    /// only once its right-hand side runs as machine code ([`Compiled::native_after`]).
-    pub(crate) fn native_jacobian(&self, need: Need) -> Option<&NativeJacobian> {
+    /// first call with `effort`; `None` for [`Need::All`] and where there is none. The integrator
+    /// asks for it only once its right-hand side runs as machine code ([`Compiled::native_after`]).
+    pub(crate) fn native_jacobian(&self, need: Need, effort: Effort) -> Option<&NativeJacobian> {
         let rates = native_rates(need)?;
         self.native_jacobian[usize::from(rates)]
-            .get_or_init(|| NativeJacobian::new(self, rates).map(Arc::new))
+            .get_or_init(|| NativeJacobian::new(self, rates, effort).map(Arc::new))
             .as_deref()
+    }
+
+    /// One more Jacobian evaluated by dual numbers for `need`, with `remaining` more expected by
+    /// the running solve and `passes` forward passes each: the Jacobian as quick machine code once
+    /// the tiering ([`super::tiers`]) finds that it pays, or where it was made already; `None`
+    /// before.
+    pub(crate) fn native_jacobian_after(
+        &self,
+        need: Need,
+        remaining: f64,
+        passes: usize,
+    ) -> Option<&NativeJacobian> {
+        let rates = native_rates(need)?;
+        if let Some(made) = self.native_jacobian[usize::from(rates)].get() {
+            return made.as_deref();
+        }
+        let total = self.jacobians.fetch_add(1, Ordering::Relaxed) + 1;
+        let expected = tiers::expected(total, remaining);
+        let operations = self.program_operations(need)?;
+        tiers::jacobian_pays(operations, passes, expected)
+            .then(|| self.native_jacobian(need, Effort::Quick))
+            .flatten()
     }
 
     /// [`Compiled::colouring`] once the Jacobian has taken [`COLOUR_AFTER`] forward passes by
@@ -717,6 +742,18 @@ impl Compiled {
         self.colouring[usize::from(rates)]
             .get_or_init(|| Colouring::new(self, rates).map(Arc::new))
             .as_deref()
+    }
+
+    /// The number of groups of the colouring for `need` where it is made already.
+    pub(crate) fn colouring_groups(&self, need: Need) -> Option<usize> {
+        let rates = native_rates(need)?;
+        Some(
+            self.colouring[usize::from(rates)]
+                .get()?
+                .as_ref()?
+                .groups
+                .len(),
+        )
     }
 
     /// The forward passes the Jacobian of the integrator's right-hand side takes by dual numbers
@@ -754,11 +791,14 @@ impl Compiled {
             return Some(made.as_ref().and(self.native(need, Effort::Quick)));
         }
         let total = self.count_interpreted(evaluations);
+        let expected = tiers::expected(total, remaining);
+        if !tiers::quick_may_pay(expected) {
+            return None;
+        }
         let Some(operations) = self.program_operations(need) else {
             return Some(None);
         };
-        tiers::quick_pays(operations, (total as f64).max(remaining))
-            .then(|| self.native(need, Effort::Quick))
+        tiers::quick_pays(operations, expected).then(|| self.native(need, Effort::Quick))
     }
 
     /// When the right-hand side runs as machine code ([`Problem::with_machine_code`]).

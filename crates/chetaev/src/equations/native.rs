@@ -570,7 +570,7 @@ pub(crate) struct Colouring {
 
 impl Colouring {
     /// The colouring of `compiled`'s Jacobian, with the rates' rows or without; `None` where the
-    /// equations have branches, where they have no program (see [`NativeEquations::new`]), where
+    /// equations have branches, where they have no program (see [`Prepared::new`]), where
     /// the pattern would take more than [`PATTERN_MAX_WORDS`], or where a row is reached by more
     /// than [`DENSE_ROW`] columns and more than half of them (grouping would save less than half
     /// the passes).
@@ -860,8 +860,9 @@ pub(crate) struct NativeJacobian {
 }
 
 impl NativeJacobian {
-    /// The Jacobian's program for `compiled` (see [`NativeEquations::new`] for when there is none).
-    pub(crate) fn new(compiled: &Compiled, rates: bool) -> Option<Self> {
+    /// The Jacobian's program for `compiled`, compiled with `effort` (see [`Prepared::new`] for
+    /// when there is none).
+    pub(crate) fn new(compiled: &Compiled, rates: bool, effort: Effort) -> Option<Self> {
         let Built {
             mut b,
             guards,
@@ -889,7 +890,7 @@ impl NativeJacobian {
             outputs: [jac, dfdt],
             guards,
         };
-        let native = Native::compile(&program).ok()?;
+        let native = Native::compile_with(&program, effort).ok()?;
         Some(Self { native, n, rates })
     }
 

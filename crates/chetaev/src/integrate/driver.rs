@@ -52,7 +52,7 @@ where
     let t0 = problem.t0();
     let mut sys = ReducedOde::for_problem(problem, options.record >= Record::Energy)
         .with_rank_tolerance(options.rank_tolerance)
-        .with_horizon(t0, options.t_end);
+        .with_horizon(t0, options.horizon());
     if !options.sensitivities.is_empty() {
         if options.projection.is_some() {
             return Err(Error::Sensitivity {

@@ -112,6 +112,12 @@ pub struct Options {
 }
 
 impl Options {
+    /// Where a solve with these options is known to end: `t_end`, or `None` where a terminal
+    /// event may end it before (the tiering then counts on the right-hand sides so far only).
+    pub fn horizon(&self) -> Option<f64> {
+        (!self.events.iter().any(|e| e.terminal)).then_some(self.t_end)
+    }
+
     /// Integrate to `t_end` with `rtol = 1e-6`, `atol = 1e-9`, output at every step, everything
     /// recorded, no events, no projection.
     pub fn until(t_end: f64) -> Self {

@@ -550,11 +550,11 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         }
     }
 
-    /// The solve runs from `t0` to `t_end`: the tiering ([`crate::equations::tiers`]) counts on the
-    /// right-hand sides still to come, extrapolated from those so far. Without it, it counts on
-    /// as many again as were evaluated so far.
-    pub fn with_horizon(mut self, t0: f64, t_end: f64) -> Self {
-        self.horizon = Some((t0, t_end));
+    /// The solve runs from `t0` to `t_end` (`None`: it may end earlier, at a terminal event): the
+    /// tiering ([`crate::equations::tiers`]) counts on the right-hand sides still to come,
+    /// extrapolated from those so far. Without an end, it counts on those so far only.
+    pub fn with_horizon(mut self, t0: f64, t_end: Option<f64>) -> Self {
+        self.horizon = t_end.map(|t_end| (t0, t_end));
         self
     }
 
@@ -587,7 +587,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         self.quick = Some(self.stats.rhs_evaluations);
         if compiled
             .program_operations(need)
-            .is_some_and(|ops| tiers::full_pays(ops, total as f64))
+            .is_some_and(|ops| tiers::full_pays(ops, tiers::expected(total, 0.0)))
         {
             compiled.request_full(need);
         }
@@ -860,9 +860,26 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
             dfdt.fill(0.0);
         }
         let (model, need) = (self.model, self.need());
-        // As machine code, once the right-hand side is (and without sensitivities).
-        if let (NativeState::On(..), None, Some(c)) = (&self.native, &self.sens, self.compiled) {
-            if let Some(nj) = c.native_jacobian(need) {
+        // As machine code, once the right-hand side is (and without sensitivities): with full
+        // effort at once where the right-hand side is, else when it pays.
+        let native_jacobian = match (&self.native, &self.sens, self.compiled) {
+            (NativeState::On(native, _), None, Some(c)) => {
+                if native.effort() == Effort::Full {
+                    c.native_jacobian(need, Effort::Full)
+                } else {
+                    let remaining = self.horizon.map_or(0.0, |(t0, t_end)| {
+                        tiers::expected_remaining(self.stats.jacobian_evaluations, t0, t_end, t)
+                    });
+                    let autonomous = c.autonomous();
+                    let columns = if autonomous { 2 * n } else { 2 * n + 1 };
+                    let passes = c.colouring_groups(need).unwrap_or(columns);
+                    c.native_jacobian_after(need, remaining, passes)
+                }
+            }
+            _ => None,
+        };
+        {
+            if let Some(nj) = native_jacobian {
                 let rows = nj.rows();
                 let (jb, db) = &mut self.native_jac;
                 jb.resize(rows * 2 * n, 0.0);
