@@ -277,8 +277,8 @@ fn machine_code_never_and_at_once_are_kept() {
 
 #[test]
 fn taking_up_the_full_machine_code_changes_no_step() {
-    // A problem past its switch runs quick machine code, and after about 200,000 evaluations of
-    // it (the 42nd solve here) starts the full compile on another thread, taking it up at an
+    // A problem past its switch runs quick machine code, and after about 50,000 evaluations of
+    // it (the 11th solve here) starts the full compile on another thread, taking it up at an
     // accepted step whenever it is ready. Quick and full code give the same bits, so every solve equals, to the bit, the
     // solve of a problem compiled with full effort before its first solve.
     let o = Options::until(1000.0)
@@ -288,7 +288,7 @@ fn taking_up_the_full_machine_code_changes_no_step() {
     let (_, want) = interpreted_in(&reference, &o);
     let p = problem();
     let _ = interpreted_in(&p, &o);
-    for _ in 0..50 {
+    for _ in 0..30 {
         let (calls, sol) = interpreted_in(&p, &o);
         if host_has_machine_code() {
             assert_eq!(calls, 0);

@@ -823,7 +823,7 @@ impl Compiled {
     /// The number of operations of the right-hand side compiled to machine code (the motion, without
     /// the energy balance), compiling it with full effort (with and without the energy balance) if
     /// it was not yet, so that solves use it from their first right-hand side rather than when the
-    /// tiering decides ([`super::tiers`]); `None` where there is none: a constant metric that is not
+    /// tiering decides (`equations::tiers` in the source); `None` where there is none: a constant metric that is not
     /// positive definite (solved by pivoted elimination), equations with parameters as inputs, or a
     /// host the code generator does not support. The integrator's right-hand side takes it where it
     /// exists (`docs/formulation.md`, "The right-hand side as machine code").

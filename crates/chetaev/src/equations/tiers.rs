@@ -13,8 +13,9 @@
 //!   only where no terminal event may end it sooner. The problem then switches at once, in the
 //!   middle of the solve;
 //! - **full machine code** ([`Effort::Full`](chetaev_native::Effort::Full)) on another thread
-//!   once a quarter of the quick code's own evaluations so far (across solves) would repay its
-//!   compile time, on the bet that as many are still to come; the solve takes it up at its next accepted step
+//!   once the quick code's own evaluations so far (across solves) would repay its compile time,
+//!   on the bet that as many again are still to come (a bolder bet than the quick one's: it is
+//!   paid on another core); the solve takes it up at its next accepted step
 //!   once it is ready. Evaluations so far, not an extrapolation: a solve's rate early on
 //!   overestimates what is left where its steps grow, and this compile costs four times the quick
 //!   one for a gain of a quarter.

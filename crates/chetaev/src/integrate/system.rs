@@ -551,7 +551,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
     }
 
     /// The solve runs from `t0` to `t_end` (`None`: it may end earlier, at a terminal event): the
-    /// tiering ([`crate::equations::tiers`]) counts on the right-hand sides still to come,
+    /// tiering (`equations::tiers`) counts on the right-hand sides still to come,
     /// extrapolated from those so far. Without an end, it counts on those so far only.
     pub fn with_horizon(mut self, t0: f64, t_end: Option<f64>) -> Self {
         self.horizon = t_end.map(|t_end| (t0, t_end));
@@ -587,7 +587,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         self.quick = Some(self.stats.rhs_evaluations);
         if compiled
             .program_operations(need)
-            .is_some_and(|ops| tiers::full_pays(ops, tiers::expected(total, 0.0)))
+            .is_some_and(|ops| tiers::full_pays(ops, total as f64))
         {
             compiled.request_full(need);
         }
