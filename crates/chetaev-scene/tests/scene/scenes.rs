@@ -831,3 +831,39 @@ fn output_times_out_of_order_repeated_or_reversed_are_refused_at_their_place() {
     .expect_err("increasing times going backward");
     assert!(e.to_string().contains("decreasing"), "{e}");
 }
+
+#[test]
+fn the_rolling_disc_and_the_snakeboard_conserve_their_energy_and_roll_without_slipping() {
+    // Constraints linear and homogeneous in the velocities do no work (q̇·Φ = μ·J q̇ = μ·f = 0),
+    // and neither Lagrangian depends on time: E stays at E(t0), and f at zero.
+    for name in ["rolling-disc", "snakeboard"] {
+        let scene = Scene::load(scenes_dir().join(format!("{name}.toml"))).expect("loads");
+        let outcome = scene.solve().expect("solves");
+        assert!(
+            matches!(outcome.status, Status::Success),
+            "{name}: {:?}",
+            outcome.status
+        );
+        let e0 = outcome.energy[0];
+        let drift = outcome
+            .energy
+            .iter()
+            .fold(0.0f64, |m, e| m.max((e - e0).abs()));
+        assert!(
+            drift < 1e-8 * (1.0 + e0.abs()),
+            "{name}: E drifts by {drift:e}"
+        );
+        let work = outcome.work.iter().fold(0.0f64, |m, w| m.max(w.abs()));
+        assert!(work < 1e-8, "{name}: W_Φ = {work:e}");
+        let residual = outcome
+            .residual
+            .iter()
+            .flatten()
+            .fold(0.0f64, |m, f| m.max(f.abs()));
+        assert!(residual < 1e-8, "{name}: |f| = {residual:e}");
+        assert!(
+            outcome.mu.iter().flatten().any(|m| m.abs() > 1e-3),
+            "{name}: forces act"
+        );
+    }
+}

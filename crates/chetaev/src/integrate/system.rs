@@ -578,8 +578,11 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         let need = self.need();
         if let Some(full) = compiled.full_ready(need) {
             compiled.count_quick(self.stats.rhs_evaluations - reported);
-            self.native = NativeState::On(full, full.buffers());
-            self.native_last = false;
+            // The same program, so the same buffers: the last evaluation's outputs stay where
+            // the checks read them.
+            if let NativeState::On(native, _) = &mut self.native {
+                *native = full;
+            }
             self.quick = None;
             return;
         }
