@@ -1,6 +1,6 @@
 //! A fresh problem's first solve against a warm solve of the same problem, for scene files.
 //!
-//! For each scene, rounds of three runs, timed interleaved (A, B, C, A, B, C, ...):
+//! For each scene, rounds of four runs, timed interleaved (A, B, C, D, A, B, C, D, ...):
 //!
 //! - **first**: a fresh problem made from the scene (`Scene::problem`) and solved once: the
 //!   recording of its equations, the interpreted right-hand sides and whatever machine code the
@@ -9,7 +9,10 @@
 //!   machine code;
 //! - **interpreted**: a fresh problem on the interpreted route (`MachineCode::Never`) whose
 //!   equations were recorded before the clock, solved once: the route a first solve starts on,
-//!   without the recording.
+//!   without the recording;
+//! - **first, never compiled**: as *first*, on the interpreted route throughout
+//!   (`MachineCode::Never`), which is what a first solve of fewer than `10⁴` right-hand sides did
+//!   before machine code was made when it pays.
 //!
 //! Each solve integrates the scene's `[solve]` (method, end, tolerances, events) and keeps the
 //! state at the steps. The three take the same steps up to rounding, so they are at equal error.
@@ -70,7 +73,7 @@ fn run(path: &str) -> Result<(), String> {
     let tape = warm.compiled().map_or(0, |c| c.operations().0);
     let reference = solve_once(&warm)?;
     let rhs = reference.stats.rhs_evaluations;
-    let mut times = [Vec::new(), Vec::new(), Vec::new()];
+    let mut times = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
     for _ in 0..ROUNDS {
         let mut err = None;
         times[0].push(seconds(|| {
@@ -90,11 +93,17 @@ fn run(path: &str) -> Result<(), String> {
                 err = Some(e);
             }
         }));
+        times[3].push(seconds(|| {
+            let never = fresh().map(|p| p.with_machine_code(MachineCode::Never));
+            if let Err(e) = never.and_then(|p| solve_once(&p)) {
+                err = Some(e);
+            }
+        }));
         if let Some(e) = err {
             return Err(e);
         }
     }
-    let [first, warm_t, interp] = times.map(|mut t| median(&mut t));
+    let [first, warm_t, interp, never] = times.map(|mut t| median(&mut t));
     // The breakdown of one fresh problem.
     let mut phases = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
     for _ in 0..ROUNDS {
@@ -121,11 +130,13 @@ fn run(path: &str) -> Result<(), String> {
         operations.map_or("no".to_string(), |o| o.to_string())
     );
     println!(
-        "  first {:.3} ms, warm {:.3} ms, interpreted {:.3} ms: first/warm {:.2}, interpreted/warm {:.2}",
+        "  first {:.3} ms, warm {:.3} ms, interpreted {:.3} ms, first never compiled {:.3} ms: first/warm {:.2}, never compiled/warm {:.2}, interpreted/warm {:.2}",
         first * 1e3,
         warm_t * 1e3,
         interp * 1e3,
+        never * 1e3,
         first / warm_t,
+        never / warm_t,
         interp / warm_t
     );
     println!(
@@ -142,15 +153,7 @@ fn run(path: &str) -> Result<(), String> {
 
 /// The processor and the load, for the report.
 fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|m| m.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown".to_string());
+    let cpu = chetaev_bench::measure::cpu_model();
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
     format!(

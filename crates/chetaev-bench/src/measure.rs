@@ -291,3 +291,16 @@ mod tests {
         assert!(median(&mut []).is_nan());
     }
 }
+
+/// The processor's model name from `/proc/cpuinfo` ("unknown" where there is none), for reports.
+pub fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".to_string())
+}

@@ -747,15 +747,7 @@ fn not_measured(all: &[Point]) -> String {
 /// `nproc`, the processor and the compiler, for the report.
 fn machine() -> String {
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|m| m.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown".to_string());
+    let cpu = chetaev_bench::measure::cpu_model();
     let rustc = std::process::Command::new("rustc")
         .arg("--version")
         .output()
