@@ -558,11 +558,11 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
         self
     }
 
-    /// The right-hand sides the running solve still expects at `t` (see
+    /// The evaluations the running solve still expects at `t`, having made `done` (see
     /// [`ReducedOde::with_horizon`]).
-    fn expected_remaining(&self, t: f64) -> f64 {
+    fn expected_remaining(&self, done: usize, t: f64) -> f64 {
         self.horizon.map_or(0.0, |(t0, t_end)| {
-            tiers::expected_remaining(self.stats.rhs_evaluations, t0, t_end, t)
+            tiers::expected_remaining(done, t0, t_end, t)
         })
     }
 
@@ -662,7 +662,7 @@ impl<'a, M: Model + ?Sized> ReducedOde<'a, M> {
             u.count += 1;
             if u.count >= NATIVE_REPORT {
                 let evaluations = std::mem::take(&mut u.count);
-                let remaining = self.expected_remaining(t);
+                let remaining = self.expected_remaining(self.stats.rhs_evaluations, t);
                 let NativeState::Pending(u) = &mut self.native else {
                     unreachable!("matched above")
                 };
@@ -870,9 +870,7 @@ impl<M: Model + ?Sized> OdeSystem for ReducedOde<'_, M> {
                 if native.effort() == Effort::Full {
                     c.native_jacobian(need, Effort::Full)
                 } else {
-                    let remaining = self.horizon.map_or(0.0, |(t0, t_end)| {
-                        tiers::expected_remaining(self.stats.jacobian_evaluations, t0, t_end, t)
-                    });
+                    let remaining = self.expected_remaining(self.stats.jacobian_evaluations, t);
                     let autonomous = c.autonomous();
                     let columns = if autonomous { 2 * n } else { 2 * n + 1 };
                     let passes = c.colouring_groups(need).unwrap_or(columns);
