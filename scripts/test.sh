@@ -18,8 +18,10 @@ venv=${CHETAEV_VENV:-target/python-venv}
 rm -rf "$venv"
 "$python" -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
-# The package and its test extras (pytest, matplotlib, scipy), as a user installs it.
-"$venv/bin/python" -m pip install --quiet "./crates/chetaev-py[test]"
+# The package and its test extras (pytest, matplotlib, scipy), as a user installs it, but built in
+# the test profile (`maturin develop`'s default) rather than optimised: debug assertions and
+# overflow checks on, and the dependencies the Rust tests built above are not built again.
+MATURIN_PEP517_ARGS="--profile dev" "$venv/bin/python" -m pip install --quiet "./crates/chetaev-py[test]"
 # From the tests' folder, so that `import chetaev` finds the installed package, not the sources.
 cd crates/chetaev-py
 "../../$venv/bin/python" -m pytest -q -p no:cacheprovider tests

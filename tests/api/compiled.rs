@@ -653,9 +653,8 @@ fn a_static_model_whose_branch_changes_its_structure_is_followed_past_the_switch
     assert!(sol.stats.graph_fallbacks > 0, "{:?}", sol.stats);
 }
 
-/// A solution written as JSON with the `serde` feature: every series, the events, the statistics
-/// and the status, in the numbers recorded.
-#[cfg(feature = "serde")]
+/// A solution written as JSON with the `serde` feature (which this package's tests turn on): every
+/// series, the events, the statistics and the status, in the numbers recorded.
 #[test]
 fn a_solution_serialises_to_json_with_its_events_statistics_and_status() {
     let problem = uniform();

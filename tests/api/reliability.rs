@@ -2047,7 +2047,7 @@ fn largest_imbalance(sol: &Solution) -> f64 {
 /// The quadratures of the energy balance are outside error control (recording them never changes
 /// the motion), and between steps they are the method's dense output: on a grid of output times
 /// the balance is as good as that interpolant of `W_Φ` and `∫∂L/∂t dt`, not as the motion. The
-/// figures of where-it-breaks.md (`cargo test --release -p chetaev --test api -- balance
+/// figures of where-it-breaks.md (`cargo test --release --test api -- balance
 /// --nocapture`).
 #[test]
 fn the_energy_balance_between_steps_is_as_good_as_the_dense_output() {
