@@ -10,8 +10,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 cargo test --workspace --lib --bins --tests
-# The Python package's docs are Python (its doctests are off; `--doc` would run them).
-cargo test --workspace --doc --exclude chetaev-py
+# The same packages as above (the Python package's doc tests are off in its Cargo.toml), so that
+# the dependencies are built with the same features and not again.
+cargo test --workspace --doc
 
 python=${PYTHON:-python3}
 venv=${CHETAEV_VENV:-target/python-venv}
