@@ -632,7 +632,7 @@ where
 /// passes' work, and only a factorisation to the tape's.
 ///
 /// The bounds are where the two crossed in whole solves (`bench/revisions -- --sizes`,
-/// docs/performance.md, "Large static models take the tape"). On a chain of springs (`W`
+/// docs/performance/history.md, "Large static models take the tape"). On a chain of springs (`W`
 /// constant), solves took 1.4× the passes' time with the tape at `n = 8`, 0.9× at 12 and 0.5–0.6×
 /// at 24 for the right-hand side, and 1.0× at `n = 6`, 0.7× at 8 for the Jacobian. On a chain of
 /// pendulums (`W` varying), 1.1× at `n = 3`, 0.9× at 4 and 0.07–0.1× at 16 for the right-hand
