@@ -10,7 +10,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 cargo test --workspace --lib --bins --tests
-# The same packages as above (the Python package's doc tests are off in its Cargo.toml), so that
+# The same packages as above (the Python package's crate has no doc tests: its docs are Python), so that
 # the dependencies are built with the same features and not again.
 cargo test --workspace --doc
 

@@ -14,6 +14,11 @@
 //! | `Solution` | [`chetaev::Solution`], its series as numpy arrays |
 //! | `Scene.sweep(...)`, `SweepTable`, `merge_sweeps` | [`chetaev_scene::sweep`] |
 
+// The documentation is Python's (the docstrings of the module's classes and functions), and its
+// indented blocks are Python or mathematics, not Rust: no doc tests, even under `cargo test --doc`
+// (which does not heed the manifest's `doctest = false`).
+#![cfg(not(doctest))]
+
 mod sweep;
 
 use std::sync::{Arc, OnceLock};
