@@ -8,6 +8,9 @@
 # CHETAEV_VENV; nothing is installed outside it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# One clean build, as from a fresh clone: incremental caches would cost time and disk (several GB)
+# for a build made once. Set CARGO_INCREMENTAL=1 to keep them.
+export CARGO_INCREMENTAL=${CARGO_INCREMENTAL:-0}
 
 cargo test --workspace --lib --bins --tests
 # The same packages as above (the Python package's crate has no doc tests: its docs are Python), so that
