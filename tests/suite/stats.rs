@@ -246,6 +246,15 @@ fn a_long_first_solve_switches_to_machine_code_within_itself_and_repeats_itself_
 }
 
 #[test]
+fn machine_code_is_made_exactly_where_the_build_says_it_can() {
+    if !MachineCode::available() {
+        assert!(!host_has_machine_code(), "machine code without the feature");
+    } else if cfg!(target_arch = "x86_64") {
+        assert!(host_has_machine_code(), "the feature, yet no machine code");
+    }
+}
+
+#[test]
 fn machine_code_never_and_at_once_are_kept() {
     let native = host_has_machine_code();
     let o = Options::until(200.0)

@@ -380,6 +380,12 @@ fn backend(e: impl std::fmt::Display) -> ProgramError {
 }
 
 impl Native {
+    /// Whether this build has the code generator (the feature `jit`): without it every
+    /// [`Native::compile`] is refused.
+    pub const fn available() -> bool {
+        cfg!(feature = "jit")
+    }
+
     /// Compiles `program` for this machine with [`Effort::Full`]: refused where
     /// [`Program::check`] fails, or where Cranelift has no code generator for the host.
     pub fn compile(program: &Program) -> Result<Self, ProgramError> {

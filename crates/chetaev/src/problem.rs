@@ -51,6 +51,15 @@ pub enum MachineCode {
     AtOnce,
 }
 
+impl MachineCode {
+    /// Whether this build of the library can make machine code: the feature `native` (on by
+    /// default). Without it [`MachineCode::Auto`] and [`MachineCode::AtOnce`] keep to the
+    /// interpreted route, whose results agree with the machine code's to rounding.
+    pub const fn available() -> bool {
+        chetaev_native::Native::available()
+    }
+}
+
 /// How a problem's equations are evaluated ([`Problem::with_route`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Route {

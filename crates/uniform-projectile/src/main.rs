@@ -11,7 +11,7 @@ use std::io::{self, Write};
 use std::process::ExitCode;
 
 use chetaev::integrate::Method;
-use chetaev::prelude::{AnyMethod, Options};
+use chetaev::prelude::{AnyMethod, MachineCode, Options};
 use clap::Parser;
 use uniform_projectile::closed_form::Params;
 use uniform_projectile::report::{
@@ -583,6 +583,15 @@ fn timing_section(out: &mut impl Write, r: &Report) -> io::Result<()> {
         out,
         "\nError against run time (uniform motion to t = T; median of repeated runs, machine-dependent)"
     )?;
+    if !MachineCode::available() {
+        // The repeated solves of one problem switch to machine code when it pays, where the build
+        // has it; the verification does not need it, so the main job's build leaves it out.
+        writeln!(
+            out,
+            "  (built without machine code: the times are the interpreted route's; `--features native` \
+             adds it, as a crate depending on chetaev has it by default)"
+        )?;
+    }
     writeln!(
         out,
         "  {:<7} {:>6} {:>9} {:>8} {:>10} {:>6} {:>6} {:>8}",
