@@ -167,6 +167,13 @@ pub(super) fn powf<T: Real>(x: T, p: f64) -> T {
 }
 
 impl Node {
+    /// A bit for this node's kind of operation, its operands and parameters aside (the kinds
+    /// modulo 64: functions beyond the 53rd share bits).
+    #[inline]
+    pub(crate) fn kind_bit(&self) -> u64 {
+        1 << (key(self).0 % 64)
+    }
+
     /// The value of this node from its operands' values `v`.
     #[inline]
     pub fn eval<T: Real>(&self, v: impl Fn(u32) -> T) -> T {

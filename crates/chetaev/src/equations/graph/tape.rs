@@ -417,6 +417,10 @@ struct Scheduler<'g> {
     /// operations not yet placed; and the positions of the operations using each one.
     pending: Vec<u8>,
     users: Vec<Vec<u32>>,
+    /// For each node, a bit for each kind of operation among its users here (see
+    /// [`Node::kind_bit`]): a continuation of a kind that no user of its operands has is ruled
+    /// out without a search.
+    user_kinds: Vec<u64>,
     position: Vec<u32>,
     ops: &'g [u32],
     ready: BinaryHeap<Reverse<u32>>,
@@ -437,10 +441,13 @@ impl<'g> Scheduler<'g> {
         let mut pending = vec![0u8; ops.len()];
         let mut users = vec![Vec::new(); ops.len()];
         let mut ready = BinaryHeap::new();
+        let mut user_kinds = vec![0u64; graph.nodes().len()];
         for (p, &id) in ops.iter().enumerate() {
-            let (operands, count) = graph.nodes()[id as usize].operands();
+            let node = &graph.nodes()[id as usize];
+            let (operands, count) = node.operands();
             let operands = &operands[..count];
             for (i, &o) in operands.iter().enumerate() {
+                user_kinds[o as usize] |= node.kind_bit();
                 let op = position[o as usize];
                 if op != u32::MAX && !operands[..i].contains(&o) {
                     pending[p] += 1;
@@ -458,6 +465,7 @@ impl<'g> Scheduler<'g> {
             next: base as u32,
             pending,
             users,
+            user_kinds,
             position,
             ops,
             ready,
@@ -539,26 +547,29 @@ impl<'g> Scheduler<'g> {
             i64::from(b0) + steps * i64::from(run.db),
         );
         let chain = |s: i64| (i64::from(last) - s) as i32;
-        let guesses: Vec<(i32, i32)> = if run.len > 1 {
-            vec![(run.da, run.db)]
-        } else {
-            // The next coordinate either way, the same operand, or the element just written.
-            let steps = |s: i64| [1, -1, 0, chain(s)];
-            let db = if count == 2 { &steps(b)[..] } else { &[0][..] };
-            steps(a)
-                .into_iter()
-                .flat_map(|da| db.iter().map(move |&db| (da, db)))
-                .filter(|&(da, db)| (da, db) != (0, 0))
-                .collect()
+        // The next coordinate either way, the same operand, or the element just written; after
+        // the run's second element, its strides.
+        let steps = |s: i64| [1, -1, 0, chain(s)];
+        let (steps_a, steps_b) = (steps(a), steps(b));
+        let (steps_a, steps_b): (&[i32], &[i32]) = match (run.len > 1, count) {
+            (true, _) => (&[run.da], &[run.db]),
+            (false, 2) => (&steps_a, &steps_b),
+            (false, _) => (&steps_a, &[0]),
         };
+        let guesses = steps_a
+            .iter()
+            .flat_map(|&da| steps_b.iter().map(move |&db| (da, db)))
+            .filter(|&(da, db)| run.len > 1 || (da, db) != (0, 0));
         let node_of = |s: i64| {
             let s = usize::try_from(s).ok()?;
             self.node_at.get(s).copied().filter(|&id| id != u32::MAX)
         };
+        let bit = run.first.kind_bit();
+        let used = |id: u32| self.user_kinds[id as usize] & bit != 0;
         guesses.into_iter().find_map(|(da, db)| {
-            let na = node_of(a + i64::from(da))?;
+            let na = node_of(a + i64::from(da)).filter(|&id| used(id))?;
             let nb = if count == 2 {
-                node_of(b + i64::from(db))?
+                node_of(b + i64::from(db)).filter(|&id| used(id))?
             } else {
                 0
             };
