@@ -24,8 +24,11 @@ rm -rf "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
 # The package and its test extras (pytest, matplotlib, scipy), as a user installs it, but built in
 # the test profile (`maturin develop`'s default) rather than optimised: debug assertions and
-# overflow checks on, and the dependencies the Rust tests built above are not built again.
-MATURIN_PEP517_ARGS="--profile dev" "$venv/bin/python" -m pip install --quiet "./crates/chetaev-py[test]"
+# overflow checks on. With the crate's feature `workspace-features` its dependencies have the
+# features of the Rust tests' build above, which is reused rather than made again (Cranelift's
+# among them); the package itself is the same.
+MATURIN_PEP517_ARGS="--profile dev --features workspace-features" \
+    "$venv/bin/python" -m pip install --quiet "./crates/chetaev-py[test]"
 # From the tests' folder, so that `import chetaev` finds the installed package, not the sources.
 cd crates/chetaev-py
 "../../$venv/bin/python" -m pytest -q -p no:cacheprovider tests
